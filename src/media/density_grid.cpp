@@ -1,0 +1,294 @@
+// Building, loading, validating and writing density grids (OpenVDB).
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/Prune.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+
+#include "smokescan/core/error.hpp"
+#include "vdb_grid.hpp"
+
+namespace smokescan {
+
+void ensureOpenVdb()
+{
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+}
+
+DensityGrid::DensityGrid(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+DensityGrid::~DensityGrid() = default;
+
+std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::Ptr grid,
+                                                           const std::string& where,
+                                                           const std::string& source_type)
+{
+    auto impl = std::make_shared<Impl>();
+    impl->grid = grid;
+    impl->source_type = source_type;
+    const openvdb::math::Transform& xf = grid->transform();
+    if (!xf.isLinear()) throw Error(where, "grid '" + grid->getName() + "' has a non-linear (frustum) transform");
+    // Columns of the index→world linear map, measured rather than read, to be convention-proof.
+    const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
+    Eigen::Matrix3d A;
+    for (int c = 0; c < 3; ++c) {
+        openvdb::Vec3d e(0, 0, 0);
+        e[c] = 1;
+        const openvdb::Vec3d w = xf.indexToWorld(e) - o;
+        A.col(c) = Eigen::Vector3d(w[0], w[1], w[2]);
+    }
+    if (!A.allFinite()) throw Error(where, "grid '" + grid->getName() + "' has a non-finite transform");
+    const double det = A.determinant();
+    const Eigen::Matrix3d G = A.transpose() * A;
+    const double s2 = G.trace() / 3.0;
+    if (!(std::abs(det) > 1e-300) || !(s2 > 0))
+        throw Error(where, "grid '" + grid->getName() + "' has a singular transform");
+    if ((G - s2 * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 * s2)
+        throw Error(where, "grid '" + grid->getName() +
+                               "' has a non-uniform transform (voxels must be cubes)");
+    impl->voxel_size_m = std::sqrt(s2);
+    impl->w2i_lin = A.inverse();
+    impl->w2i_off = -impl->w2i_lin * Eigen::Vector3d(o[0], o[1], o[2]);
+
+    const float bg = grid->background();
+    if (!(bg == 0.0f))
+        throw Error(where, "grid '" + grid->getName() + "' has background " + std::to_string(bg) +
+                               "; smoke outside a grid must be 0");
+    bool any = false;
+    double lo = 0, hi = 0;
+    for (auto it = grid->cbeginValueAll(); it; ++it) {
+        const float v = *it;
+        if (!std::isfinite(v))
+            throw Error(where, "grid '" + grid->getName() + "' holds a non-finite density at " +
+                                   it.getCoord().asVec3i().str());
+        if (v < 0.0f)
+            throw Error(where, "grid '" + grid->getName() + "' holds a negative density (" +
+                                   std::to_string(v) + ") at " + it.getCoord().asVec3i().str());
+        if (v == 0.0f) continue;
+        openvdb::CoordBBox b;
+        it.getBoundingBox(b);
+        impl->support.expand(b);
+        lo = any ? std::min(lo, double(v)) : v;
+        hi = any ? std::max(hi, double(v)) : v;
+        any = true;
+    }
+    impl->min_value = lo;
+    impl->max_value = hi;
+    if (any) {
+        // World bounds of the support's outer voxel faces.
+        const openvdb::Vec3d a = impl->support.min().asVec3d() - 0.5,
+                             b = impl->support.max().asVec3d() + 0.5;
+        for (int k = 0; k < 8; ++k) {
+            const openvdb::Vec3d c((k & 1) ? b[0] : a[0], (k & 2) ? b[1] : a[1], (k & 4) ? b[2] : a[2]);
+            const openvdb::Vec3d w = xf.indexToWorld(c);
+            impl->world_bounds.extend(Vec3(w[0], w[1], w[2]));
+        }
+    }
+    return impl;
+}
+
+DensityGrid wrapFloatGrid(openvdb::FloatGrid::Ptr grid, const std::string& where)
+{
+    ensureOpenVdb();
+    return DensityGrid(DensityGrid::Impl::make(grid, where));
+}
+
+DensityGrid DensityGrid::loadVdb(const std::string& path, const VdbLoadConfig& cfg)
+{
+    ensureOpenVdb();
+    if (!std::filesystem::exists(path)) throw Error(path, "no such file");
+    if (!(std::isfinite(cfg.scale) && cfg.scale > 0))
+        throw Error(path, "scale must be finite and > 0, got " + std::to_string(cfg.scale));
+    openvdb::io::File file(path);
+    try {
+        file.open(false);
+    } catch (const std::exception& e) {
+        throw Error(path, std::string("cannot read as a VDB file (") + e.what() + ")");
+    }
+    openvdb::GridBase::Ptr base;
+    try {
+        if (cfg.grid_name.empty()) {
+            for (auto it = file.beginName(); it != file.endName() && !base; ++it) {
+                auto g = file.readGrid(it.gridName());
+                if (g->isType<openvdb::FloatGrid>() || g->isType<openvdb::DoubleGrid>()) base = g;
+            }
+            if (!base) throw Error(path, "holds no float or double grid");
+        } else {
+            if (!file.hasGrid(cfg.grid_name)) {
+                std::string names;
+                for (auto it = file.beginName(); it != file.endName(); ++it)
+                    names += (names.empty() ? "" : ", ") + it.gridName();
+                throw Error(path, "no grid named '" + cfg.grid_name + "' (grids: " +
+                                      (names.empty() ? "none" : names) + ")");
+            }
+            base = file.readGrid(cfg.grid_name);
+        }
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(path, std::string("cannot read grid (") + e.what() + ")");
+    }
+    file.close();
+
+    openvdb::FloatGrid::Ptr fgrid;
+    std::string type = base->valueType();
+    if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(base)) {
+        fgrid = f;
+    } else if (auto d = openvdb::gridPtrCast<openvdb::DoubleGrid>(base)) {
+        // Value-converting deep copy keeps the tree's topology (tiles stay tiles).
+        fgrid = openvdb::FloatGrid::create(std::make_shared<openvdb::FloatTree>(d->tree()));
+        fgrid->setTransform(d->transform().copy());
+        fgrid->setName(d->getName());
+        for (auto it = d->cbeginValueAll(); it; ++it)  // double values beyond float range
+            if (std::isfinite(*it) && !std::isfinite(float(*it)))
+                throw Error(path, "grid '" + d->getName() + "' holds a value beyond float range");
+    } else {
+        throw Error(path, "grid '" + base->getName() + "' holds " + type +
+                              " values; a density grid must be scalar float or double");
+    }
+    if (cfg.scale != 1.0) {
+        const float s = float(cfg.scale);
+        for (auto it = fgrid->beginValueAll(); it; ++it) it.setValue(*it * s);
+    }
+    fgrid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    return DensityGrid(Impl::make(fgrid, path, type));
+}
+
+DensityGrid DensityGrid::fromMesh(const std::vector<Vec3>& points_m,
+                                  const std::vector<std::array<int, 3>>& triangles, double value,
+                                  double voxel_size_m)
+{
+    ensureOpenVdb();
+    if (!(voxel_size_m > 0) || !std::isfinite(voxel_size_m)) throw Error("", "voxel size must be > 0");
+    if (!(value >= 0) || !std::isfinite(value)) throw Error("", "smoke density must be finite and >= 0");
+    auto xf = openvdb::math::Transform::createLinearTransform(voxel_size_m);
+    std::vector<openvdb::Vec3s> pts;
+    pts.reserve(points_m.size());
+    for (const Vec3& p : points_m) pts.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+    std::vector<openvdb::Vec3I> tris;
+    tris.reserve(triangles.size());
+    for (const auto& t : triangles) {
+        for (int k : t)
+            if (k < 0 || size_t(k) >= points_m.size()) throw Error("", "mesh triangle index out of range");
+        tris.emplace_back(t[0], t[1], t[2]);
+    }
+    auto sdf = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xf, pts, tris, 3.0f);
+    // Box filtering: a voxel is smoke when its centre is inside the surface.
+    auto mask = openvdb::tools::sdfInteriorMask(*sdf);
+    auto tree = std::make_shared<openvdb::FloatTree>(mask->tree(), 0.0f, float(value),
+                                                     openvdb::TopologyCopy());
+    openvdb::tools::prune(*tree);  // constant leaves become tiles
+    auto grid = openvdb::FloatGrid::create(tree);
+    grid->setTransform(xf);
+    grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    grid->setName("density");
+    return DensityGrid(Impl::make(grid, "mesh"));
+}
+
+DensityGrid DensityGrid::box(const Vec3& lo, const Vec3& hi, double value, double voxel_size_m)
+{
+    if (!(hi.array() > lo.array()).all()) throw Error("", "smoke box must have hi > lo on every axis");
+    std::vector<Vec3> p;
+    for (int k = 0; k < 8; ++k)
+        p.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+    // Two outward-wound triangles per face.
+    const std::vector<std::array<int, 3>> t = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                               {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                               {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    return fromMesh(p, t, value, voxel_size_m);
+}
+
+DensityGrid DensityGrid::fromBlobs(const std::vector<Blob>& blobs, double voxel_size_m)
+{
+    ensureOpenVdb();
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size_m));
+    grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    grid->setName("density");
+    auto acc = grid->getAccessor();
+    const double inv_h = 1.0 / voxel_size_m;
+    for (const Blob& b : blobs) {
+        if (!(b.sigma_m > 0) || !(b.peak > 0)) continue;
+        const Vec3 c = b.centre_m * inv_h;  // voxel centres sit at integer index points
+        const double r = 3.0 * b.sigma_m * inv_h, inv2s2 = 0.5 / (b.sigma_m * b.sigma_m * inv_h * inv_h);
+        const openvdb::Coord lo(int(std::floor(c.x() - r)), int(std::floor(c.y() - r)), int(std::floor(c.z() - r)));
+        const openvdb::Coord hi(int(std::ceil(c.x() + r)), int(std::ceil(c.y() + r)), int(std::ceil(c.z() + r)));
+        for (int i = lo.x(); i <= hi.x(); ++i)
+            for (int j = lo.y(); j <= hi.y(); ++j)
+                for (int k = lo.z(); k <= hi.z(); ++k) {
+                    const double d2 = (Vec3(i, j, k) - c).squaredNorm();
+                    if (d2 > r * r) continue;
+                    const openvdb::Coord ijk(i, j, k);
+                    acc.setValueOn(ijk, acc.getValue(ijk) + float(b.peak * std::exp(-d2 * inv2s2)));
+                }
+    }
+    return DensityGrid(Impl::make(grid, "plume"));
+}
+
+DensityGrid DensityGrid::scaled(double factor) const
+{
+    if (!(factor >= 0) || !std::isfinite(factor)) throw Error("", "density scale must be finite and >= 0");
+    auto g = impl_->grid->deepCopy();
+    const float s = float(factor);
+    for (auto it = g->beginValueAll(); it; ++it) it.setValue(*it * s);
+    return DensityGrid(Impl::make(g, g->getName(), impl_->source_type));
+}
+
+GridInfo DensityGrid::info() const
+{
+    const auto& g = *impl_->grid;
+    GridInfo i;
+    i.name = g.getName();
+    i.source_type = impl_->source_type;
+    i.voxel_size_m = impl_->voxel_size_m;
+    i.active_voxels = (long long)g.tree().activeLeafVoxelCount();
+    i.leaf_nodes = (long long)g.tree().leafCount();
+    i.active_tiles = (long long)g.tree().activeTileCount();
+    for (int a = 0; a < 3; ++a) {
+        i.index_min[a] = impl_->support.min()[a];
+        i.index_max[a] = impl_->support.max()[a];
+    }
+    i.world_bounds = impl_->world_bounds;
+    i.min_value = impl_->min_value;
+    i.max_value = impl_->max_value;
+    i.memory_bytes = g.memUsage();
+    return i;
+}
+
+const Aabb& DensityGrid::worldBounds() const { return impl_->world_bounds; }
+double DensityGrid::voxelSize() const { return impl_->voxel_size_m; }
+double DensityGrid::maxValue() const { return impl_->max_value; }
+
+void DensityGrid::writeVdb(const std::string& path,
+                           const std::vector<std::pair<std::string, DensityGrid>>& grids)
+{
+    ensureOpenVdb();
+    openvdb::GridPtrVec out;
+    for (const auto& [name, g] : grids) {
+        auto copy = g.impl().grid->copyGrid();  // shares the tree, own metadata
+        copy->setName(name);
+        out.push_back(copy);
+    }
+    const std::string tmp = path + ".tmp";
+    try {
+        openvdb::io::File f(tmp);
+        f.write(out);
+        f.close();
+    } catch (const std::exception& e) {
+        std::remove(tmp.c_str());
+        throw Error(path, std::string("cannot write (") + e.what() + ")");
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::remove(tmp.c_str());
+        throw Error(path, "cannot write (" + ec.message() + ")");
+    }
+}
+
+}  // namespace smokescan
