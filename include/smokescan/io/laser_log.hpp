@@ -1,0 +1,31 @@
+#pragma once
+/// @file laser_log.hpp
+/// @brief The smoke paper's laser log: one scan per line, the time [s] then pairs of
+/// (angle [rad], range), whitespace separated; lines starting with '#' are comments.
+/// smokescan writes ranges in millimetres (error codes as the sensor's raw values).
+#include <string>
+#include <vector>
+
+#include "smokescan/sensors/scanner.hpp"
+
+namespace smokescan {
+
+struct LaserLogScan {
+    double time_s = 0;
+    std::vector<double> angle_rad;
+    std::vector<double> range;  ///< as written in the file (mm by default)
+};
+
+/// @brief Writes scans (values converted to mm) atomically. `header` lines become '#' comments.
+void writeLaserLog(const std::string& path, const std::vector<std::string>& header,
+                   const std::vector<Scan>& scans, const LrfSpec& spec);
+
+/// @brief Reads a laser log strictly: a one-line error naming FILE:LINE for a line with an odd
+/// number of fields after the time, a non-numeric or non-finite field, or time going backwards.
+std::vector<LaserLogScan> readLaserLog(const std::string& path);
+
+/// @brief Per-beam optical depth table: time_s, beam, angle_rad, value, error, surface,
+/// hit_m, column_regional (density·m), column_local (density·m), tau (at the sensor's wavelength).
+void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const Scene& scene);
+
+}  // namespace smokescan

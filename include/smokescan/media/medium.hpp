@@ -1,0 +1,44 @@
+#pragma once
+/// @file medium.hpp
+/// @brief Optical properties of a smoke per unit of grid density.
+///
+/// | parameter        | default | unit                   | meaning                                      |
+/// |------------------|---------|------------------------|----------------------------------------------|
+/// | sigma_t_550      | 200     | 1/m per density unit   | extinction at 550 nm (camera, visible)       |
+/// | sigma_t_785      | 200     | 1/m per density unit   | extinction at 785 nm (Hokuyo URG-04LX)       |
+/// | sigma_t_905      | 200     | 1/m per density unit   | extinction at 905 nm (Sick LMS200)           |
+/// | albedo           | 0.97    | –                      | single-scattering albedo σ_s/σ_t             |
+/// | g                | 0.7     | –                      | Henyey–Greenstein asymmetry                  |
+///
+/// The density unit is the smoke paper's engine density (its threshold 0.0028 at saturation 0.14),
+/// so the paper's penetration power (density·m) is the column ∫ρ ds the integrator returns. The
+/// default extinction 200 /m per unit is provisional: it makes the paper's threshold column
+/// 0.007 density·m an optical depth of 1.4 (round-trip transmittance 0.06); the density ↔
+/// saturation calibration (issue 5) replaces it. Defaults describe theatrical oil/glycol fog, the
+/// BOCAS smoke: droplets near 1 µm give an Ångström exponent near 0 (same σ_t at all three
+/// wavelengths) and albedo close to 1. Presets for soot (Å ≈ 1, albedo 0.3) and fine smoke
+/// (Å ≈ 2, albedo 0.9) follow ../shared/REFERENCE.md.
+#include <string>
+
+namespace smokescan {
+
+struct Medium {
+    std::string name = "theatrical_fog";
+    double sigma_t_550 = 200.0;
+    double sigma_t_785 = 200.0;
+    double sigma_t_905 = 200.0;
+    double albedo = 0.97;
+    double g = 0.7;
+
+    /// σ_t per unit density [1/m] at a wavelength: the tabulated value at 550/785/905 nm,
+    /// power-law (Ångström) interpolation between them, extrapolation beyond.
+    double sigmaT(double wavelength_nm) const;
+
+    /// A named preset: "theatrical_fog", "soot", "fine_smoke". Throws Error on an unknown name.
+    static Medium preset(const std::string& name);
+    /// σ_t(λ) = sigma_t_550 · (λ/550)^(−angstrom).
+    static Medium fromAngstrom(const std::string& name, double sigma_t_550, double angstrom,
+                               double albedo, double g);
+};
+
+}  // namespace smokescan

@@ -1,0 +1,92 @@
+#pragma once
+/// @file scene.hpp
+/// @brief Everything a scene file describes: materials, surfaces, sensors, lights, cameras,
+/// smoke volumes and the time line. Units: metres, seconds, degrees where named `_deg`.
+/// The file format is documented field by field in docs/scene-format.md.
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "smokescan/core/ray.hpp"
+#include "smokescan/media/smoke.hpp"
+
+namespace smokescan {
+
+/// Surface optics.
+///
+/// | field        | default        | unit | meaning                                              |
+/// |--------------|----------------|------|------------------------------------------------------|
+/// | albedo       | (0.5,0.5,0.5)  | –    | diffuse reflectance, linear RGB                      |
+/// | nir_785      | 0.5            | –    | diffuse reflectance at 785 nm (Hokuyo)               |
+/// | nir_905      | 0.5            | –    | diffuse reflectance at 905 nm (Sick)                 |
+/// | specular     | 0              | –    | weight of the glossy/specular lobe (metals, gold paper) |
+/// | roughness    | 0.5            | –    | roughness of that lobe (0 mirror … 1 diffuse-like)   |
+struct Material {
+    std::string name;
+    Vec3 albedo = Vec3::Constant(0.5);
+    double nir_785 = 0.5;
+    double nir_905 = 0.5;
+    double specular = 0.0;
+    double roughness = 0.5;
+};
+
+struct BoxShape { Vec3 size_m = Vec3::Ones(); };          ///< centred on the pose
+struct QuadShape { Vec3 corner_m, edge_u_m, edge_v_m; };   ///< world coordinates
+struct CylinderShape { double radius_m = 0.05, height_m = 1.0; };  ///< axis +z from the pose
+struct MeshShape { std::string obj_path; double scale = 1.0; };
+
+struct Surface {
+    std::string name;
+    int material = 0;  ///< index into Scene::materials
+    Pose pose;
+    std::variant<BoxShape, QuadShape, CylinderShape, MeshShape> shape;
+};
+
+/// A laser range finder mounted in the scene. The beam plane is the sensor's local x–y plane,
+/// angle 0 along local +x.
+struct SensorMount {
+    std::string name;
+    std::string type;           ///< "urg04lx" or "lms200"
+    std::string model = "paper";
+    Pose pose;
+    double penetration_power = 0.007;   ///< paper model [density·m]
+    double local_threshold = 0.002;     ///< paper model: local density that counts as met
+    double sick_resolution_deg = 0.5;   ///< LMS200: 1 or 0.5
+    double sick_range_m = 8.0;          ///< LMS200 range mode: 8 (mm) or 80 (cm)
+};
+
+struct Light {
+    std::string name;
+    std::string kind = "area";  ///< "area", "point", "spot", "ambient"
+    Pose pose;                   ///< area: centre, emitting along local +x; spot: axis local +x
+    double width_m = 0.6, height_m = 0.04;  ///< area light extent (local y, z)
+    double power_w = 70.0;       ///< electrical power; radiant = power_w · efficiency
+    double efficiency = 0.25;    ///< fraction of power radiated as visible light
+    Vec3 color = Vec3::Ones();   ///< linear RGB tint
+    double spot_angle_deg = 30;  ///< spot half angle
+    double radiance = 1.0;       ///< ambient: uniform radiance [W/(m²·sr)]
+};
+
+/// A pinhole camera looking along local +x, local +z up.
+struct Camera {
+    std::string name;
+    Pose pose;
+    int width = 640, height = 480;
+    double hfov_deg = 60.0;
+};
+
+struct Scene {
+    std::string source;  ///< file path or "builtin:NAME", for messages
+    std::vector<Material> materials;
+    std::vector<Surface> surfaces;
+    std::vector<SensorMount> sensors;
+    std::vector<Light> lights;
+    std::vector<Camera> cameras;
+    std::vector<SmokeVolume> volumes;
+    double t_start_s = 0, t_end_s = 60;
+
+    int findSensor(const std::string& name_or_type) const;
+    int findSurface(const std::string& name) const;
+};
+
+}  // namespace smokescan

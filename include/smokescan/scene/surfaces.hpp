@@ -1,0 +1,37 @@
+#pragma once
+/// @file surfaces.hpp
+/// @brief The scene's surfaces in Embree: closest-hit queries for beams and camera rays.
+#include <memory>
+
+#include "smokescan/scene/scene.hpp"
+
+namespace smokescan {
+
+struct SurfaceHit {
+    bool hit = false;
+    double t_m = kInf;             ///< distance along the ray [m]
+    Vec3 normal = Vec3::UnitZ();   ///< unit geometric normal, facing the ray's origin
+    int surface = -1;              ///< index into Scene::surfaces (the object id)
+    int material = -1;             ///< index into Scene::materials
+};
+
+class SurfaceSet {
+public:
+    /// @brief Tessellates every surface of the scene into one Embree scene (geometry id =
+    /// surface index). @throw Error for a mesh that cannot be read.
+    explicit SurfaceSet(const Scene& scene);
+    ~SurfaceSet();
+    SurfaceSet(const SurfaceSet&) = delete;
+    SurfaceSet& operator=(const SurfaceSet&) = delete;
+
+    /// @brief Closest hit with t in (t_min_m, t_max_m]. Thread-safe.
+    SurfaceHit closest(const Ray& ray, double t_max_m, double t_min_m = 0.0) const;
+
+    size_t triangleCount() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace smokescan

@@ -1,0 +1,83 @@
+#include "smokescan/io/laser_log.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
+
+namespace smokescan {
+
+void writeLaserLog(const std::string& path, const std::vector<std::string>& header,
+                   const std::vector<Scan>& scans, const LrfSpec& spec)
+{
+    AtomicFile f(path);
+    std::ostream& o = f.stream();
+    for (const auto& h : header) o << "# " << h << '\n';
+    const long long mm_per_unit = std::llround(spec.unit_m / 0.001);
+    for (const Scan& s : scans) {
+        o << std::fixed << std::setprecision(3) << s.time_s;
+        for (size_t i = 0; i < s.value.size(); ++i)
+            o << ' ' << std::setprecision(6) << s.angle_rad[i] << ' ' << s.value[i] * mm_per_unit;
+        o << '\n';
+    }
+    f.commit();
+}
+
+std::vector<LaserLogScan> readLaserLog(const std::string& path)
+{
+    if (!std::filesystem::exists(path)) throw Error(path, "no such file");
+    std::ifstream in(path);
+    if (!in) throw Error(path, "cannot read");
+    std::vector<LaserLogScan> out;
+    std::string line;
+    for (int ln = 1; std::getline(in, line); ++ln) {
+        const std::string where = path + ":" + std::to_string(ln);
+        const size_t first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        std::istringstream ss(line);
+        std::vector<double> f;
+        std::string tok;
+        while (ss >> tok) {
+            char* end = nullptr;
+            const double v = std::strtod(tok.c_str(), &end);
+            if (end == tok.c_str() || *end != '\0') throw Error(where, "field " + std::to_string(f.size() + 1) + " is not a number: '" + tok + "'");
+            if (!std::isfinite(v)) throw Error(where, "field " + std::to_string(f.size() + 1) + " is not finite");
+            f.push_back(v);
+        }
+        if (f.size() < 3 || (f.size() - 1) % 2 != 0)
+            throw Error(where, "expected a time and (angle, range) pairs, got " + std::to_string(f.size()) + " fields");
+        LaserLogScan s;
+        s.time_s = f[0];
+        if (!out.empty() && s.time_s < out.back().time_s) throw Error(where, "time goes backwards");
+        for (size_t i = 1; i < f.size(); i += 2) {
+            s.angle_rad.push_back(f[i]);
+            s.range.push_back(f[i + 1]);
+        }
+        out.push_back(std::move(s));
+    }
+    return out;
+}
+
+void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const Scene& scene)
+{
+    AtomicFile f(path);
+    std::ostream& o = f.stream();
+    o << "time_s,beam,angle_rad,value,error,surface,hit_m,column_regional,column_local,tau\n";
+    o << std::setprecision(9);
+    for (const Scan& s : scans)
+        for (size_t i = 0; i < s.beams.size(); ++i) {
+            const BeamResult& b = s.beams[i];
+            o << s.time_s << ',' << i << ',' << s.angle_rad[i] << ',' << s.value[i] << ',' << (b.error ? 1 : 0) << ','
+              << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none")) << ','
+              << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local
+              << ',' << b.smoke.tau << '\n';
+        }
+    f.commit();
+}
+
+}  // namespace smokescan

@@ -1,0 +1,62 @@
+#include "smokescan/media/plume.hpp"
+
+#include <cmath>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/random.hpp"
+
+namespace smokescan {
+
+void PlumeConfig::validate() const
+{
+    auto pos = [](double v, const char* name) {
+        if (!(v > 0) || !std::isfinite(v)) throw Error("", std::string(name) + " must be finite and > 0");
+    };
+    auto nonneg = [](double v, const char* name) {
+        if (!(v >= 0) || !std::isfinite(v)) throw Error("", std::string(name) + " must be finite and >= 0");
+    };
+    pos(rate_per_s, "rate_per_s");
+    pos(lifetime_s, "lifetime_s");
+    pos(radius_m, "radius_m");
+    pos(peak_density, "peak_density");
+    pos(voxel_m, "voxel_m");
+    nonneg(spread_m_s, "spread_m_s");
+    nonneg(growth_m_s, "growth_m_s");
+    if (!std::isfinite(rise_m_s)) throw Error("", "rise_m_s must be finite");
+    if (!source_m.allFinite() || !wind_m_s.allFinite()) throw Error("", "source_m and wind_m_s must be finite");
+    if (!std::isfinite(start_s) || !(stop_s > start_s)) throw Error("", "plume needs a finite start_s < stop_s");
+    if (rate_per_s * lifetime_s > 2e5) throw Error("", "plume has more than 200000 live particles (rate_per_s × lifetime_s)");
+}
+
+std::vector<DensityGrid::Blob> plumeBlobs(const PlumeConfig& c, double t)
+{
+    std::vector<DensityGrid::Blob> blobs;
+    if (t < c.start_s) return blobs;
+    // Particles alive at t were born in (t − lifetime, min(t, stop)].
+    const double born_hi = std::min(t, c.stop_s), born_lo = t - c.lifetime_s;
+    const long long k_hi = (long long)std::floor((born_hi - c.start_s) * c.rate_per_s);
+    const long long k_lo = std::max(0LL, (long long)std::floor((born_lo - c.start_s) * c.rate_per_s));
+    for (long long k = k_lo; k <= k_hi; ++k) {
+        const double birth = c.start_s + double(k) / c.rate_per_s;
+        const double age = t - birth;
+        if (age < 0 || age >= c.lifetime_s || birth > c.stop_s) continue;
+        KeyedRng rng(c.seed, uint64_t(k), 0x706c756dull);
+        const Vec3 v_own(rng.normal(), rng.normal(), rng.normal());
+        const Vec3 vel = c.wind_m_s + Vec3(0, 0, c.rise_m_s) + c.spread_m_s * v_own;
+        const double sigma = c.radius_m + c.growth_m_s * age;
+        // Mass conserved while the puff grows; a smooth fade over the last fifth of its life.
+        const double x = age / c.lifetime_s;
+        const double fade = x < 0.8 ? 1.0 : 0.5 * (1.0 + std::cos(M_PI * (x - 0.8) / 0.2));
+        const double peak = c.peak_density * std::pow(c.radius_m / sigma, 3) * fade;
+        blobs.push_back({c.source_m + vel * age, sigma, peak});
+    }
+    return blobs;
+}
+
+DensityGrid rasterisePlume(const PlumeConfig& cfg, double t)
+{
+    cfg.validate();
+    return DensityGrid::fromBlobs(plumeBlobs(cfg, t), cfg.voxel_m);
+}
+
+}  // namespace smokescan

@@ -1,0 +1,21 @@
+#include "smokescan/scene/scene.hpp"
+
+namespace smokescan {
+
+int Scene::findSensor(const std::string& key) const
+{
+    for (size_t i = 0; i < sensors.size(); ++i)
+        if (sensors[i].name == key) return int(i);
+    for (size_t i = 0; i < sensors.size(); ++i)
+        if (sensors[i].type == key) return int(i);
+    return -1;
+}
+
+int Scene::findSurface(const std::string& name) const
+{
+    for (size_t i = 0; i < surfaces.size(); ++i)
+        if (surfaces[i].name == name) return int(i);
+    return -1;
+}
+
+}  // namespace smokescan

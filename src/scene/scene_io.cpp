@@ -1,0 +1,331 @@
+// Scene files: TOML, read strictly (unknown keys, wrong types and missing fields are errors).
+// The format is documented in docs/scene-format.md.
+#include "smokescan/scene/scene_io.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "../io/toml_reader.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/scene/mesh.hpp"
+
+namespace smokescan {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Pose from `position` and either `rpy_deg` or `look_at` (local +x towards it, +z up).
+Pose readPose(TomlTable& t, const Vec3& def_pos = Vec3::Zero())
+{
+    const Vec3 p = t.vec3("position", def_pos);
+    if (t.has("look_at")) {
+        if (t.has("rpy_deg")) t.error("rpy_deg", "conflicts with look_at: give one");
+        const Vec3 x = t.vec3Req("look_at") - p;
+        if (x.norm() < 1e-9) t.error("look_at", "must differ from position");
+        const Vec3 fx = x.normalized();
+        Vec3 fy = Vec3::UnitZ().cross(fx);
+        if (fy.norm() < 1e-9) fy = Vec3::UnitY();
+        fy.normalize();
+        Pose pose;
+        pose.R.col(0) = fx;
+        pose.R.col(1) = fy;
+        pose.R.col(2) = fx.cross(fy);
+        pose.t = p;
+        return pose;
+    }
+    return Pose::fromRpyDeg(p, t.vec3("rpy_deg", Vec3::Zero()));
+}
+
+std::string resolve(const std::string& base_dir, const std::string& p)
+{
+    if (p.empty() || fs::path(p).is_absolute() || base_dir.empty()) return p;
+    return (fs::path(base_dir) / p).lexically_normal().string();
+}
+
+Material readMaterial(TomlTable t)
+{
+    Material m;
+    m.name = t.strReq("name");
+    m.albedo = t.vec3("albedo", m.albedo);
+    if ((m.albedo.array() < 0).any() || (m.albedo.array() > 1).any()) t.error("albedo", "must lie in [0, 1]");
+    auto unit = [&](const char* key, double def) {
+        const double v = t.num(key, def);
+        if (v < 0 || v > 1) t.error(key, "must lie in [0, 1]");
+        return v;
+    };
+    m.nir_785 = unit("nir_785", m.nir_785);
+    m.nir_905 = unit("nir_905", m.nir_905);
+    m.specular = unit("specular", m.specular);
+    m.roughness = unit("roughness", m.roughness);
+    t.finish();
+    return m;
+}
+
+Surface readSurface(TomlTable t, const std::map<std::string, int>& materials, const std::string& base_dir)
+{
+    Surface s;
+    s.name = t.strReq("name");
+    const std::string mat = t.strReq("material");
+    const auto it = materials.find(mat);
+    if (it == materials.end()) t.error("material", "names no material: '" + mat + "'");
+    s.material = it->second;
+    const std::string type = t.strReq("type");
+    if (type == "box") {
+        s.pose = readPose(t);
+        BoxShape b;
+        b.size_m = t.vec3Req("size");
+        if ((b.size_m.array() <= 0).any()) t.error("size", "must be > 0 on every axis");
+        s.shape = b;
+    } else if (type == "quad") {
+        QuadShape q{t.vec3Req("corner"), t.vec3Req("u"), t.vec3Req("v")};
+        if (q.edge_u_m.cross(q.edge_v_m).norm() < 1e-12) t.error("u", "and v must span a parallelogram");
+        s.shape = q;
+    } else if (type == "cylinder") {
+        s.pose = readPose(t);
+        s.shape = CylinderShape{t.positive("radius", 0.05), t.positive("height", 1.0)};
+    } else if (type == "mesh") {
+        s.pose = readPose(t);
+        MeshShape m{resolve(base_dir, t.strReq("file")), t.positive("scale", 1.0)};
+        s.shape = m;
+    } else {
+        t.error("type", "must be box, quad, cylinder or mesh, got '" + type + "'");
+    }
+    t.finish();
+    return s;
+}
+
+SensorMount readSensor(TomlTable t)
+{
+    SensorMount m;
+    m.type = t.strReq("type");
+    if (m.type != "urg04lx" && m.type != "lms200")
+        t.error("type", "must be urg04lx or lms200, got '" + m.type + "'");
+    m.name = t.str("name", m.type);
+    m.pose = readPose(t);
+    m.model = t.str("model", m.model);
+    if (m.model != "paper") t.error("model", "must be 'paper' (the physical model is not built yet), got '" + m.model + "'");
+    m.penetration_power = t.positive("penetration_power", m.penetration_power);
+    m.local_threshold = t.positive("local_threshold", m.local_threshold);
+    m.sick_resolution_deg = t.num("resolution_deg", m.sick_resolution_deg);
+    if (m.sick_resolution_deg != 1.0 && m.sick_resolution_deg != 0.5)
+        t.error("resolution_deg", "must be 1 or 0.5");
+    m.sick_range_m = t.num("range_mode_m", m.sick_range_m);
+    if (m.sick_range_m != 8.0 && m.sick_range_m != 80.0) t.error("range_mode_m", "must be 8 or 80");
+    t.finish();
+    return m;
+}
+
+Light readLight(TomlTable t)
+{
+    Light l;
+    l.name = t.strReq("name");
+    l.kind = t.strReq("kind");
+    if (l.kind != "area" && l.kind != "point" && l.kind != "spot" && l.kind != "ambient")
+        t.error("kind", "must be area, point, spot or ambient, got '" + l.kind + "'");
+    l.pose = readPose(t);
+    l.width_m = t.positive("width", l.width_m);
+    l.height_m = t.positive("height", l.height_m);
+    l.power_w = t.nonneg("power_w", l.power_w);
+    l.efficiency = t.nonneg("efficiency", l.efficiency);
+    l.color = t.vec3("color", l.color);
+    l.spot_angle_deg = t.positive("spot_angle_deg", l.spot_angle_deg);
+    l.radiance = t.nonneg("radiance", l.radiance);
+    t.finish();
+    return l;
+}
+
+Camera readCamera(TomlTable t)
+{
+    Camera c;
+    c.name = t.strReq("name");
+    c.pose = readPose(t);
+    c.width = int(t.integer("width", c.width));
+    c.height = int(t.integer("height", c.height));
+    if (c.width <= 0 || c.height <= 0) t.error("width", "and height must be > 0");
+    c.hfov_deg = t.positive("hfov_deg", c.hfov_deg);
+    if (c.hfov_deg >= 180) t.error("hfov_deg", "must be < 180");
+    t.finish();
+    return c;
+}
+
+Medium readMedium(TomlTable& parent)
+{
+    if (!parent.has("medium")) return Medium::preset("theatrical_fog");
+    if (parent.isString("medium")) {
+        const std::string name = parent.strReq("medium");
+        try {
+            return Medium::preset(name);
+        } catch (const Error& e) {
+            parent.error("medium", e.what());
+        }
+    }
+    TomlTable t = parent.table("medium");
+    Medium m = Medium::preset(t.str("preset", "theatrical_fog"));
+    m.name = t.str("name", m.name);
+    if (t.has("angstrom")) {
+        m = Medium::fromAngstrom(m.name, t.positive("sigma_t_550", m.sigma_t_550), t.numReq("angstrom"), m.albedo, m.g);
+    } else {
+        m.sigma_t_550 = t.nonneg("sigma_t_550", m.sigma_t_550);
+        m.sigma_t_785 = t.nonneg("sigma_t_785", m.sigma_t_785);
+        m.sigma_t_905 = t.nonneg("sigma_t_905", m.sigma_t_905);
+    }
+    m.albedo = t.nonneg("albedo", m.albedo);
+    if (m.albedo > 1) t.error("albedo", "must lie in [0, 1]");
+    m.g = t.num("g", m.g);
+    if (m.g <= -1 || m.g >= 1) t.error("g", "must lie in (-1, 1)");
+    t.finish();
+    return m;
+}
+
+DensityTimeline readTimeline(TomlTable& parent)
+{
+    if (!parent.has("timeline")) return DensityTimeline::constant();
+    TomlTable t = parent.table("timeline");
+    const std::string kind = t.strReq("kind");
+    try {
+        if (kind == "constant") {
+            const double v = t.nonneg("value", 1.0);
+            t.finish();
+            return DensityTimeline::constant(v);
+        }
+        if (kind == "keyframes") {
+            const std::string interp = t.str("interp", "linear");
+            DensityTimeline::Interp i = DensityTimeline::Interp::Linear;
+            if (interp == "step") i = DensityTimeline::Interp::Step;
+            else if (interp == "exp") i = DensityTimeline::Interp::Exp;
+            else if (interp != "linear") t.error("interp", "must be linear, step or exp");
+            auto keys = t.pairs("keys");
+            const double decay = t.nonneg("decay_s", 0.0);
+            t.finish();
+            return DensityTimeline::keyframes(keys, i, decay);
+        }
+        if (kind == "machine") {
+            auto on = t.pairs("on");
+            const double fill = t.positive("fill_per_s", 1.0), dissolve = t.positive("dissolve_s", 60.0);
+            t.finish();
+            return DensityTimeline::machine(on, fill, dissolve);
+        }
+    } catch (const Error& e) {
+        if (std::string(e.what()).rfind(t.source(), 0) == 0) throw;
+        t.error(e.what());
+    }
+    t.error("kind", "must be constant, keyframes or machine, got '" + kind + "'");
+}
+
+SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
+{
+    SmokeVolume v;
+    v.name = t.strReq("name");
+    const std::string type = t.strReq("type");
+    const std::string role = t.str("role", type == "plume" ? "local" : "regional");
+    if (role == "regional") v.role = SmokeRole::Regional;
+    else if (role == "local") v.role = SmokeRole::Local;
+    else t.error("role", "must be regional or local, got '" + role + "'");
+    v.medium = readMedium(t);
+    v.timeline = readTimeline(t);
+    try {
+        if (type == "box") {
+            const Vec3 lo = t.vec3Req("min"), hi = t.vec3Req("max");
+            if (!(hi.array() > lo.array()).all()) t.error("max", "must exceed min on every axis");
+            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05);
+            if (((hi - lo) / h).maxCoeff() > 4000) t.error("voxel", "is too small for this box (over 4000 voxels a side)");
+            v.source = std::make_shared<const DensityGrid>(DensityGrid::box(lo, hi, rho, h));
+        } else if (type == "mesh") {
+            const std::string file = resolve(base_dir, t.strReq("file"));
+            const Pose pose = readPose(t);
+            const double scale = t.positive("scale", 1.0);
+            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05);
+            TriMesh mesh = loadObj(file);
+            for (Vec3& p : mesh.points_m) p = pose.apply(scale * p);
+            v.source = std::make_shared<const DensityGrid>(DensityGrid::fromMesh(mesh.points_m, mesh.triangles, rho, h));
+        } else if (type == "vdb") {
+            VdbLoadConfig c;
+            const std::string file = resolve(base_dir, t.strReq("file"));
+            c.grid_name = t.str("grid", c.grid_name);
+            c.scale = t.positive("scale", 1.0);
+            v.source = std::make_shared<const DensityGrid>(DensityGrid::loadVdb(file, c));
+        } else if (type == "plume") {
+            PlumeConfig p;
+            p.source_m = t.vec3Req("source");
+            p.rate_per_s = t.num("rate_per_s", p.rate_per_s);
+            p.lifetime_s = t.num("lifetime_s", p.lifetime_s);
+            p.rise_m_s = t.num("rise_m_s", p.rise_m_s);
+            p.wind_m_s = t.vec3("wind_m_s", p.wind_m_s);
+            p.spread_m_s = t.num("spread_m_s", p.spread_m_s);
+            p.radius_m = t.num("radius_m", p.radius_m);
+            p.growth_m_s = t.num("growth_m_s", p.growth_m_s);
+            p.peak_density = t.num("peak_density", p.peak_density);
+            p.start_s = t.num("start_s", p.start_s);
+            p.stop_s = t.num("stop_s", 1e300);
+            p.voxel_m = t.num("voxel", p.voxel_m);
+            p.seed = uint64_t(t.integer("seed", 1));
+            p.validate();
+            v.source = p;
+        } else {
+            t.error("type", "must be box, mesh, vdb or plume, got '" + type + "'");
+        }
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        if (msg.rfind(t.source(), 0) == 0 || msg.find(".vdb:") != std::string::npos ||
+            msg.find(".obj:") != std::string::npos)
+            throw;
+        t.error(msg);
+    }
+    t.finish();
+    return v;
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::string& source, const std::string& base_dir)
+{
+    const toml::table root = parseToml(text, source);
+    TomlTable top(root, source, "");
+    Scene s;
+    s.source = source;
+    if (top.has("scene")) {
+        TomlTable h = top.table("scene");
+        h.str("name", "");
+        h.str("description", "");
+        s.t_start_s = h.num("t_start_s", s.t_start_s);
+        s.t_end_s = h.num("t_end_s", s.t_end_s);
+        if (!(s.t_end_s > s.t_start_s)) h.error("t_end_s", "must exceed t_start_s");
+        h.finish();
+    }
+    std::map<std::string, int> mats;
+    for (auto& t : top.tables("materials")) {
+        Material m = readMaterial(t);
+        if (mats.count(m.name)) t.error("name", "repeats material '" + m.name + "'");
+        mats[m.name] = int(s.materials.size());
+        s.materials.push_back(m);
+    }
+    for (auto& t : top.tables("surfaces")) s.surfaces.push_back(readSurface(t, mats, base_dir));
+    for (auto& t : top.tables("sensors")) s.sensors.push_back(readSensor(t));
+    for (auto& t : top.tables("lights")) s.lights.push_back(readLight(t));
+    for (auto& t : top.tables("cameras")) s.cameras.push_back(readCamera(t));
+    for (auto& t : top.tables("smoke")) s.volumes.push_back(readSmoke(t, base_dir));
+    top.finish();
+    return s;
+}
+
+Scene loadScene(const std::string& name_or_path)
+{
+    for (const auto& b : builtinSceneNames())
+        if (b == name_or_path) return parseScene(builtinSceneText(b), "builtin:" + b, SMOKESCAN_SOURCE_DIR);
+    if (!fs::exists(name_or_path))
+        throw Error(name_or_path, "no such scene file (built-in scenes: " + [] {
+            std::string s;
+            for (const auto& b : builtinSceneNames()) s += (s.empty() ? "" : ", ") + b;
+            return s;
+        }() + ")");
+    std::ifstream in(name_or_path);
+    if (!in) throw Error(name_or_path, "cannot read");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parseScene(ss.str(), name_or_path, fs::path(name_or_path).parent_path().string());
+}
+
+}  // namespace smokescan

@@ -1,0 +1,83 @@
+#include "smokescan/scene/surfaces.hpp"
+
+#include <embree3/rtcore.h>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/scene/mesh.hpp"
+
+namespace smokescan {
+
+struct SurfaceSet::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<int> material_of;  // by geometry id
+    size_t triangles = 0;
+    ~Impl()
+    {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+SurfaceSet::SurfaceSet(const Scene& s) : impl_(std::make_unique<Impl>())
+{
+    impl_->device = rtcNewDevice("verbose=0");
+    if (!impl_->device) throw Error("embree", "cannot create a device");
+    impl_->scene = rtcNewScene(impl_->device);
+    rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+    for (size_t i = 0; i < s.surfaces.size(); ++i) {
+        const TriMesh m = tessellate(s.surfaces[i]);
+        RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), m.points_m.size()));
+        for (size_t k = 0; k < m.points_m.size(); ++k)
+            for (int a = 0; a < 3; ++a) v[3 * k + a] = float(m.points_m[k][a]);
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), m.triangles.size()));
+        for (size_t k = 0; k < m.triangles.size(); ++k)
+            for (int a = 0; a < 3; ++a) idx[3 * k + a] = unsigned(m.triangles[k][a]);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(impl_->scene, g, unsigned(i));
+        rtcReleaseGeometry(g);
+        impl_->material_of.push_back(s.surfaces[i].material);
+        impl_->triangles += m.triangles.size();
+    }
+    rtcCommitScene(impl_->scene);
+}
+
+SurfaceSet::~SurfaceSet() = default;
+
+size_t SurfaceSet::triangleCount() const { return impl_->triangles; }
+
+SurfaceHit SurfaceSet::closest(const Ray& ray, double t_max, double t_min) const
+{
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = float(ray.o.x());
+    rh.ray.org_y = float(ray.o.y());
+    rh.ray.org_z = float(ray.o.z());
+    rh.ray.dir_x = float(ray.d.x());
+    rh.ray.dir_y = float(ray.d.y());
+    rh.ray.dir_z = float(ray.d.z());
+    rh.ray.tnear = float(t_min);
+    rh.ray.tfar = std::isfinite(t_max) ? float(t_max) : std::numeric_limits<float>::infinity();
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.time = 0.0f;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &ctx, &rh);
+    SurfaceHit h;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+    h.hit = true;
+    h.t_m = rh.ray.tfar;
+    h.surface = int(rh.hit.geomID);
+    h.material = impl_->material_of[rh.hit.geomID];
+    Vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    n.normalize();
+    h.normal = n.dot(ray.d) > 0 ? -n : n;
+    return h;
+}
+
+}  // namespace smokescan

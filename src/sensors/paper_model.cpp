@@ -1,0 +1,34 @@
+#include "smokescan/sensors/paper_model.hpp"
+
+#include <cmath>
+
+namespace smokescan {
+
+BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit,
+                     const BeamSmoke& smoke, double noise)
+{
+    BeamResult r;
+    r.hit = hit;
+    r.smoke = smoke;
+    auto fail = [&] {
+        r.error = true;
+        r.value = spec.no_return_code;
+        return r;
+    };
+    double range = hit.hit ? hit.t_m : kInf;
+    if (spec.type == "urg04lx") {
+        if (std::isfinite(smoke.first_local_m)) return fail();           // particle smoke: error
+        if (smoke.column_regional > cfg.penetration_power) return fail(); // power exhausted: error 0
+    } else if (std::isfinite(smoke.first_local_m) && smoke.first_local_m < range) {
+        range = smoke.first_local_m;  // the Sick sees particle smoke as a solid object
+    }
+    if (!std::isfinite(range) || range > spec.range_max_m || range < spec.range_min_m) return fail();
+    r.true_range_m = range;
+    const double measured = range + spec.rangeSigma(range) * noise;
+    const long long v = std::llround(std::max(measured, spec.range_min_m) / spec.unit_m);
+    if (spec.isErrorValue(v)) return fail();
+    r.value = v;
+    return r;
+}
+
+}  // namespace smokescan

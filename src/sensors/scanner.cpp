@@ -1,0 +1,75 @@
+#include "smokescan/sensors/scanner.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/random.hpp"
+
+namespace smokescan {
+
+Scanner::Scanner(const Scene& scene, const SurfaceSet& surfaces, const ScanConfig& cfg)
+    : scene_(scene), surfaces_(surfaces), cfg_(cfg)
+{
+    if (scene.sensors.empty()) throw Error(scene.source, "the scene has no sensors");
+    const int si = cfg.sensor.empty() ? 0 : scene.findSensor(cfg.sensor);
+    if (si < 0) {
+        std::string names;
+        for (const auto& s : scene.sensors) names += (names.empty() ? "" : ", ") + s.name + " (" + s.type + ")";
+        throw Error(scene.source, "no sensor named or of type '" + cfg.sensor + "' (sensors: " + names + ")");
+    }
+    mount_ = scene.sensors[size_t(si)];
+    if (!cfg.model.empty()) mount_.model = cfg.model;
+    if (mount_.model != "paper") throw Error("--model", "unknown sensor model '" + mount_.model + "' (paper)");
+    spec_ = specFor(mount_);
+    paper_.penetration_power = cfg.penetration_power > 0 ? cfg.penetration_power : mount_.penetration_power;
+    paper_.local_threshold = mount_.local_threshold;
+    if (!std::isfinite(cfg_.from_s)) cfg_.from_s = scene.t_start_s;
+    if (!std::isfinite(cfg_.to_s)) cfg_.to_s = scene.t_end_s;
+    if (!(cfg_.rate_hz > 0) || !std::isfinite(cfg_.rate_hz)) throw Error("--rate", "must be finite and > 0");
+    if (!(cfg_.to_s >= cfg_.from_s)) throw Error("--to", "must not precede --from");
+    if ((cfg_.to_s - cfg_.from_s) * cfg_.rate_hz > 1e6) throw Error("--rate", "more than a million scans requested");
+}
+
+std::vector<double> Scanner::times() const
+{
+    std::vector<double> t;
+    const long long n = (long long)std::floor((cfg_.to_s - cfg_.from_s) * cfg_.rate_hz + 1e-9);
+    for (long long k = 0; k <= n; ++k) t.push_back(cfg_.from_s + double(k) / cfg_.rate_hz);
+    return t;
+}
+
+Ray Scanner::beamRay(int i) const
+{
+    const double a = spec_.angle(i);
+    return Ray{mount_.pose.t, mount_.pose.rotate(Vec3(std::cos(a), std::sin(a), 0.0)).normalized()};
+}
+
+Scan Scanner::scanAt(double t_s, uint64_t index) const
+{
+    const SmokeField field = SmokeField::at(scene_.volumes, t_s);
+    Scan scan;
+    scan.time_s = t_s;
+    const int n = spec_.n_beams;
+    scan.angle_rad.resize(size_t(n));
+    scan.value.resize(size_t(n));
+    scan.beams.resize(cfg_.keep_beams ? size_t(n) : 0);
+    BeamQuery q;
+    q.wavelength_nm = spec_.wavelength_nm;
+    q.local_threshold = paper_.local_threshold;
+    tbb::parallel_for(0, n, [&](int i) {
+        const Ray ray = beamRay(i);
+        const SurfaceHit hit = surfaces_.closest(ray, spec_.range_max_m);
+        const double t_end = hit.hit ? hit.t_m : spec_.range_max_m;
+        const BeamSmoke smoke = field.trace(ray, 0.0, t_end, q);
+        KeyedRng rng(cfg_.seed, index, uint64_t(i));
+        BeamResult r = paperBeam(spec_, paper_, hit, smoke, rng.normal());
+        scan.angle_rad[size_t(i)] = spec_.angle(i);
+        scan.value[size_t(i)] = r.value;
+        if (cfg_.keep_beams) scan.beams[size_t(i)] = std::move(r);
+    });
+    return scan;
+}
+
+}  // namespace smokescan
