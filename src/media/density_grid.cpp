@@ -246,7 +246,7 @@ GridInfo DensityGrid::info() const
     i.name = g.getName();
     i.source_type = impl_->source_type;
     i.voxel_size_m = impl_->voxel_size_m;
-    i.active_voxels = (long long)g.tree().activeLeafVoxelCount();
+    i.active_voxels = (long long)g.tree().activeVoxelCount();  // voxels in tiles included, as vdb_print counts
     i.leaf_nodes = (long long)g.tree().leafCount();
     i.active_tiles = (long long)g.tree().activeTileCount();
     for (int a = 0; a < 3; ++a) {
