@@ -22,8 +22,9 @@ bool isVdb(const std::string& p) { return std::filesystem::path(p).extension() =
 void printInfo(const std::string& label, const GridInfo& i, double scale)
 {
     std::printf("%s\n", label.c_str());
-    std::printf("  grid '%s' (stored as %s), voxel %.6g m, scale at this time %.6g\n", i.name.c_str(),
-                i.source_type.c_str(), i.voxel_size_m, scale);
+    std::printf("  grid '%s' (stored as %s), voxel %.6g m", i.name.c_str(), i.source_type.c_str(), i.voxel_size_m);
+    if (scale >= 0) std::printf(", timeline scale %.6g at this time", scale);
+    std::printf("\n");
     std::printf("  %lld active voxels in %lld leaves, %lld active tiles, %.1f MB\n", i.active_voxels, i.leaf_nodes,
                 i.active_tiles, i.memory_bytes / 1e6);
     if (i.world_bounds.empty()) {
@@ -44,7 +45,7 @@ int runInfo(const VolumeArgs& a)
         VdbLoadConfig c;
         c.grid_name = a.grid;
         c.scale = a.scale;
-        printInfo(a.input, DensityGrid::loadVdb(a.input, c).info(), 1.0);
+        printInfo(a.input, DensityGrid::loadVdb(a.input, c).info(), -1.0);
         return 0;
     }
     const Scene scene = loadScene(a.input);

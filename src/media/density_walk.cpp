@@ -85,9 +85,12 @@ bool clipTo(const IndexRay& r, const Eigen::Vector3d& lo, const Eigen::Vector3d&
     return t0 < t1;
 }
 
+/// Axis of the nearest boundary; written as selects so the compiler emits no branches (the
+/// choice is random for a general ray, and mispredictions dominated the voxel loop).
 inline int argmin3(const double t[3])
 {
-    return t[0] <= t[1] ? (t[0] <= t[2] ? 0 : 2) : (t[1] <= t[2] ? 1 : 2);
+    const int a = t[1] < t[0] ? 1 : 0;
+    return t[2] < t[a] ? 2 : a;
 }
 
 /// Hierarchical walk with box-filtered voxels. visit(t0, t1, value) returns true to stop.
@@ -106,22 +109,50 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
         c[a] = std::clamp(cellOf(r.o[a] + r.d[a] * t0, r.d[a]), smin[a], smax[a]);
     double t = t0;
     while (t < t1 && g.support.isInside(c)) {
-        if (const LeafT* leaf = acc.probeConstLeaf(c)) {
-            const Coord lo = leaf->origin();
+        // One query per region: where does the value of cell c live?
+        const int depth = acc.getValueDepth(c);
+        if (depth == int(TreeT::DEPTH) - 1) {
+            // Inside a leaf. The walk is memory-bound (a leaf's voxels are a separate heap block),
+            // so first run the DDA on integers alone — offsets and lengths, prefetching each voxel
+            // — then gather: the loads are independent and their cache misses overlap.
+            const LeafT* leaf = acc.probeConstLeaf(c);
+            const float* data = leaf->buffer().data();
+            int lc[3], doff[3];
             double tn[3];
-            for (int a = 0; a < 3; ++a) tn[a] = r.boundaryT(a, c[a], 1);
+            static constexpr int kStride[3] = {kLeafDim * kLeafDim, kLeafDim, 1};
+            int off = 0;
+            for (int a = 0; a < 3; ++a) {
+                lc[a] = c[a] & (kLeafDim - 1);
+                off += lc[a] * kStride[a];
+                doff[a] = r.step[a] * kStride[a];
+                tn[a] = r.boundaryT(a, c[a], 1);
+            }
+            struct Piece { int off; double ta, tb; };
+            Piece pieces[3 * kLeafDim];  // a line crosses at most 3·8 − 2 voxels of a leaf
+            int n = 0;
+            bool end = false;
             for (;;) {
                 const int a = argmin3(tn);
                 const double te = std::min(tn[a], t1);
-                if (te > t && visit(t, te, double(leaf->getValue(c)))) return;
+                if (te > t) {
+                    __builtin_prefetch(data + off);
+                    pieces[n++] = {off, t, te};
+                }
                 t = std::max(t, te);
-                if (t >= t1) return;
+                if (t >= t1) {
+                    end = true;
+                    break;
+                }
                 c[a] += r.step[a];
-                if (c[a] < lo[a] || c[a] >= lo[a] + kLeafDim) break;  // left the leaf
+                lc[a] += r.step[a];
+                if (unsigned(lc[a]) >= unsigned(kLeafDim)) break;  // left the leaf
+                off += doff[a];
                 tn[a] = r.boundaryT(a, c[a], 1);
             }
+            for (int k = 0; k < n; ++k)
+                if (visit(pieces[k].ta, pieces[k].tb, double(data[pieces[k].off]))) return;
+            if (end) return;
         } else {
-            const int depth = acc.getValueDepth(c);
             const double v = depth < 0 ? 0.0 : double(acc.getValue(c));
             const int S = regionSize(depth);
             const Coord lo(c[0] & ~(S - 1), c[1] & ~(S - 1), c[2] & ~(S - 1));

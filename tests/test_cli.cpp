@@ -1,0 +1,123 @@
+// The CLI end to end: the main job works, and bad input gives one line, exit != 0, no output file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct CliRun {
+    int status;
+    std::string out, err;
+};
+
+fs::path dir()
+{
+    static const fs::path d = [] {
+        fs::path p = fs::temp_directory_path() / ("smokescan_cli_" + std::to_string(::getpid()));
+        fs::create_directories(p);
+        return p;
+    }();
+    return d;
+}
+
+std::string slurp(const fs::path& p)
+{
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+CliRun cli(const std::string& args)
+{
+    const fs::path o = dir() / "stdout", e = dir() / "stderr";
+    const std::string cmd = std::string(SMOKESCAN_CLI) + " " + args + " >" + o.string() + " 2>" + e.string();
+    const int rc = std::system(cmd.c_str());
+    return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(o), slurp(e)};
+}
+
+std::string file(const std::string& name, const std::string& text = "")
+{
+    const fs::path p = dir() / name;
+    if (!text.empty()) std::ofstream(p) << text;
+    return p.string();
+}
+
+/// Bad input: non-zero exit, exactly one line on stderr that contains `needle`, no output file.
+void expectBad(const std::string& args, const std::string& needle, const std::string& out_file)
+{
+    const CliRun r = cli(args);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out_file)) << out_file;
+    for (const auto& e : fs::directory_iterator(dir()))
+        EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left a temporary " << e.path();
+}
+}  // namespace
+
+TEST(Cli, ScanWritesThePapersLogAndSummary)
+{
+    const std::string log = file("bocas.log"), tau = file("tau.csv");
+    const CliRun r = cli("scan bocas --sensor urg04lx --from 90 --to 110 --rate 1 --out " + log + " --tau " + tau);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("error codes on the target"), std::string::npos);
+    std::ifstream in(log);
+    std::string line;
+    int scans = 0;
+    while (std::getline(in, line))
+        if (!line.empty() && line[0] != '#') {
+            std::istringstream ss(line);
+            double t;
+            ss >> t;
+            int fields = 0;
+            double x;
+            while (ss >> x) ++fields;
+            EXPECT_EQ(fields, 2 * 682);
+            ++scans;
+        }
+    EXPECT_EQ(scans, 21);
+    EXPECT_EQ(slurp(tau).substr(0, 22), "time_s,beam,angle_rad,");
+}
+
+TEST(Cli, VolumeBuildInfoExport)
+{
+    const std::string vdb = file("bocas.vdb");
+    ASSERT_EQ(cli("volume build bocas --time 120 --out " + vdb).status, 0);
+    const CliRun info = cli("volume info " + vdb + " --grid room");
+    ASSERT_EQ(info.status, 0) << info.err;
+    EXPECT_NE(info.out.find("grid 'room'"), std::string::npos);
+    const std::string exp = file("export.vdb");
+    const CliRun e = cli("volume export ../shared/data/vdb/smoke_dense_double.vdb --scale 0.01 --out " + exp);
+    ASSERT_EQ(e.status, 0) << e.err;
+    EXPECT_NE(cli("volume info " + exp).out.find("stored as float"), std::string::npos);
+    EXPECT_EQ(cli("volume info bocas --time 120").status, 0);
+}
+
+TEST(Cli, BadInputGivesOneLineAndNoOutput)
+{
+    const std::string out = file("never.log");
+    expectBad("scan bocass --out " + out, "bocass: no such scene file", out);
+    expectBad("scan bocas --sensor velodyne --out " + out, "no sensor named or of type 'velodyne'", out);
+    expectBad("scan bocas --rate 0 --out " + out, "--rate", out);
+    expectBad("scan bocas --from 10 --to 5 --out " + out, "--to", out);
+    expectBad("scan bocas --model magic --out " + out, "unknown sensor model", out);
+    const std::string bad_key = file("bad_key.toml", "[[materials]]\nname = \"a\"\nshine = 2\n");
+    expectBad("scan " + bad_key + " --out " + out, bad_key + ":3: unknown key 'materials[0].shine'", out);
+    const std::string bad_type = file("bad_type.toml", "[scene]\nt_end_s = \"late\"\n");
+    expectBad("scan " + bad_type + " --out " + out, bad_type + ":2: scene.t_end_s must be a number", out);
+    const std::string no_field = file("no_field.toml", "[[sensors]]\nname = \"x\"\n");
+    expectBad("scan " + no_field + " --out " + out, "missing field 'sensors[0].type'", out);
+    const std::string bad_vdb = file("bad_vdb.toml", "[[smoke]]\nname = \"s\"\ntype = \"vdb\"\nfile = \"nope.vdb\"\n");
+    expectBad("scan " + bad_vdb + " --out " + out, "nope.vdb: no such file", out);
+    expectBad("scan bocas --from 0 --to 1 --out /nonexistent/dir/x.log", "/nonexistent/dir/x.log: cannot write",
+              "/nonexistent/dir/x.log");
+    const std::string vdb_out = file("never.vdb");
+    expectBad("volume info ../shared/data/vdb/teapot_cloud.vdb --grid smoke", "no grid named 'smoke'", vdb_out);
+    expectBad("volume export nothere.vdb --out " + vdb_out, "nothere.vdb: no such file", vdb_out);
+    expectBad("volume export ../shared/data/vdb/teapot_cloud.vdb --scale -1 --out " + vdb_out, "scale must be", vdb_out);
+}
