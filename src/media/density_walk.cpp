@@ -21,7 +21,9 @@ namespace {
 
 using TreeT = openvdb::FloatTree;
 using LeafT = TreeT::LeafNodeType;
-using Acc = openvdb::tree::ValueAccessor<const TreeT>;
+// Unregistered accessors: the walkers only read, and registration costs a concurrent hash-map
+// insert per beam.
+using Acc = openvdb::tree::ValueAccessor<const TreeT, /*IsSafe=*/false>;
 using openvdb::Coord;
 
 constexpr int kRootChildDim = TreeT::RootNodeType::ChildNodeType::DIM;                // 4096
