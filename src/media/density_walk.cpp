@@ -87,8 +87,7 @@ bool clipTo(const IndexRay& r, const Eigen::Vector3d& lo, const Eigen::Vector3d&
     return t0 < t1;
 }
 
-/// Axis of the nearest boundary; written as selects so the compiler emits no branches (the
-/// choice is random for a general ray, and mispredictions dominated the voxel loop).
+/// Axis of the nearest boundary (ties: the lowest axis), written as selects.
 inline int argmin3(const double t[3])
 {
     const int a = t[1] < t[0] ? 1 : 0;
