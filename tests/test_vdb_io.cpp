@@ -3,6 +3,8 @@
 #include <openvdb/openvdb.h>
 
 #include <cstdlib>
+#include <cstring>
+#include <iterator>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -127,4 +129,28 @@ TEST(VdbLoad, BadInputsGiveOneLineErrors)
     bad("neg.vdb", -0.5f, "negative density");
     bad("nonuniform.vdb", 1.f, "non-uniform transform", true);
     bad("background.vdb", 1.f, "background", false, 0.1f);
+
+    // A singular transform: OpenVDB will not build one, so write a ScaleMap of (1, 2.5, 1) and
+    // zero the 2.5 in the file, as a corrupt or foreign writer might.
+    auto g = openvdb::FloatGrid::create(0.f);
+    g->setName("density");
+    g->tree().setValue(openvdb::Coord(1, 2, 3), 1.f);
+    auto xf = openvdb::math::Transform::createLinearTransform(1.0);
+    xf->preScale(openvdb::Vec3d(1, 2.5, 1));
+    g->setTransform(xf);
+    const std::string ok = writeGrid("scaled.vdb", g);
+    std::ifstream in(ok, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const double from = 2.5, to = 0.0;
+    int patched = 0;
+    for (size_t i = 0; i + sizeof(double) <= bytes.size(); ++i)
+        if (std::memcmp(&bytes[i], &from, sizeof from) == 0) {
+            std::memcpy(&bytes[i], &to, sizeof to);
+            ++patched;
+        }
+    ASSERT_GT(patched, 0);
+    const std::string sing = (tmpDir() / "singular.vdb").string();
+    std::ofstream(sing, std::ios::binary) << bytes;
+    const std::string e = errorOf([&] { DensityGrid::loadVdb(sing); });
+    EXPECT_NE(e.find("singular transform"), std::string::npos) << e;
 }
