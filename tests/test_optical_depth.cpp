@@ -157,6 +157,22 @@ TEST(OpticalDepth, BoxFromMeshMatchesItsBounds)
     for (const auto& c : boxRays(b, h)) expectRel(dg.integrate(c.r, c.t0, c.t1), 0.0028 * chord(b, c.r, c.t0, c.t1), c.name);
 }
 
+TEST(OpticalDepth, SoftEdgedAreaFromFogVolume)
+{
+    // sdfToFogVolume ramps density from 0 at the surface to the full value at depth edge: a ray
+    // crossing two faces at right angles loses edge/2 of column at each.
+    const double h = 0.02, edge = 0.2, rho = 0.003;
+    const Vec3 lo(-0.99, -0.99, -0.99), hi(0.99, 0.99, 0.99);
+    const DensityGrid dg = DensityGrid::box(lo, hi, rho, h, edge);
+    EXPECT_NEAR(dg.maxValue(), rho, 1e-9);
+    const Ray r{Vec3(-2, 0.013, -0.021), Vec3::UnitX()};
+    const double want = rho * ((hi.x() - lo.x()) - edge);
+    // Box filtering samples the ramp at voxel centres: exact for a linear ramp up to the voxel
+    // that straddles the surface, so allow one voxel's worth of the ramp's slope at each face.
+    EXPECT_NEAR(dg.integrate(r, 0, 10), want, 2 * rho * h * h / edge + 1e-9);
+    EXPECT_GT(dg.info().active_tiles, 0);
+}
+
 TEST(OpticalDepth, LinearRamp)
 {
     // value(i,j,k) = 0.01·i on i ∈ [0, 99]: box filtering integrates the staircase exactly,

@@ -161,11 +161,12 @@ DensityGrid DensityGrid::loadVdb(const std::string& path, const VdbLoadConfig& c
 
 DensityGrid DensityGrid::fromMesh(const std::vector<Vec3>& points_m,
                                   const std::vector<std::array<int, 3>>& triangles, double value,
-                                  double voxel_size_m)
+                                  double voxel_size_m, double edge_m)
 {
     ensureOpenVdb();
     if (!(voxel_size_m > 0) || !std::isfinite(voxel_size_m)) throw Error("", "voxel size must be > 0");
     if (!(value >= 0) || !std::isfinite(value)) throw Error("", "smoke density must be finite and >= 0");
+    if (!(edge_m >= 0) || !std::isfinite(edge_m)) throw Error("", "edge must be finite and >= 0");
     auto xf = openvdb::math::Transform::createLinearTransform(voxel_size_m);
     std::vector<openvdb::Vec3s> pts;
     pts.reserve(points_m.size());
@@ -177,20 +178,30 @@ DensityGrid DensityGrid::fromMesh(const std::vector<Vec3>& points_m,
             if (k < 0 || size_t(k) >= points_m.size()) throw Error("", "mesh triangle index out of range");
         tris.emplace_back(t[0], t[1], t[2]);
     }
-    auto sdf = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xf, pts, tris, 3.0f);
-    // Box filtering: a voxel is smoke when its centre is inside the surface.
-    auto mask = openvdb::tools::sdfInteriorMask(*sdf);
-    auto tree = std::make_shared<openvdb::FloatTree>(mask->tree(), 0.0f, float(value),
-                                                     openvdb::TopologyCopy());
-    openvdb::tools::prune(*tree);  // constant leaves become tiles
-    auto grid = openvdb::FloatGrid::create(tree);
+    // The narrow band must reach edge_m inside the surface for the ramp.
+    const float half_width = std::max(3.0f, float(std::ceil(edge_m / voxel_size_m)) + 2.0f);
+    auto sdf = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xf, pts, tris, half_width);
+    openvdb::FloatGrid::Ptr grid;
+    if (edge_m > 0) {
+        openvdb::tools::sdfToFogVolume(*sdf, float(edge_m));  // 0 at the surface → 1 at depth edge_m
+        // sdfToFogVolume leaves band voxels deeper than the cutoff above 1: clamp them.
+        const float v = float(value);
+        for (auto it = sdf->tree().beginValueAll(); it; ++it) it.setValue(std::min(*it, 1.0f) * v);
+        grid = sdf;
+    } else {
+        // Box filtering: a voxel is smoke when its centre is inside the surface.
+        auto mask = openvdb::tools::sdfInteriorMask(*sdf);
+        grid = openvdb::FloatGrid::create(std::make_shared<openvdb::FloatTree>(mask->tree(), 0.0f, float(value),
+                                                                               openvdb::TopologyCopy()));
+    }
+    openvdb::tools::prune(grid->tree());  // constant leaves become tiles
     grid->setTransform(xf);
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     grid->setName("density");
     return DensityGrid(Impl::make(grid, "mesh"));
 }
 
-DensityGrid DensityGrid::box(const Vec3& lo, const Vec3& hi, double value, double voxel_size_m)
+DensityGrid DensityGrid::box(const Vec3& lo, const Vec3& hi, double value, double voxel_size_m, double edge_m)
 {
     if (!(hi.array() > lo.array()).all()) throw Error("", "smoke box must have hi > lo on every axis");
     std::vector<Vec3> p;
@@ -200,7 +211,7 @@ DensityGrid DensityGrid::box(const Vec3& lo, const Vec3& hi, double value, doubl
     const std::vector<std::array<int, 3>> t = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
                                                {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
                                                {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-    return fromMesh(p, t, value, voxel_size_m);
+    return fromMesh(p, t, value, voxel_size_m, edge_m);
 }
 
 DensityGrid DensityGrid::fromBlobs(const std::vector<Blob>& blobs, double voxel_size_m)

@@ -230,17 +230,18 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
         if (type == "box") {
             const Vec3 lo = t.vec3Req("min"), hi = t.vec3Req("max");
             if (!(hi.array() > lo.array()).all()) t.error("max", "must exceed min on every axis");
-            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05);
+            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
             if (((hi - lo) / h).maxCoeff() > 4000) t.error("voxel", "is too small for this box (over 4000 voxels a side)");
-            v.source = std::make_shared<const DensityGrid>(DensityGrid::box(lo, hi, rho, h));
+            v.source = std::make_shared<const DensityGrid>(DensityGrid::box(lo, hi, rho, h, edge));
         } else if (type == "mesh") {
             const std::string file = resolve(base_dir, t.strReq("file"));
             const Pose pose = readPose(t);
             const double scale = t.positive("scale", 1.0);
-            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05);
+            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
             TriMesh mesh = loadObj(file);
             for (Vec3& p : mesh.points_m) p = pose.apply(scale * p);
-            v.source = std::make_shared<const DensityGrid>(DensityGrid::fromMesh(mesh.points_m, mesh.triangles, rho, h));
+            v.source = std::make_shared<const DensityGrid>(
+                DensityGrid::fromMesh(mesh.points_m, mesh.triangles, rho, h, edge));
         } else if (type == "vdb") {
             VdbLoadConfig c;
             const std::string file = resolve(base_dir, t.strReq("file"));

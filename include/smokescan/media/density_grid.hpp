@@ -59,14 +59,19 @@ public:
     static DensityGrid loadVdb(const std::string& path, const VdbLoadConfig& cfg = {});
 
     /// @brief A homogeneous axis-aligned box [lo, hi] (world metres) of density `value`,
-    /// voxelised as a closed mesh (OpenVDB mesh → level set → interior), interior kept as tiles.
-    static DensityGrid box(const Vec3& lo_m, const Vec3& hi_m, double value, double voxel_size_m);
+    /// voxelised as a closed mesh (see fromMesh), interior kept as tiles.
+    static DensityGrid box(const Vec3& lo_m, const Vec3& hi_m, double value, double voxel_size_m,
+                           double edge_m = 0.0);
 
-    /// @brief A closed triangle mesh filled homogeneously with `value` (OpenVDB meshToLevelSet,
-    /// then its interior mask: voxels whose centres are inside), constant regions kept as tiles.
+    /// @brief A closed triangle mesh filled with `value` by OpenVDB: meshToLevelSet, then
+    /// - edge_m = 0: the interior mask (voxels whose centres are inside; a crisp, exactly
+    ///   homogeneous area), or
+    /// - edge_m > 0: sdfToFogVolume, density ramping linearly from 0 at the surface to `value`
+    ///   at depth edge_m (a soft edge).
+    /// Constant regions are kept as tiles.
     static DensityGrid fromMesh(const std::vector<Vec3>& points_m,
                                 const std::vector<std::array<int, 3>>& triangles, double value,
-                                double voxel_size_m);
+                                double voxel_size_m, double edge_m = 0.0);
 
     /// @brief Gaussian blobs summed into a grid (the plume rasteriser). Each blob: centre [m],
     /// standard deviation [m], peak density. Cut off at 3σ.
