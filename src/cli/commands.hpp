@@ -11,5 +11,6 @@ using Runner = std::function<int()>;
 void addScan(CLI::App& app, Runner& run);
 void addVolume(CLI::App& app, Runner& run);
 void addScene(CLI::App& app, Runner& run);
+void addRender(CLI::App& app, Runner& run);
 
 }  // namespace smokescan::cli

@@ -12,6 +12,7 @@ int main(int argc, char** argv)
     smokescan::cli::addScan(app, run);
     smokescan::cli::addVolume(app, run);
     smokescan::cli::addScene(app, run);
+    smokescan::cli::addRender(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -250,6 +250,37 @@ DensityGrid DensityGrid::scaled(double factor) const
     return DensityGrid(Impl::make(g, g->getName(), impl_->source_type));
 }
 
+std::vector<std::pair<Aabb, double>> DensityGrid::blockMaxima() const
+{
+    const auto& g = *impl_->grid;
+    auto worldBox = [&](const openvdb::CoordBBox& b) {
+        Aabb w;
+        const openvdb::Vec3d lo = b.min().asVec3d() - 0.5, hi = b.max().asVec3d() + 0.5;
+        for (int k = 0; k < 8; ++k) {
+            const openvdb::Vec3d c((k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]);
+            const openvdb::Vec3d p = g.transform().indexToWorld(c);
+            w.extend(Vec3(p[0], p[1], p[2]));
+        }
+        return w;
+    };
+    std::vector<std::pair<Aabb, double>> out;
+    for (auto leaf = g.tree().cbeginLeaf(); leaf; ++leaf) {
+        float m = 0.0f;
+        for (auto v = leaf->cbeginValueAll(); v; ++v) m = std::max(m, *v);
+        if (m > 0.0f) out.emplace_back(worldBox(leaf->getNodeBoundingBox()), double(m));
+    }
+    // Tiles at every internal level (ValueAll over non-leaf depths visits tiles only).
+    auto it = g.tree().cbeginValueAll();
+    it.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);
+    for (; it; ++it) {
+        if (*it <= 0.0f) continue;
+        openvdb::CoordBBox b;
+        it.getBoundingBox(b);
+        out.emplace_back(worldBox(b), double(*it));
+    }
+    return out;
+}
+
 GridInfo DensityGrid::info() const
 {
     const auto& g = *impl_->grid;

@@ -248,6 +248,40 @@ double DensityGrid::firstAbove(const Ray& ray, double t0_m, double t1_m, double 
     return hit;
 }
 
+bool DensityGrid::rangeIn(const Aabb& box, double& mn, double& mx, long long max_voxels) const
+{
+    const auto& g = *impl_;
+    if (box.empty()) return false;
+    // Index-space bounds of the box's corners; voxel c covers [c − ½, c + ½).
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf), hi = -lo;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 w((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(), (k & 4) ? box.hi.z() : box.lo.z());
+        const Eigen::Vector3d x = g.w2i_lin * w + g.w2i_off;
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+    }
+    Coord a, b;
+    long long count = 1;
+    for (int k = 0; k < 3; ++k) {
+        a[k] = int(std::floor(lo[k] + 0.5));
+        b[k] = int(std::floor(hi[k] + 0.5));
+        count *= (long long)(b[k] - a[k] + 1);
+    }
+    if (count > max_voxels) return false;
+    const openvdb::CoordBBox region(a, b);
+    double lo_v = kInf, hi_v = 0;
+    if (!g.support.isInside(region)) lo_v = 0;  // some of it is background
+    Acc acc(g.grid->tree());
+    for (auto it = region.begin(); it; ++it) {
+        const double v = acc.getValue(*it);
+        lo_v = std::min(lo_v, v);
+        hi_v = std::max(hi_v, v);
+    }
+    mn = lo_v;
+    mx = hi_v;
+    return true;
+}
+
 double DensityGrid::sample(const Vec3& p_m, Reconstruction recon) const
 {
     const Eigen::Vector3d x = impl_->w2i_lin * p_m + impl_->w2i_off;

@@ -123,8 +123,8 @@ Light readLight(TomlTable t)
     Light l;
     l.name = t.strReq("name");
     l.kind = t.strReq("kind");
-    if (l.kind != "area" && l.kind != "point" && l.kind != "spot" && l.kind != "ambient")
-        t.error("kind", "must be area, point, spot or ambient, got '" + l.kind + "'");
+    if (l.kind != "area" && l.kind != "point" && l.kind != "spot" && l.kind != "directional" && l.kind != "ambient")
+        t.error("kind", "must be area, point, spot, directional or ambient, got '" + l.kind + "'");
     l.pose = readPose(t);
     l.width_m = t.positive("width", l.width_m);
     l.height_m = t.positive("height", l.height_m);
@@ -133,6 +133,7 @@ Light readLight(TomlTable t)
     l.color = t.vec3("color", l.color);
     l.spot_angle_deg = t.positive("spot_angle_deg", l.spot_angle_deg);
     l.radiance = t.nonneg("radiance", l.radiance);
+    l.irradiance = t.nonneg("irradiance", l.irradiance);
     t.finish();
     return l;
 }
@@ -147,6 +148,10 @@ Camera readCamera(TomlTable t)
     if (c.width <= 0 || c.height <= 0) t.error("width", "and height must be > 0");
     c.hfov_deg = t.positive("hfov_deg", c.hfov_deg);
     if (c.hfov_deg >= 180) t.error("hfov_deg", "must be < 180");
+    c.fx_px = t.nonneg("fx_px", 0.0);
+    c.fy_px = t.nonneg("fy_px", 0.0);
+    c.cx_px = t.num("cx_px", -1.0);
+    c.cy_px = t.num("cy_px", -1.0);
     t.finish();
     return c;
 }

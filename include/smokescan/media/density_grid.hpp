@@ -91,6 +91,15 @@ public:
     /// @brief Density at a world point (box or trilinear).
     double sample(const Vec3& p_m, Reconstruction recon = Reconstruction::Box) const;
 
+    /// @brief World boxes of the tree's leaves and non-zero tiles with the largest value in each
+    /// (box filtering: a box covers its voxels' cubes). Majorant grids are built from these.
+    std::vector<std::pair<Aabb, double>> blockMaxima() const;
+
+    /// @brief Smallest and largest density over every voxel whose cube meets the world box
+    /// (exact for axis-aligned grids; for rotated ones over a superset, so still bounds).
+    /// Returns false (and leaves the outputs alone) when that is more than `max_voxels` voxels.
+    bool rangeIn(const Aabb& world_box, double& min_out, double& max_out, long long max_voxels = 4096) const;
+
     /// @brief A copy whose values are multiplied by `factor`.
     DensityGrid scaled(double factor) const;
 

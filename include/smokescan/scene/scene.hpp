@@ -57,7 +57,7 @@ struct SensorMount {
 
 struct Light {
     std::string name;
-    std::string kind = "area";  ///< "area", "point", "spot", "ambient"
+    std::string kind = "area";  ///< "area", "point", "spot", "directional", "ambient"
     Pose pose;                   ///< area: centre, emitting along local +x; spot: axis local +x
     double width_m = 0.6, height_m = 0.04;  ///< area light extent (local y, z)
     double power_w = 70.0;       ///< electrical power; radiant = power_w · efficiency
@@ -65,14 +65,17 @@ struct Light {
     Vec3 color = Vec3::Ones();   ///< linear RGB tint
     double spot_angle_deg = 30;  ///< spot half angle
     double radiance = 1.0;       ///< ambient: uniform radiance [W/(m²·sr)]
+    double irradiance = 1.0;     ///< directional: irradiance normal to the beam [W/m²], along local +x
 };
 
-/// A pinhole camera looking along local +x, local +z up.
+/// A pinhole camera looking along local +x, local +z up (image left = local +y).
 struct Camera {
     std::string name;
     Pose pose;
     int width = 640, height = 480;
     double hfov_deg = 60.0;
+    double fx_px = 0, fy_px = 0;     ///< focal lengths [px]; 0 = from hfov_deg (fy = fx)
+    double cx_px = -1, cy_px = -1;   ///< principal point [px]; < 0 = the image centre
 };
 
 struct Scene {

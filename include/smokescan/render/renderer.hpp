@@ -1,0 +1,66 @@
+#pragma once
+/// @file renderer.hpp
+/// @brief Physically based frames of a scene through its smoke: a volumetric path tracer over
+/// Embree surfaces and the scene's OpenVDB smoke (docs/renderer.md).
+///
+/// | field          | default | unit | meaning                                                   |
+/// |----------------|---------|------|-----------------------------------------------------------|
+/// | time_s         | 0       | s    | scene time (smoke timelines, plumes)                      |
+/// | spp            | 16      | –    | samples per pixel                                         |
+/// | seed           | 1       | –    | image is a pure function of (scene, config, seed)         |
+/// | max_depth      | 32      | –    | scattering and bounce events per path                     |
+/// | rr_depth       | 4       | –    | events before Russian roulette starts                     |
+/// | camera         | ""      | –    | scene camera name ("" = the first)                        |
+/// | width, height  | 0       | px   | override the camera's resolution (0 = keep)               |
+/// | majorant_cells | 64      | –    | majorant grid cells along the smoke's longest axis        |
+/// | progress       | true    | –    | progress bar and ETA on stderr, only when it is a terminal |
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "smokescan/render/camera.hpp"
+#include "smokescan/render/image.hpp"
+#include "smokescan/scene/scene.hpp"
+#include "smokescan/scene/surfaces.hpp"
+
+namespace smokescan {
+
+struct RenderConfig {
+    double time_s = 0;
+    int spp = 16;
+    uint64_t seed = 1;
+    int max_depth = 32;
+    int rr_depth = 4;
+    std::string camera;
+    int width = 0, height = 0;
+    int majorant_cells = 64;
+    bool progress = true;
+};
+
+struct RenderResult {
+    Image radiance;   ///< linear RGB radiance [W/(m²·sr)], mean over samples
+    Image variance;   ///< per pixel and channel, variance of that mean (sample variance / spp)
+    Image ids;        ///< channels object, material (−1: none), depth [m] of the first surface
+    double seconds = 0;
+    long long samples = 0;
+};
+
+/// @brief Renders the scene's camera at config.time_s. @throw Error for a scene without a
+/// camera, an unknown camera name, a zero resolution, spp < 1 or a non-finite pose.
+RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& cfg);
+
+/// @brief Renders through an explicit camera model (any projection).
+RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const CameraModel& camera,
+                    const RenderConfig& cfg);
+
+/// @brief What a video camera delivers: linear radiance × exposure, clipped to [0, 1], encoded
+/// with the sRGB transfer curve (8-bit quantisation happens when writing a PNG/JPEG/TIFF).
+/// @param exposure the scale applied to radiance; <= 0 chooses it automatically by average
+/// metering (the frame's mean luminance maps to 18 % grey), as a camera's auto exposure would.
+/// @param used receives the scale used (optional).
+Image toDisplay(const Image& radiance, double exposure, double* used = nullptr);
+
+/// sRGB transfer function (linear [0,1] → encoded [0,1]).
+double srgbEncode(double linear);
+
+}  // namespace smokescan

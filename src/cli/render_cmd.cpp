@@ -1,0 +1,107 @@
+// `smokescan render`: camera frames of a scene through its smoke.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "commands.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/render/renderer.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+namespace smokescan::cli {
+namespace {
+
+struct RenderArgs {
+    std::string scene = "bocas", out, exr, ids, exposure = "auto";
+    RenderConfig cfg;
+    double from = NAN, to = NAN, every = 0;
+};
+
+/// Fails before any work when an output cannot be written: wrong extension or missing folder.
+void checkOutput(const std::string& path, bool float_only)
+{
+    if (path.empty()) return;
+    if (!isImageExtension(path)) throw Error(path, "unknown image format (exr, png, jpg, tif)");
+    if (float_only && std::filesystem::path(path).extension() != ".exr")
+        throw Error(path, "must be an .exr (it holds linear floats)");
+    const auto dir = std::filesystem::path(path).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir)) throw Error(path, "cannot write (no such directory)");
+}
+
+std::string expand(const std::string& pattern, int index, double t)
+{
+    std::string s = pattern;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%04d", index);
+    for (size_t p; (p = s.find("{i}")) != std::string::npos;) s.replace(p, 3, buf);
+    std::snprintf(buf, sizeof buf, "%07.2f", t);
+    for (size_t p; (p = s.find("{t}")) != std::string::npos;) s.replace(p, 3, buf);
+    return s;
+}
+
+int runRender(const RenderArgs& a)
+{
+    double exposure = 0;
+    if (a.exposure != "auto") {
+        char* end = nullptr;
+        exposure = std::strtod(a.exposure.c_str(), &end);
+        if (end == a.exposure.c_str() || *end || !(exposure > 0) || !std::isfinite(exposure))
+            throw Error("--exposure", "must be 'auto' or a number > 0, got '" + a.exposure + "'");
+    }
+    std::vector<double> times = {a.cfg.time_s};
+    const bool series = a.every > 0;
+    if (series) {
+        if (std::isnan(a.from) || std::isnan(a.to) || a.to < a.from) throw Error("--every", "needs --from <= --to");
+        times.clear();
+        for (int k = 0; a.from + k * a.every <= a.to + 1e-9; ++k) times.push_back(a.from + k * a.every);
+        for (const std::string* p : {&a.out, &a.exr, &a.ids})
+            if (!p->empty() && p->find("{i}") == std::string::npos && p->find("{t}") == std::string::npos)
+                throw Error(*p, "a time series needs {i} (frame index) or {t} (time) in each output name");
+    }
+    checkOutput(a.out, false);
+    checkOutput(a.exr, true);
+    checkOutput(a.ids, true);
+    const Scene scene = loadScene(a.scene);
+    const SurfaceSet surfaces(scene);
+    for (size_t k = 0; k < times.size(); ++k) {
+        RenderConfig cfg = a.cfg;
+        cfg.time_s = times[k];
+        const RenderResult r = render(scene, surfaces, cfg);
+        double used = 0;
+        const Image frame = toDisplay(r.radiance, exposure, &used);
+        const std::string out = expand(a.out, int(k), times[k]);
+        writeImage(out, frame);
+        if (!a.exr.empty()) writeImage(expand(a.exr, int(k), times[k]), r.radiance);
+        if (!a.ids.empty()) writeImage(expand(a.ids, int(k), times[k]), r.ids);
+        std::printf("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
+                    r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);
+    }
+    return 0;
+}
+
+}  // namespace
+
+void addRender(CLI::App& app, Runner& run)
+{
+    auto a = std::make_shared<RenderArgs>();
+    auto* c = app.add_subcommand("render", "Render camera frames through the smoke (volumetric path tracing)");
+    c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml)")->capture_default_str();
+    c->add_option("--time", a->cfg.time_s, "Scene time [s]")->capture_default_str();
+    c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str();
+    c->add_option("--out", a->out, "8-bit sRGB frame (.png, .jpg, .tif); {i}/{t} in a time series")->required();
+    c->add_option("--exr", a->exr, "Also write linear radiance (.exr)");
+    c->add_option("--ids", a->ids, "Also write object id, material id and depth AOVs (.exr)");
+    c->add_option("--camera", a->cfg.camera, "Scene camera name (default: the first)");
+    c->add_option("--width", a->cfg.width, "Override the camera's width [px]");
+    c->add_option("--height", a->cfg.height, "Override the camera's height [px]");
+    c->add_option("--seed", a->cfg.seed, "Random seed")->capture_default_str();
+    c->add_option("--max-depth", a->cfg.max_depth, "Scattering/bounce events per path")->capture_default_str();
+    c->add_option("--exposure", a->exposure, "'auto' (average metering to 18 % grey) or a radiance scale")->capture_default_str();
+    c->add_option("--from", a->from, "Time series: first time [s]");
+    c->add_option("--to", a->to, "Time series: last time [s]");
+    c->add_option("--every", a->every, "Time series: interval [s]");
+    c->callback([a, &run] { run = [a] { return runRender(*a); }; });
+}
+
+}  // namespace smokescan::cli
