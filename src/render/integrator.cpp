@@ -12,7 +12,7 @@
 #include <mutex>
 
 #include "bsdf.hpp"
-#include "render_medium.hpp"
+#include "integrator.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/render/renderer.hpp"
 
@@ -199,11 +199,20 @@ RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const Render
 
 RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const CameraModel& camera, const RenderConfig& cfg)
 {
-    if (cfg.spp < 1) throw Error("--spp", "must be >= 1");
-    if (camera.width() <= 0 || camera.height() <= 0) throw Error("camera", "resolution must be > 0");
     if (!std::isfinite(cfg.time_s)) throw Error("--time", "must be finite");
     const auto t0 = std::chrono::steady_clock::now();
     const RenderMedium medium(SmokeField::at(scene.volumes, cfg.time_s), cfg.majorant_cells);
+    RenderResult r = renderWithMedium(scene, surfaces, camera, medium, cfg);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, const CameraModel& camera,
+                              const RenderMedium& medium, const RenderConfig& cfg)
+{
+    if (cfg.spp < 1) throw Error("--spp", "must be >= 1");
+    if (camera.width() <= 0 || camera.height() <= 0) throw Error("camera", "resolution must be > 0");
+    const auto t0 = std::chrono::steady_clock::now();
     const LightSet lights(scene);
     const Context ctx{scene, surfaces, medium, lights, cfg};
     const int W = camera.width(), H = camera.height();

@@ -21,11 +21,28 @@ RenderMedium::RenderMedium(const SmokeField& field, int cells)
 
 RenderMedium::RenderMedium(std::vector<Component> comps, int cells) : comps_(std::move(comps)) { build(cells); }
 
+double RenderMedium::density(const Component& c, const Vec3& p)
+{
+    if (c.grid) return c.grid->sample(p);
+    return (p.array() >= c.box.lo.array()).all() && (p.array() < c.box.hi.array()).all() ? 1.0 : 0.0;
+}
+
+namespace {
+/// Density range of an analytic unit box over a cell: exact.
+void boxRange(const Aabb& box, const Aabb& cell, double& mn, double& mx)
+{
+    const bool inside = (cell.lo.array() >= box.lo.array()).all() && (cell.hi.array() <= box.hi.array()).all();
+    const bool meets = (cell.hi.array() > box.lo.array()).all() && (cell.lo.array() < box.hi.array()).all();
+    mn = inside ? 1.0 : 0.0;
+    mx = meets ? 1.0 : 0.0;
+}
+}  // namespace
+
 void RenderMedium::build(int cells)
 {
     std::vector<std::vector<std::pair<Aabb, double>>> blocks;
     for (const auto& c : comps_) {
-        blocks.push_back(c.grid->blockMaxima());
+        blocks.push_back(c.grid ? c.grid->blockMaxima() : std::vector<std::pair<Aabb, double>>{{c.box, 1.0}});
         for (const auto& [b, m] : blocks.back()) {
             bounds_.extend(b.lo);
             bounds_.extend(b.hi);
@@ -77,7 +94,10 @@ void RenderMedium::build(int cells)
                     box.lo = bounds_.lo + Vec3(x, y, z).cwiseProduct(cell_m_);
                     box.hi = box.lo + cell_m_;
                     double mn = 0, mx = one[i];
-                    if (comp.grid->rangeIn(box, mn, mx)) mx = std::min<double>(mx, one[i]);
+                    if (!comp.grid)
+                        boxRange(comp.box, box, mn, mx);
+                    else if (comp.grid->rangeIn(box, mn, mx))
+                        mx = std::min<double>(mx, one[i]);
                     Cell& c = cells_[i];
                     // Floats must not round below the true bound: a relative hair of headroom.
                     c.mu += float(mx * smax) * (1.0f + 1e-6f);
@@ -92,7 +112,7 @@ void RenderMedium::coefficients(const Vec3& p, Rgb& sigma_t, Rgb& sigma_s) const
     sigma_t.setZero();
     sigma_s.setZero();
     for (const auto& c : comps_) {
-        const double rho = c.grid->sample(p) * c.scale;
+        const double rho = density(c, p) * c.scale;
         if (rho <= 0) continue;
         sigma_t += rho * c.sigma_t;
         sigma_s += rho * c.albedo * c.sigma_t;
@@ -136,7 +156,7 @@ MediumEvent RenderMedium::sample(const Ray& ray, double t_max, Rgb& beta, KeyedR
                     double pick = rng.uniform() * ss.mean(), acc = 0;
                     ev.g = comps_.back().g;
                     for (const auto& c : comps_) {
-                        acc += c.grid->sample(p) * c.scale * c.albedo * c.sigma_t.mean();
+                        acc += density(c, p) * c.scale * c.albedo * c.sigma_t.mean();
                         if (pick < acc) {
                             ev.g = c.g;
                             break;

@@ -27,8 +27,11 @@ struct MediumEvent {
 
 class RenderMedium {
 public:
+    /// A VDB grid, or (grid null) an analytic homogeneous box of density 1 — the reference the
+    /// grid path is tested against.
     struct Component {
         std::shared_ptr<const DensityGrid> grid;
+        Aabb box;                   ///< analytic component only
         double scale = 1;
         Rgb sigma_t = Rgb::Zero();  ///< per unit density [1/m]
         double albedo = 1, g = 0;
@@ -59,6 +62,7 @@ public:
 
 private:
     void build(int cells_per_axis);
+    static double density(const Component& c, const Vec3& p);
 
     std::vector<Component> comps_;
     Aabb bounds_;
