@@ -98,6 +98,19 @@ TEST(Cli, VolumeBuildInfoExport)
     EXPECT_EQ(cli("volume info bocas --time 120").status, 0);
 }
 
+TEST(Cli, RenderWritesFrameAndAovs)
+{
+    const std::string png = file("f.png"), exr = file("f.exr"), ids = file("ids.exr");
+    const CliRun r = cli("render bocas --time 100 --spp 2 --width 32 --height 24 --out " + png + " --exr " + exr +
+                         " --ids " + ids);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(png) && fs::exists(exr) && fs::exists(ids));
+    const CliRun s = cli("render bocas --from 0 --to 20 --every 10 --spp 1 --width 8 --height 6 --out " +
+                         (dir() / "series_{i}.png").string());
+    ASSERT_EQ(s.status, 0) << s.err;
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(fs::exists(dir() / ("series_000" + std::to_string(i) + ".png")));
+}
+
 TEST(Cli, BadInputGivesOneLineAndNoOutput)
 {
     const std::string out = file("never.log");
@@ -116,6 +129,19 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput)
     expectBad("scan " + bad_vdb + " --out " + out, "nope.vdb: no such file", out);
     expectBad("scan bocas --from 0 --to 1 --out /nonexistent/dir/x.log", "/nonexistent/dir/x.log: cannot write",
               "/nonexistent/dir/x.log");
+    const std::string png = file("never.png");
+    const std::string no_cam = file("no_cam.toml", "[[materials]]\nname = \"a\"\n");
+    expectBad("render " + no_cam + " --out " + png, "has no camera", png);
+    const std::string zero = file("zero.toml", "[[cameras]]\nname = \"c\"\nwidth = 0\n");
+    expectBad("render " + zero + " --out " + png, zero + ":3: cameras[0].width and height must be > 0", png);
+    expectBad("render bocas --width 0 --out " + png, "--width: resolution must be > 0", png);
+    const std::string nan_pose = file("nan.toml", "[[cameras]]\nname = \"c\"\nposition = [nan, 0.0, 0.0]\n");
+    expectBad("render " + nan_pose + " --out " + png, "cameras[0].position must be an array of 3 finite numbers", png);
+    expectBad("render bocas --spp 1 --width 8 --height 6 --out /nonexistent/dir/f.png", "/nonexistent/dir/f.png: cannot write",
+              "/nonexistent/dir/f.png");
+    expectBad("render bocas --out " + file("f.bmpx"), "unknown image format", file("f.bmpx"));
+    expectBad("render bocas --out " + png + " --exr " + file("lin.png"), "must be an .exr", png);
+    expectBad("render bocas --camera nope --spp 1 --out " + png, "no camera named 'nope'", png);
     const std::string vdb_out = file("never.vdb");
     expectBad("volume info ../shared/data/vdb/teapot_cloud.vdb --grid smoke", "no grid named 'smoke'", vdb_out);
     expectBad("volume export nothere.vdb --out " + vdb_out, "nothere.vdb: no such file", vdb_out);

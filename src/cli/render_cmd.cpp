@@ -16,6 +16,7 @@ struct RenderArgs {
     std::string scene = "bocas", out, exr, ids, exposure = "auto";
     RenderConfig cfg;
     double from = NAN, to = NAN, every = 0;
+    int width = -1, height = -1;  // -1: the camera's
 };
 
 /// Fails before any work when an output cannot be written: wrong extension or missing folder.
@@ -59,6 +60,8 @@ int runRender(const RenderArgs& a)
             if (!p->empty() && p->find("{i}") == std::string::npos && p->find("{t}") == std::string::npos)
                 throw Error(*p, "a time series needs {i} (frame index) or {t} (time) in each output name");
     }
+    if (a.width == 0 || a.height == 0 || a.width < -1 || a.height < -1)
+        throw Error(a.width <= 0 && a.width != -1 ? "--width" : "--height", "resolution must be > 0");
     checkOutput(a.out, false);
     checkOutput(a.exr, true);
     checkOutput(a.ids, true);
@@ -67,6 +70,8 @@ int runRender(const RenderArgs& a)
     for (size_t k = 0; k < times.size(); ++k) {
         RenderConfig cfg = a.cfg;
         cfg.time_s = times[k];
+        cfg.width = std::max(0, a.width);
+        cfg.height = std::max(0, a.height);
         const RenderResult r = render(scene, surfaces, cfg);
         double used = 0;
         const Image frame = toDisplay(r.radiance, exposure, &used);
@@ -93,8 +98,8 @@ void addRender(CLI::App& app, Runner& run)
     c->add_option("--exr", a->exr, "Also write linear radiance (.exr)");
     c->add_option("--ids", a->ids, "Also write object id, material id and depth AOVs (.exr)");
     c->add_option("--camera", a->cfg.camera, "Scene camera name (default: the first)");
-    c->add_option("--width", a->cfg.width, "Override the camera's width [px]");
-    c->add_option("--height", a->cfg.height, "Override the camera's height [px]");
+    c->add_option("--width", a->width, "Override the camera's width [px]");
+    c->add_option("--height", a->height, "Override the camera's height [px]");
     c->add_option("--seed", a->cfg.seed, "Random seed")->capture_default_str();
     c->add_option("--max-depth", a->cfg.max_depth, "Scattering/bounce events per path")->capture_default_str();
     c->add_option("--exposure", a->exposure, "'auto' (average metering to 18 % grey) or a radiance scale")->capture_default_str();
