@@ -312,3 +312,48 @@ TEST(Render, DeterministicWhateverTheThreadCount)
     cfg.seed = 2;
     EXPECT_NE(render(s, set, cfg).radiance.data, a.radiance.data);
 }
+
+TEST(Render, AreaLightIrradianceMatchesTheFormFactor)
+{
+    // A white Lambertian floor under a rectangular emitter of radiance Le facing it, at heights
+    // c = 0.5 m and 2 cm (near field). Direct light only. The floor point on the axis reads
+    // Le·F, F the differential-area form factor: 4 quarter rectangles of X = a/(2c), Y = b/(2c),
+    // F_q = (1/2π)[X/√(1+X²)·atan(Y/√(1+X²)) + Y/√(1+Y²)·atan(X/√(1+Y²))].
+    const double a = 0.6, b = 0.3, flux = 70 * 0.25, Le = flux / (M_PI * a * b);
+    for (double c : {0.5, 0.02}) {
+        const std::string toml = R"(
+[[materials]]
+name = "white"
+albedo = [1.0, 1.0, 1.0]
+[[surfaces]]
+name = "floor"
+material = "white"
+type = "quad"
+corner = [-5.0, -5.0, 0.0]
+u = [10.0, 0.0, 0.0]
+v = [0.0, 10.0, 0.0]
+[[lights]]
+name = "panel"
+kind = "area"
+position = [0.0, 0.0, )" + std::to_string(c) + R"(]
+rpy_deg = [0.0, 90.0, 0.0]
+width = 0.6
+height = 0.3
+power_w = 70.0
+efficiency = 0.25
+[[cameras]]
+name = "cam"
+position = [0.4, 0.0, 0.4]
+look_at = [0.0, 0.0, 0.0]
+width = 1
+height = 1
+hfov_deg = 0.01
+)";
+        const RenderResult r = renderScene(toml, config(4000, 1));
+        const double X = a / (2 * c), Y = b / (2 * c);
+        const double Fq = (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+                           Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) / (2 * M_PI);
+        const auto [m, se] = imageMean(r, 1);
+        EXPECT_NEAR(m, Le * 4 * Fq, 3 * se + 1e-6 * m) << "height " << c;
+    }
+}

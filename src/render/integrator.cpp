@@ -13,6 +13,7 @@
 
 #include "bsdf.hpp"
 #include "integrator.hpp"
+#include "sphere_rect.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/render/renderer.hpp"
 
@@ -56,8 +57,18 @@ public:
         }
         Vec3 q = l.pose.t;
         double area_term = 1.0;
+        double solid_angle = 0;  // > 0 when the area light was sampled by solid angle
         if (l.kind == "area") {
-            q += (rng.uniform() - 0.5) * l.width_m * l.pose.R.col(1) + (rng.uniform() - 0.5) * l.height_m * l.pose.R.col(2);
+            const Vec3 ex = l.width_m * l.pose.R.col(1), ey = l.height_m * l.pose.R.col(2);
+            const Vec3 corner = l.pose.t - 0.5 * ex - 0.5 * ey;
+            const SphericalRectangle sr(p, corner, ex, ey);
+            const double u = rng.uniform(), v = rng.uniform();
+            if (sr.usable()) {
+                q = sr.sample(u, v);
+                solid_angle = sr.solidAngle();
+            } else {
+                q = corner + u * ex + v * ey;  // too far or too flat for the spherical parametrisation
+            }
         }
         const Vec3 d = q - p;
         ls.dist = d.norm();
@@ -66,9 +77,9 @@ public:
         const double cos_l = X.dot(-ls.wi);  // area and spot lights face local +x
         const double inv_d2 = 1.0 / (ls.dist * ls.dist);
         if (l.kind == "area") {
-            if (cos_l <= 0) return ls;
+            if (cos_l <= 0) return ls;  // one-sided emitter
             const double A = l.width_m * l.height_m, Le = flux / (M_PI * A);
-            area_term = Le * cos_l * A * inv_d2;  // radiance / (solid-angle pdf)
+            area_term = solid_angle > 0 ? Le * solid_angle : Le * cos_l * A * inv_d2;  // radiance / pdf(ω)
         } else if (l.kind == "point") {
             area_term = flux / (4 * M_PI) * inv_d2;
         } else {  // spot: a hard cone of half-angle spot_angle_deg

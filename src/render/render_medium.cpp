@@ -173,10 +173,10 @@ MediumEvent RenderMedium::sample(const Ray& ray, double t_max, Rgb& beta, KeyedR
 
 Rgb RenderMedium::transmittance(const Ray& ray, double t_max, KeyedRng& rng) const
 {
-    Rgb T = Rgb::Ones();
+    Rgb ratio = Rgb::Ones(), tau_ctrl = Rgb::Zero();  // T = e^{−τ_c} · Π(1 − (σ_t − σ_c)/μ̄_r)
     walkMajorant(ray, t_max, [&](double t0, double t1, const Cell& cell) {
         const Rgb ctrl(cell.ctrl[0], cell.ctrl[1], cell.ctrl[2]);
-        T *= (-ctrl * (t1 - t0)).exp();  // the control part, analytically
+        tau_ctrl += ctrl * (t1 - t0);
         const double mu_r = cell.mu_r;
         if (mu_r > 0) {
             for (double t = t0;;) {
@@ -184,16 +184,12 @@ Rgb RenderMedium::transmittance(const Ray& ray, double t_max, KeyedRng& rng) con
                 if (t >= t1) break;
                 Rgb st, ss;
                 coefficients(ray.at(t), st, ss);
-                T *= Rgb::Ones() - (st - ctrl) / mu_r;
+                ratio *= Rgb::Ones() - (st - ctrl) / mu_r;
             }
         }
-        if ((T.abs() < 1e-12).all()) {  // nothing left: stop early
-            T.setZero();
-            return true;
-        }
-        return false;
+        return (tau_ctrl > 40.0).all() || (ratio == 0.0).all();  // nothing left (e^{−40} ≈ 4e−18)
     });
-    return T;
+    return ratio * (-tau_ctrl).exp();
 }
 
 }  // namespace smokescan

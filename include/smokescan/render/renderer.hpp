@@ -12,7 +12,7 @@
 /// | rr_depth       | 4       | –    | events before Russian roulette starts                     |
 /// | camera         | ""      | –    | scene camera name ("" = the first)                        |
 /// | width, height  | 0       | px   | override the camera's resolution (0 = keep)               |
-/// | majorant_cells | 64      | –    | majorant grid cells along the smoke's longest axis        |
+/// | majorant_cells | 32      | –    | majorant grid cells along the smoke's longest axis        |
 /// | progress       | true    | –    | progress bar and ETA on stderr, only when it is a terminal |
 #include <cstdint>
 #include <memory>
@@ -33,7 +33,7 @@ struct RenderConfig {
     int rr_depth = 4;
     std::string camera;
     int width = 0, height = 0;
-    int majorant_cells = 64;
+    int majorant_cells = 32;
     bool progress = true;
 };
 
