@@ -48,7 +48,7 @@ TEST(Medium, AngstromLaw)
     EXPECT_NEAR(soot.sigmaT(700) / soot.sigmaT(550), 550.0 / 700.0, 1e-12);
     const Medium fine = Medium::preset("fine_smoke");  // Å = 2
     EXPECT_NEAR(fine.sigmaT(905) / fine.sigmaT(550), std::pow(550.0 / 905.0, 2), 1e-12);
-    EXPECT_NEAR(Medium::preset("theatrical_fog").sigmaT(785), 200.0, 1e-12);
+    EXPECT_NEAR(Medium::preset("theatrical_fog").sigmaT(785), Medium::kCalibratedSigmaT, 1e-12);
     EXPECT_THROW(Medium::preset("steam"), Error);
 }
 
@@ -78,7 +78,7 @@ TEST(SmokeField, OverlappingVolumesAddExactly)
     const BeamSmoke s = f.trace(r, 0.0, 10.0, q);
     const double col_a = 0.002 * 2.05, col_b = 2 * 0.003 * 2.05;
     EXPECT_NEAR(s.column_regional, col_a + col_b, 1e-9);
-    const double tau = 200.0 * col_a + Medium::preset("soot").sigmaT(905) * col_b;
+    const double tau = Medium::kCalibratedSigmaT * col_a + Medium::preset("soot").sigmaT(905) * col_b;
     EXPECT_NEAR(s.tau, tau, 1e-6 * tau);
     // Beer–Lambert: the profile integrates to the same optical depth, and the overlap adds.
     double from_profile = 0;
@@ -86,7 +86,7 @@ TEST(SmokeField, OverlappingVolumesAddExactly)
     EXPECT_NEAR(from_profile, tau, 1e-6 * tau);
     ASSERT_EQ(s.sigma_t_profile.size(), 3u);
     EXPECT_NEAR(s.sigma_t_profile[1].t0_m, 1.975, 1e-9);
-    EXPECT_NEAR(s.sigma_t_profile[1].density, 200.0 * 0.002 + Medium::preset("soot").sigmaT(905) * 0.006, 1e-6);
+    EXPECT_NEAR(s.sigma_t_profile[1].density, Medium::kCalibratedSigmaT * 0.002 + Medium::preset("soot").sigmaT(905) * 0.006, 1e-6);
 }
 
 TEST(Plume, DeterministicAndMassConserving)

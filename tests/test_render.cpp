@@ -115,7 +115,7 @@ TEST(Render, TransmittanceIsBeerLambert)
     std::vector<SmokeVolume> vols = {v};
     const RenderMedium med(SmokeField::at(vols, 0), 64);
     const Ray r{Vec3(0.1, -0.2, -3), Vec3(0.1, 0.05, 1).normalized()};
-    const double L = 1.05 / r.d.z(), tau = 200 * 0.004 * L;
+    const double L = 1.05 / r.d.z(), tau = Medium::kCalibratedSigmaT * 0.004 * L;
     const int N = 4000;
     Rgb sum = Rgb::Zero(), sum2 = Rgb::Zero();
     for (int i = 0; i < N; ++i) {
@@ -133,12 +133,12 @@ TEST(Render, TransmittanceIsBeerLambert)
         DensityGrid::loadVdb(std::string(SMOKESCAN_SOURCE_DIR) + "/../shared/data/vdb/teapot_cloud.vdb"));
     const auto& grid = *std::get<std::shared_ptr<const DensityGrid>>(t.source);
     const Ray r1{Vec3(-2, 0.05, 0.0), Vec3::UnitX()}, r2{Vec3(-1, -1, -0.5), Vec3(1, 1, 0.5).normalized()};
-    const double scale = 1.0 / (200 * grid.integrate(r1, 0, 10));  // τ = 1 along r1
+    const double scale = 1.0 / (Medium::kCalibratedSigmaT * grid.integrate(r1, 0, 10));  // τ = 1 along r1
     t.timeline = DensityTimeline::constant(scale);
     std::vector<SmokeVolume> tv = {t};
     const RenderMedium tm(SmokeField::at(tv, 0), 64);
     for (const Ray& ray : {r1, r2}) {
-        const double want = std::exp(-200 * scale * grid.integrate(ray, 0, 10));
+        const double want = std::exp(-Medium::kCalibratedSigmaT * scale * grid.integrate(ray, 0, 10));
         ASSERT_LT(want, 0.9);
         ASSERT_GT(want, 0.01);
         double s = 0, s2 = 0;
@@ -190,7 +190,7 @@ min = [-20.0, -20.0, -20.0]
 max = [20.0, 20.0, 20.0]
 voxel = 0.5
 density = 0.003
-medium = { preset = "theatrical_fog", albedo = 1.0 }
+medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo = 1.0 }
 )";
             const RenderResult r = renderScene(toml, config(20000));
             const auto [m, se] = imageMean(r, 1);
@@ -284,7 +284,7 @@ min = [-40.05, -40.05, 0.05]
 max = [40.05, 40.05, 1.05]
 voxel = 0.1
 density = 0.005
-medium = { preset = "theatrical_fog", albedo = 0.8, g = 0.5 }
+medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo = 0.8, g = 0.5 }
 )";
     const RenderResult r = renderScene(toml, config(40000, 1));
     const double mu = std::cos(theta), d = 1 + g * g - 2 * g * mu, p = (1 - g * g) / (4 * M_PI * d * std::sqrt(d));

@@ -86,7 +86,7 @@ TEST(PaperModel, HokuyoThresholdIsPenetrationPower)
         ASSERT_GE(i, 0);
         const Scan s = sc.scanAt(0, 0);
         EXPECT_NEAR(s.beams[size_t(i)].smoke.column_regional, rho_star * f * 1.55, 1e-9);
-        EXPECT_NEAR(s.beams[size_t(i)].smoke.tau, 200.0 * rho_star * f * 1.55, 1e-6);
+        EXPECT_NEAR(s.beams[size_t(i)].smoke.tau, Medium::kCalibratedSigmaT * rho_star * f * 1.55, 1e-6);
         if (f < 1) {
             EXPECT_FALSE(s.beams[size_t(i)].error);
             EXPECT_NEAR(double(s.value[size_t(i)]), 2500.0, 4 * 12.5 + 1);  // σ = 0.5 % of 2.5 m

@@ -12,5 +12,6 @@ void addScan(CLI::App& app, Runner& run);
 void addVolume(CLI::App& app, Runner& run);
 void addScene(CLI::App& app, Runner& run);
 void addRender(CLI::App& app, Runner& run);
+void addCalibration(CLI::App& app, Runner& run);
 
 }  // namespace smokescan::cli

@@ -13,6 +13,7 @@ int main(int argc, char** argv)
     smokescan::cli::addVolume(app, run);
     smokescan::cli::addScene(app, run);
     smokescan::cli::addRender(app, run);
+    smokescan::cli::addCalibration(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

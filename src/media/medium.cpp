@@ -33,9 +33,9 @@ Medium Medium::fromAngstrom(const std::string& name, double s550, double angstro
 
 Medium Medium::preset(const std::string& name)
 {
-    if (name == "theatrical_fog") return fromAngstrom(name, 200.0, 0.0, 0.97, 0.7);
-    if (name == "soot") return fromAngstrom(name, 200.0, 1.0, 0.3, 0.6);
-    if (name == "fine_smoke") return fromAngstrom(name, 200.0, 2.0, 0.9, 0.7);
+    if (name == "theatrical_fog") return fromAngstrom(name, kCalibratedSigmaT, 0.0, 0.97, 0.7);
+    if (name == "soot") return fromAngstrom(name, kCalibratedSigmaT, 1.0, 0.3, 0.6);
+    if (name == "fine_smoke") return fromAngstrom(name, kCalibratedSigmaT, 2.0, 0.9, 0.7);
     throw Error("", "unknown medium preset '" + name + "' (theatrical_fog, soot, fine_smoke)");
 }
 

@@ -4,29 +4,33 @@
 ///
 /// | parameter        | default | unit                   | meaning                                      |
 /// |------------------|---------|------------------------|----------------------------------------------|
-/// | sigma_t_550      | 200     | 1/m per density unit   | extinction at 550 nm (camera, visible)       |
-/// | sigma_t_785      | 200     | 1/m per density unit   | extinction at 785 nm (Hokuyo URG-04LX)       |
-/// | sigma_t_905      | 200     | 1/m per density unit   | extinction at 905 nm (Sick LMS200)           |
+/// | sigma_t_550      | 270     | 1/m per density unit   | extinction at 550 nm (camera, visible)       |
+/// | sigma_t_785      | 270     | 1/m per density unit   | extinction at 785 nm (Hokuyo URG-04LX)       |
+/// | sigma_t_905      | 270     | 1/m per density unit   | extinction at 905 nm (Sick LMS200)           |
 /// | albedo           | 0.97    | –                      | single-scattering albedo σ_s/σ_t             |
 /// | g                | 0.7     | –                      | Henyey–Greenstein asymmetry                  |
 ///
 /// The density unit is the smoke paper's engine density (its threshold 0.0028 at saturation 0.14),
 /// so the paper's penetration power (density·m) is the column ∫ρ ds the integrator returns. The
-/// default extinction 200 /m per unit is provisional: it makes the paper's threshold column
-/// 0.007 density·m an optical depth of 1.4 (round-trip transmittance 0.06); the density ↔
-/// saturation calibration (issue 5) replaces it. Defaults describe theatrical oil/glycol fog, the
-/// BOCAS smoke: droplets near 1 µm give an Ångström exponent near 0 (same σ_t at all three
-/// wavelengths) and albedo close to 1. Presets for soot (Å ≈ 1, albedo 0.3) and fine smoke
-/// (Å ≈ 2, albedo 0.9) follow ../shared/REFERENCE.md.
+/// default extinction, 270 /m per unit (kCalibratedSigmaT), is calibrated: with it the rendered
+/// BOCAS target reaches HSV saturation 0.14 at density 0.0028 (`smokescan calibrate bocas`,
+/// calib/bocas.json; docs/calibration.md). Defaults describe theatrical oil/glycol fog, the BOCAS
+/// smoke: droplets near 1 µm give an Ångström exponent near 0 (same σ_t at all three wavelengths)
+/// and albedo close to 1. Presets for soot (Å ≈ 1, albedo 0.3) and fine smoke (Å ≈ 2, albedo 0.9)
+/// follow ../shared/REFERENCE.md.
 #include <string>
 
 namespace smokescan {
 
 struct Medium {
+    /// Extinction per unit of engine density at 550 nm that puts the BOCAS target's saturation 0.14
+    /// at density 0.0028 [1/m] (calib/bocas.json).
+    static constexpr double kCalibratedSigmaT = 270.0;
+
     std::string name = "theatrical_fog";
-    double sigma_t_550 = 200.0;
-    double sigma_t_785 = 200.0;
-    double sigma_t_905 = 200.0;
+    double sigma_t_550 = kCalibratedSigmaT;
+    double sigma_t_785 = kCalibratedSigmaT;
+    double sigma_t_905 = kCalibratedSigmaT;
     double albedo = 0.97;
     double g = 0.7;
 

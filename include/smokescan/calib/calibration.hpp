@@ -1,0 +1,67 @@
+#pragma once
+/// @file calibration.hpp
+/// @brief The density ↔ saturation calibration of the smoke paper (its Fig. 7), from smokescan's
+/// own rendered frames: the scene is filled with homogeneous smoke at a sweep of densities, the
+/// target's HSV saturation is measured in each frame and the curve is fitted with Ceres.
+///
+/// | field          | default                            | unit    | meaning                                   |
+/// |----------------|------------------------------------|---------|-------------------------------------------|
+/// | densities      | 0, 0.0005 … 0.012 (14 values)      | density | the sweep                                 |
+/// | spp            | 4                                  | –       | samples per pixel of each frame           |
+/// | width, height  | 320, 240                           | px      | frame size                                |
+/// | seed           | 1                                  | –       | render seed (frame k uses seed + k)       |
+/// | target_prefix  | "target_"                          | –       | surfaces whose names start with it are the target; the rest of the name is the patch |
+/// | threshold_saturation | 0.14                         | –       | the paper's Hokuyo threshold              |
+/// | path_m         | 2.5                                | m       | laser–target distance for the penetration power |
+/// | paper_density  | 0.0028                             | engine density | the paper's density at the threshold |
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "smokescan/calib/saturation.hpp"
+#include "smokescan/calib/saturation_curve.hpp"
+#include "smokescan/scene/scene.hpp"
+
+namespace smokescan {
+
+struct CalibrateConfig {
+    std::vector<double> densities = {0.0,    0.0005, 0.001, 0.0015, 0.002, 0.0025, 0.003,
+                                     0.0035, 0.004,  0.005, 0.006,  0.008, 0.010,  0.012};
+    int spp = 4;
+    int width = 320, height = 240;
+    uint64_t seed = 1;
+    std::string camera;
+    std::string target_prefix = "target_";
+    double threshold_saturation = 0.14;
+    double path_m = 2.5;
+    double paper_density = 0.0028;
+    CurveFitConfig fit;
+};
+
+struct CalibrationResult {
+    std::vector<SaturationPoint> points;                          ///< combined target
+    std::map<std::string, std::vector<SaturationPoint>> patches;  ///< per colour patch
+    CurveFitResult fit;                                            ///< combined
+    std::map<std::string, CurveFitResult> patch_fits;
+    double threshold_density = 0, threshold_density_se = 0;        ///< ρ at threshold_saturation
+    double penetration_power = 0, penetration_power_se = 0;        ///< ρ* · path_m [density·m]
+    double engine_unit_factor = 0;                                 ///< ρ* / paper_density
+    double seconds = 0;
+};
+
+/// @brief Renders the sweep and fits. `progress(done, total)` is called after each frame.
+/// @throw Error when the scene has no camera or no target surfaces, or the fit is degenerate.
+CalibrationResult calibrate(const Scene& scene, const CalibrateConfig& cfg,
+                            const std::function<void(int, int)>& progress = {});
+
+/// @brief The calibration as JSON (curve model, parameters, covariance, points, settings), written
+/// atomically.
+void writeCalibrationJson(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg,
+                          const std::string& scene_source);
+
+/// @brief The paper's Fig. 7 reproduced: points with error bars, the fitted curve and its 95 %
+/// confidence band, the threshold saturation and its density marked. PNG through OpenImageIO.
+void writeCalibrationPlot(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg);
+
+}  // namespace smokescan

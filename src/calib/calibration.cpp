@@ -1,0 +1,157 @@
+#include "smokescan/calib/calibration.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
+#include "smokescan/render/renderer.hpp"
+#include "smokescan/scene/mesh.hpp"
+#include "smokescan/scene/surfaces.hpp"
+
+namespace smokescan {
+namespace {
+
+/// The scene with its smoke replaced by one homogeneous box of unit density filling the scene's
+/// surfaces' bounds (the room), in the medium of its first regional volume.
+Scene withUniformSmoke(const Scene& scene)
+{
+    Aabb bounds;
+    for (const auto& s : scene.surfaces)
+        for (const Vec3& p : tessellate(s).points_m) bounds.extend(p);
+    if (bounds.empty()) throw Error(scene.source, "has no surfaces to fill with smoke");
+    Medium medium = Medium::preset("theatrical_fog");
+    for (const auto& v : scene.volumes)
+        if (v.role == SmokeRole::Regional) {
+            medium = v.medium;
+            break;
+        }
+    const double h = (bounds.hi - bounds.lo).maxCoeff() / 128.0;
+    Scene out = scene;
+    SmokeVolume v;
+    v.name = "calibration_smoke";
+    v.medium = medium;
+    v.source = std::make_shared<const DensityGrid>(DensityGrid::box(bounds.lo, bounds.hi, 1.0, h));
+    out.volumes = {v};
+    return out;
+}
+
+SaturationPoint toPoint(double rho, const SaturationStats& s)
+{
+    // Standard error of the mean over the patch; a floor for quantisation of 8-bit values.
+    return {rho, s.mean, std::max(1e-4, s.stddev / std::sqrt(double(std::max(1LL, s.pixels))))};
+}
+
+}  // namespace
+
+CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg, const std::function<void(int, int)>& progress)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    if (scene0.cameras.empty()) throw Error(scene0.source, "the scene has no camera to calibrate with");
+    std::map<int, std::string> patch_of;  // surface index → patch name
+    for (size_t i = 0; i < scene0.surfaces.size(); ++i) {
+        const std::string& n = scene0.surfaces[i].name;
+        if (n.rfind(cfg.target_prefix, 0) == 0) patch_of[int(i)] = n.substr(cfg.target_prefix.size());
+    }
+    if (patch_of.empty()) throw Error(scene0.source, "no target surfaces (names starting with '" + cfg.target_prefix + "')");
+    for (double d : cfg.densities)
+        if (!(d >= 0) || !std::isfinite(d)) throw Error("--densities", "densities must be finite and >= 0");
+    Scene scene = withUniformSmoke(scene0);
+    const SurfaceSet surfaces(scene);
+    CalibrationResult res;
+    const int n = int(cfg.densities.size());
+    for (int k = 0; k < n; ++k) {
+        const double rho = cfg.densities[size_t(k)];
+        scene.volumes[0].timeline = DensityTimeline::constant(rho);
+        RenderConfig rc;
+        rc.spp = cfg.spp;
+        rc.width = cfg.width;
+        rc.height = cfg.height;
+        rc.seed = cfg.seed + uint64_t(k);
+        rc.camera = cfg.camera;
+        rc.progress = false;
+        const RenderResult r = render(scene, surfaces, rc);
+        const Image disp = toDisplay(r.radiance, 0.0);
+        auto idAt = [&](int x, int y) { return int(r.ids.at(x, y, 0)); };
+        const auto all = maskedSaturation(disp, [&](int x, int y) { return patch_of.count(idAt(x, y)) > 0; });
+        if (all.pixels == 0) throw Error(scene0.source, "the camera does not see the target");
+        res.points.push_back(toPoint(rho, all));
+        std::map<std::string, std::vector<int>> ids_by_patch;
+        for (const auto& [id, name] : patch_of) ids_by_patch[name].push_back(id);
+        for (const auto& [name, ids] : ids_by_patch) {
+            const auto s = maskedSaturation(disp, [&](int x, int y) {
+                return std::find(ids.begin(), ids.end(), idAt(x, y)) != ids.end();
+            });
+            if (s.pixels > 0) res.patches[name].push_back(toPoint(rho, s));
+        }
+        if (progress) progress(k + 1, n);
+    }
+    res.fit = fitSaturationCurve(res.points, cfg.fit);
+    for (const auto& [name, pts] : res.patches) {
+        try {
+            res.patch_fits[name] = fitSaturationCurve(pts, cfg.fit);
+        } catch (const Error&) {
+            // A patch whose saturation does not vary (e.g. a grey one) has no curve of its own.
+        }
+    }
+    const auto [rho, se] = res.fit.invert(cfg.threshold_saturation);
+    res.threshold_density = rho;
+    res.threshold_density_se = se;
+    res.penetration_power = rho * cfg.path_m;
+    res.penetration_power_se = se * cfg.path_m;
+    res.engine_unit_factor = rho / cfg.paper_density;
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+}
+
+namespace {
+nlohmann::json fitJson(const CurveFitResult& f, const std::vector<SaturationPoint>& pts)
+{
+    nlohmann::json j;
+    j["parameters"] = {{"S0", f.curve.S0}, {"a", f.curve.a}, {"b", f.curve.b}, {"gamma", f.curve.gamma}};
+    j["std_errors"] = {{"S0", f.std_error[0]}, {"a", f.std_error[1]}, {"b", f.std_error[2]}};
+    nlohmann::json cov = nlohmann::json::array();
+    for (int r = 0; r < 3; ++r) cov.push_back({f.covariance(r, 0), f.covariance(r, 1), f.covariance(r, 2)});
+    j["covariance"] = cov;
+    j["covariance_order"] = {"S0", "a", "b"};
+    j["converged"] = f.converged;
+    j["chi2"] = f.chi2;
+    j["dof"] = f.dof;
+    j["r2"] = f.r2;
+    j["solver"] = f.message;
+    nlohmann::json p = nlohmann::json::array();
+    for (const auto& q : pts) p.push_back({{"density", q.density}, {"saturation", q.saturation}, {"std_error", q.sigma}});
+    j["points"] = p;
+    return j;
+}
+}  // namespace
+
+void writeCalibrationJson(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg,
+                          const std::string& scene_source)
+{
+    nlohmann::json j;
+    j["model"] = "S(rho) = 1 - (1 - S0 / (1 + a*(exp(b*rho) - 1)))^gamma";
+    j["model_doc"] = "docs/calibration.md";
+    j["combined"] = fitJson(r.fit, r.points);
+    for (const auto& [name, f] : r.patch_fits) j["patches"][name] = fitJson(f, r.patches.at(name));
+    j["threshold"] = {{"saturation", cfg.threshold_saturation},
+                      {"density", r.threshold_density},
+                      {"density_std_error", r.threshold_density_se},
+                      {"path_m", cfg.path_m},
+                      {"penetration_power_density_m", r.penetration_power},
+                      {"penetration_power_std_error", r.penetration_power_se},
+                      {"paper_density", cfg.paper_density},
+                      {"engine_unit_factor", r.engine_unit_factor},
+                      {"engine_unit_factor_meaning", "smokescan density units per unit of the paper's engine density"}};
+    j["render"] = {{"scene", scene_source}, {"spp", cfg.spp},        {"width", cfg.width},
+                   {"height", cfg.height},  {"seed", cfg.seed},      {"densities", cfg.densities},
+                   {"camera", cfg.camera},  {"target_prefix", cfg.target_prefix},
+                   {"exposure", "auto (average metering)"}, {"seconds", r.seconds}};
+    AtomicFile f(path);
+    f.stream() << std::setw(2) << j << '\n';
+    f.commit();
+}
+
+}  // namespace smokescan
