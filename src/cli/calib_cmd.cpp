@@ -47,11 +47,8 @@ int runCalibrate(const CalibArgs& a)
     if (!a.densities.empty()) cfg.densities = parseList(a.densities, "--densities");
     if (cfg.spp < 1) throw Error("--spp", "must be >= 1");
     if (cfg.width <= 0 || cfg.height <= 0) throw Error("--width", "resolution must be > 0");
-    for (const std::string* p : {&a.out, &a.plot}) {
-        if (p->empty()) continue;
-        const auto dir = fs::path(*p).parent_path();
-        if (!dir.empty() && !fs::is_directory(dir)) throw Error(*p, "cannot write (no such directory)");
-    }
+    requireOutputFolder(a.out);
+    requireOutputFolder(a.plot);
     if (!a.plot.empty() && !isImageExtension(a.plot)) throw Error(a.plot, "unknown image format (png, exr, jpg, tif)");
     const Scene scene = loadScene(a.scene);
     const bool tty = ::isatty(2);

@@ -26,8 +26,7 @@ void checkOutput(const std::string& path, bool float_only)
     if (!isImageExtension(path)) throw Error(path, "unknown image format (exr, png, jpg, tif)");
     if (float_only && std::filesystem::path(path).extension() != ".exr")
         throw Error(path, "must be an .exr (it holds linear floats)");
-    const auto dir = std::filesystem::path(path).parent_path();
-    if (!dir.empty() && !std::filesystem::is_directory(dir)) throw Error(path, "cannot write (no such directory)");
+    requireOutputFolder(path);
 }
 
 std::string expand(const std::string& pattern, int index, double t)
