@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "smokescan/render/image.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -82,6 +84,18 @@ TEST(Cli, ScanWritesThePapersLogAndSummary)
         }
     EXPECT_EQ(scans, 21);
     EXPECT_EQ(slurp(tau).substr(0, 22), "time_s,beam,angle_rad,");
+}
+
+TEST(Cli, ScanImageDrawsTheSeriesLikeFig10)
+{
+    const std::string log = file("plume.log"), png = file("plume.png");
+    const CliRun r = cli("scan plume --sensor lms200 --from 0 --to 9 --rate 1 --out " + log + " --image " + png);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const smokescan::Image img = smokescan::readImage(png);
+    EXPECT_EQ(img.width, 361 * 2);
+    EXPECT_EQ(img.height, 10 * 2);
+    expectBad("scan plume --from 0 --to 1 --out " + file("x.log") + " --image " + file("x.bmpx"), "unknown image format",
+              file("x.log"));
 }
 
 TEST(Cli, VolumeBuildInfoExport)

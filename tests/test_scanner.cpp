@@ -233,3 +233,32 @@ TEST(LaserLog, RoundTripAndStrictReading)
     EXPECT_EQ(err("1.0 nan 2500\n"), ":2: field 2 is not finite");
     fs::remove_all(dir);
 }
+
+TEST(PaperModel, PlumeSceneSickSeesDriftingCloudsAsObstacles)
+{
+    // The built-in plume scene: clouds drift from the laser's left (high beam angles) to its right.
+    // With the paper model the Sick reports them as obstacles: ranges shorter than the clear scene
+    // on the beams a cloud covers, and the covered angles move from high to low over time.
+    const Scene scene = loadScene("plume");
+    const SurfaceSet set(scene);
+    ScanConfig c{"lms200"};
+    const Scanner sc(scene, set, c);
+    const Scan clear = Scanner(scene, set, c).scanAt(-100.0, 0);  // before any smoke
+    auto coveredMeanAngle = [&](double t) {
+        const Scan s = sc.scanAt(t, 1);
+        double sum = 0;
+        int n = 0;
+        for (size_t i = 0; i < s.value.size(); ++i)
+            if (!s.beams[i].error && !clear.beams[i].error && s.value[i] < clear.value[i] - 300) {
+                sum += s.angle_rad[i];
+                ++n;
+                EXPECT_TRUE(std::isfinite(s.beams[i].smoke.first_local_m));
+            }
+        return n > 0 ? sum / n : -1.0;
+    };
+    const double early = coveredMeanAngle(8.0), late = coveredMeanAngle(16.0);
+    ASSERT_GT(early, 0.0);
+    ASSERT_GT(late, 0.0);
+    EXPECT_GT(early, late + 0.1);  // the first cloud moved towards the laser's right
+    for (long long v : clear.value) EXPECT_LT(v, 8183);  // every wall is within range
+}

@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/laser_log.hpp"
+#include "smokescan/render/image.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
@@ -14,7 +15,8 @@ namespace smokescan::cli {
 namespace {
 
 struct ScanArgs {
-    std::string scene = "bocas", out, tau_csv, target = "target";
+    std::string scene = "bocas", out, tau_csv, image, target = "target";
+    double image_range_m = 0;
     ScanConfig cfg;
     double from = NAN, to = NAN, bin_s = 0;
     bool quiet = false;
@@ -72,6 +74,10 @@ void printSummary(const Scene& scene, const Scanner& sc, const std::vector<Scan>
 int runScan(const ScanArgs& a0)
 {
     ScanArgs a = a0;
+    requireOutputFolder(a.out);
+    requireOutputFolder(a.tau_csv);
+    requireOutputFolder(a.image);
+    if (!a.image.empty() && !isImageExtension(a.image)) throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
     const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
@@ -92,9 +98,11 @@ int runScan(const ScanArgs& a0)
             std::string(sc.spec().type == "urg04lx" ? "values below 20 (0 = no return)" : "values >= 8183 (8183 = no echo within range)")};
     writeLaserLog(a.out, header, scans, sc.spec());
     if (!a.tau_csv.empty()) writeBeamCsv(a.tau_csv, scans, scene);
+    if (!a.image.empty())
+        writeScanImage(a.image, scans, sc.spec(), a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
     if (!a.quiet) printSummary(scene, sc, scans, a);
-    std::printf("wrote %s (%zu scans)%s%s\n", a.out.c_str(), scans.size(), a.tau_csv.empty() ? "" : " and ",
-                a.tau_csv.c_str());
+    std::printf("wrote %s (%zu scans)%s%s%s%s\n", a.out.c_str(), scans.size(), a.tau_csv.empty() ? "" : ", ",
+                a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str());
     return 0;
 }
 
@@ -111,6 +119,8 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--rate", a->cfg.rate_hz, "Scans per second [Hz]")->capture_default_str();
     c->add_option("--out", a->out, "Laser log to write")->required();
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
+    c->add_option("--image", a->image, "Also draw the scan series as the paper's Fig. 10 (PNG): angle across, time down, shade = range, red = error");
+    c->add_option("--image-range", a->image_range_m, "Range [m] drawn white in --image (default: the sensor's maximum)");
     c->add_option("--model", a->cfg.model, "Sensor model: paper (default: the scene's)");
     c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]");
     c->add_option("--seed", a->cfg.seed, "Noise seed")->capture_default_str();

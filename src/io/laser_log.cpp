@@ -1,5 +1,6 @@
 #include "smokescan/io/laser_log.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/render/image.hpp"
 
 namespace smokescan {
 
@@ -78,6 +80,34 @@ void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const
               << ',' << b.smoke.tau << '\n';
         }
     f.commit();
+}
+
+}  // namespace smokescan
+
+namespace smokescan {
+
+void writeScanImage(const std::string& path, const std::vector<Scan>& scans, const LrfSpec& spec, double range_max_m,
+                    int beam_px, int scan_px)
+{
+    if (scans.empty()) throw Error(path, "no scans to draw");
+    const int nb = int(scans.front().value.size());
+    Image img(nb * beam_px, int(scans.size()) * scan_px, 3);
+    for (size_t k = 0; k < scans.size(); ++k)
+        for (int i = 0; i < nb; ++i) {
+            const long long v = scans[k].value[size_t(i)];
+            float rgb[3];
+            if (spec.isErrorValue(v)) {
+                rgb[0] = 0.85f;
+                rgb[1] = rgb[2] = 0.1f;
+            } else {
+                const float g = float(std::clamp(v * spec.unit_m / range_max_m, 0.0, 1.0));
+                rgb[0] = rgb[1] = rgb[2] = g;
+            }
+            for (int y = 0; y < scan_px; ++y)
+                for (int x = 0; x < beam_px; ++x)
+                    for (int c = 0; c < 3; ++c) img.at(i * beam_px + x, int(k) * scan_px + y, c) = rgb[c];
+        }
+    writeImage(path, img);
 }
 
 }  // namespace smokescan
