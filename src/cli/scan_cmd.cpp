@@ -39,7 +39,17 @@ void printSummary(const Scene& scene, const Scanner& sc, const std::vector<Scan>
     std::printf("sensor %s (%s, model %s): %zu scans, %d beams each, %d on '%s*'\n", sc.mount().name.c_str(),
                 sc.spec().type.c_str(), sc.mount().model.c_str(), scans.size(), sc.spec().n_beams, n_target,
                 a.target.c_str());
-    if (scans.empty() || n_target == 0) return;
+    if (scans.empty()) return;
+    if (n_target == 0) {  // no target in this scene: the error fraction over all beams
+        long long errs = 0, total = 0;
+        for (const Scan& s : scans)
+            for (long long v : s.value) {
+                errs += sc.spec().isErrorValue(v);
+                ++total;
+            }
+        std::printf("error codes: %.1f %% of all beams\n", 100.0 * errs / std::max(1LL, total));
+        return;
+    }
     const double span = scans.back().time_s - scans.front().time_s;
     const double bin = a.bin_s > 0 ? a.bin_s : std::max(1.0, std::ceil(span / 36.0 / 5.0) * 5.0);
     std::printf("%10s %10s %22s %12s\n", "t0_s", "t1_s", "column_on_target_d.m", "error_frac");
