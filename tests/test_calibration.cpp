@@ -214,3 +214,33 @@ TEST(CalibrateCli, WritesJsonAndPlotAndRefusesDegenerateSweeps)
     EXPECT_FALSE(fs::exists(never));
     fs::remove_all(dir);
 }
+
+TEST(SaturationCli, RenderedFramesWithIdMasks)
+{
+    // A rendered BOCAS frame and its id AOV: the patches are named by the scene's target surfaces.
+    const fs::path dir = fs::temp_directory_path() / ("smokescan_satids_" + std::to_string(::getpid()));
+    fs::create_directories(dir / "f");
+    fs::create_directories(dir / "i");
+    const Out r = run("render bocas --time 0 --spp 2 --width 64 --height 48 --out " + (dir / "f" / "t_12.5.png").string() +
+                      " --ids " + (dir / "i" / "t_12.5.exr").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string csv = (dir / "s.csv").string();
+    const Out s = run("saturation " + (dir / "f").string() + " --ids " + (dir / "i").string() + " --scene bocas --out " + csv);
+    ASSERT_EQ(s.status, 0) << s.err;
+    std::ifstream in(csv);
+    std::string header, line;
+    std::getline(in, header);
+    std::getline(in, line);
+    EXPECT_NE(header.find(",blue,"), std::string::npos);
+    EXPECT_NE(header.find(",yellow,"), std::string::npos);
+    EXPECT_NE(header.find(",gold,"), std::string::npos);
+    std::stringstream ss(line);
+    double t, sat;
+    char c;
+    ss >> t >> c >> sat;
+    EXPECT_DOUBLE_EQ(t, 12.5);
+    EXPECT_GT(sat, 0.4);  // the clear-air target is strongly coloured
+    const Out bad = run("saturation " + (dir / "f").string() + " --ids " + (dir / "i").string() + " --out " + csv + ".x");
+    EXPECT_NE(bad.err.find("--ids: needs --scene"), std::string::npos) << bad.err;
+    fs::remove_all(dir);
+}

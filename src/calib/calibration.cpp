@@ -58,6 +58,8 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg, con
     if (patch_of.empty()) throw Error(scene0.source, "no target surfaces (names starting with '" + cfg.target_prefix + "')");
     for (double d : cfg.densities)
         if (!(d >= 0) || !std::isfinite(d)) throw Error("--densities", "densities must be finite and >= 0");
+    std::map<std::string, std::vector<int>> ids_by_patch;
+    for (const auto& [id, name] : patch_of) ids_by_patch[name].push_back(id);
     Scene scene = withUniformSmoke(scene0);
     const SurfaceSet surfaces(scene);
     CalibrationResult res;
@@ -78,8 +80,6 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg, con
         const auto all = maskedSaturation(disp, [&](int x, int y) { return patch_of.count(idAt(x, y)) > 0; });
         if (all.pixels == 0) throw Error(scene0.source, "the camera does not see the target");
         res.points.push_back(toPoint(rho, all));
-        std::map<std::string, std::vector<int>> ids_by_patch;
-        for (const auto& [id, name] : patch_of) ids_by_patch[name].push_back(id);
         for (const auto& [name, ids] : ids_by_patch) {
             const auto s = maskedSaturation(disp, [&](int x, int y) {
                 return std::find(ids.begin(), ids.end(), idAt(x, y)) != ids.end();

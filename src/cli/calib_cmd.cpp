@@ -211,29 +211,39 @@ int runSaturation(const SatArgs& a)
         const Image img = readImage(frames[k]);
         if (img.channels < 3) throw Error(frames[k], "is not an RGB image");
         Image ids;
+        int object_ch = 0;
         if (!id_frames.empty()) {
             ids = readImage(id_frames[k]);
             if (ids.width != img.width || ids.height != img.height) throw Error(id_frames[k], "size differs from " + frames[k]);
+            object_ch = ids.channel("object", 0);
         }
         // EXR frames hold linear radiance: encode them as a camera would before measuring.
         Image disp = img;
         if (fs::path(frames[k]).extension() == ".exr")
             for (float& v : disp.data) v = float(std::pow(std::clamp(double(v), 0.0, 1.0), 1 / 2.2));
-        auto patchAt = [&](int x, int y) -> std::string {
-            for (const auto& p : patches)
-                if (insidePolygon(p.polygon, x + 0.5, y + 0.5)) return p.name;
-            if (!id_frames.empty()) {
-                const auto it = patch_of.find(int(ids.at(x, y, 0)));
-                if (it != patch_of.end()) return it->second;
+        // Each pixel's patch (index into names, −1: none), found once per frame.
+        std::vector<int> label(size_t(img.width) * img.height, -1);
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) {
+                std::string n;
+                for (const auto& p : patches)
+                    if (insidePolygon(p.polygon, x + 0.5, y + 0.5)) {
+                        n = p.name;
+                        break;
+                    }
+                if (n.empty() && !id_frames.empty()) {
+                    const auto it = patch_of.find(int(ids.at(x, y, object_ch)));
+                    if (it != patch_of.end()) n = it->second;
+                }
+                if (!n.empty()) label[size_t(y) * img.width + x] = int(std::find(names.begin(), names.end(), n) - names.begin());
             }
-            return "";
-        };
-        const auto all = maskedSaturation(disp, [&](int x, int y) { return !patchAt(x, y).empty(); });
+        auto labelAt = [&](int x, int y) { return label[size_t(y) * img.width + x]; };
+        const auto all = maskedSaturation(disp, [&](int x, int y) { return labelAt(x, y) >= 0; });
         if (all.pixels == 0) throw Error(frames[k], "the target region holds no pixels");
         const double t = times.empty() ? timeFromName(frames[k], a.fps) : times[k];
         o << t << ',' << all.mean << ',' << all.median << ',' << all.stddev << ',' << all.pixels;
-        for (const auto& n : names) {
-            const auto s = maskedSaturation(disp, [&](int x, int y) { return patchAt(x, y) == n; });
+        for (size_t i = 0; i < names.size(); ++i) {
+            const auto s = maskedSaturation(disp, [&](int x, int y) { return labelAt(x, y) == int(i); });
             if (s.pixels > 0) o << ',' << s.mean << ',' << s.median << ',' << s.stddev;
             else o << ",,,";
         }

@@ -14,6 +14,14 @@ struct Image {
     Image() = default;
     Image(int w, int h, int c) : width(w), height(h), channels(c), data(size_t(w) * h * c, 0.0f) {}
     float& at(int x, int y, int c) { return data[(size_t(y) * width + x) * channels + c]; }
+    /// Index of the channel named `name` (files may reorder channels: EXR sorts them by name), or
+    /// `fallback` when there is no such name.
+    int channel(const std::string& name, int fallback) const
+    {
+        for (size_t i = 0; i < channel_names.size(); ++i)
+            if (channel_names[i] == name) return int(i);
+        return fallback;
+    }
     float at(int x, int y, int c) const { return data[(size_t(y) * width + x) * channels + c]; }
 };
 
