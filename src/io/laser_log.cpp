@@ -82,10 +82,6 @@ void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const
     f.commit();
 }
 
-}  // namespace smokescan
-
-namespace smokescan {
-
 void writeScanImage(const std::string& path, const std::vector<Scan>& scans, const LrfSpec& spec, double range_max_m,
                     int beam_px, int scan_px)
 {

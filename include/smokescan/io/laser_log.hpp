@@ -28,10 +28,6 @@ std::vector<LaserLogScan> readLaserLog(const std::string& path);
 /// hit_m, column_regional (density·m), column_local (density·m), tau (at the sensor's wavelength).
 void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const Scene& scene);
 
-}  // namespace smokescan
-
-namespace smokescan {
-
 /// @brief A scan series as the smoke paper's Fig. 10 draws it: one row per scan (time downwards),
 /// one column per beam (in beam order), grey level = range (darker = shorter, white = beyond
 /// `range_max_m`), red = error code. Each beam is `beam_px` pixels wide, each scan `scan_px` tall.
