@@ -131,7 +131,8 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option("--image", a->image, "Also draw the scan series as the paper's Fig. 10 (PNG): angle across, time down, shade = range, red = error");
     c->add_option("--image-range", a->image_range_m, "Range [m] drawn white in --image (default: the sensor's maximum)");
-    c->add_option("--model", a->cfg.model, "Sensor model: paper (default: the scene's)");
+    c->add_option("--model", a->cfg.model, "Sensor model: paper or physical (default: the scene's or sensor file's)");
+    c->add_option("--sensor-file", a->cfg.sensor_file, "Sensor file (TOML) with the model and its parameters (docs/sensors.md)");
     c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]");
     c->add_option("--seed", a->cfg.seed, "Noise seed")->capture_default_str();
     c->add_option("--target", a->target, "Surface-name prefix the summary counts as the target")->capture_default_str();

@@ -19,6 +19,12 @@ double Medium::sigmaT(double wl) const
     return y[i] * std::pow(wl / x[i], a);
 }
 
+double Medium::backscatterPerExtinction() const
+{
+    if (lidar_ratio_sr > 0) return 1.0 / lidar_ratio_sr;
+    return albedo * (1 - g) / (4 * M_PI * (1 + g) * (1 + g));
+}
+
 Medium Medium::fromAngstrom(const std::string& name, double s550, double angstrom, double albedo, double g)
 {
     Medium m;

@@ -24,7 +24,7 @@ SmokeField SmokeField::at(const std::vector<SmokeVolume>& volumes, double t_s)
 BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q) const
 {
     BeamSmoke out;
-    std::vector<std::vector<ProfileSegment>> parts;
+    std::vector<std::vector<ProfileSegment>> parts, beta_parts;
     for (const Entry& e : entries_) {
         const double sigma = e.volume->medium.sigmaT(q.wavelength_nm);
         std::vector<ProfileSegment> prof;
@@ -38,12 +38,19 @@ BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuer
                 out.first_local_m = std::min(out.first_local_m,
                                              e.grid->firstAbove(ray, t0, t1, q.local_threshold / e.scale));
         }
-        if (q.want_profile) {
+        if (q.want_profile && !prof.empty()) {
             for (auto& s : prof) s.density *= e.scale * sigma;
+            std::vector<ProfileSegment> beta = prof;
+            const double bpe = e.volume->medium.backscatterPerExtinction();
+            for (auto& s : beta) s.density *= bpe;
             parts.push_back(std::move(prof));
+            beta_parts.push_back(std::move(beta));
         }
     }
-    if (q.want_profile) out.sigma_t_profile = sumProfiles(parts);
+    if (q.want_profile) {
+        out.sigma_t_profile = sumProfiles(parts);
+        out.beta_profile = sumProfiles(beta_parts);
+    }
     return out;
 }
 

@@ -8,8 +8,10 @@
 #include <map>
 #include <sstream>
 
+#include "../io/sensor_toml.hpp"
 #include "../io/toml_reader.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/io/sensor_file.hpp"
 #include "smokescan/scene/mesh.hpp"
 
 namespace smokescan {
@@ -97,7 +99,7 @@ Surface readSurface(TomlTable t, const std::map<std::string, int>& materials, co
     return s;
 }
 
-SensorMount readSensor(TomlTable t)
+SensorMount readSensor(TomlTable t, const std::string& base_dir)
 {
     SensorMount m;
     m.type = t.strReq("type");
@@ -105,10 +107,16 @@ SensorMount readSensor(TomlTable t)
         t.error("type", "must be urg04lx or lms200, got '" + m.type + "'");
     m.name = t.str("name", m.type);
     m.pose = readPose(t);
+    m.physical = physicalDefaults(m.type);
+    if (t.has("sensor_file")) {
+        applySensorFile(resolve(base_dir, t.strReq("sensor_file")), m);
+    }
     m.model = t.str("model", m.model);
-    if (m.model != "paper") t.error("model", "must be 'paper' (the physical model is not built yet), got '" + m.model + "'");
+    if (m.model != "paper" && m.model != "physical")
+        t.error("model", "must be paper or physical, got '" + m.model + "'");
     m.penetration_power = t.positive("penetration_power", m.penetration_power);
     m.local_threshold = t.positive("local_threshold", m.local_threshold);
+    if (t.has("physical")) readPhysicalTable(t.table("physical"), m.physical);
     m.sick_resolution_deg = t.num("resolution_deg", m.sick_resolution_deg);
     if (m.sick_resolution_deg != 1.0 && m.sick_resolution_deg != 0.5)
         t.error("resolution_deg", "must be 1 or 0.5");
@@ -181,6 +189,7 @@ Medium readMedium(TomlTable& parent)
     if (m.albedo > 1) t.error("albedo", "must lie in [0, 1]");
     m.g = t.num("g", m.g);
     if (m.g <= -1 || m.g >= 1) t.error("g", "must lie in (-1, 1)");
+    m.lidar_ratio_sr = t.nonneg("lidar_ratio_sr", m.lidar_ratio_sr);
     t.finish();
     return m;
 }
@@ -309,7 +318,7 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
         s.materials.push_back(m);
     }
     for (auto& t : top.tables("surfaces")) s.surfaces.push_back(readSurface(t, mats, base_dir));
-    for (auto& t : top.tables("sensors")) s.sensors.push_back(readSensor(t));
+    for (auto& t : top.tables("sensors")) s.sensors.push_back(readSensor(t, base_dir));
     for (auto& t : top.tables("lights")) s.lights.push_back(readLight(t));
     for (auto& t : top.tables("cameras")) s.cameras.push_back(readCamera(t));
     for (auto& t : top.tables("smoke")) s.volumes.push_back(readSmoke(t, base_dir));

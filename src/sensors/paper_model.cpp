@@ -10,23 +10,24 @@ BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const Sur
     BeamResult r;
     r.hit = hit;
     r.smoke = smoke;
-    auto fail = [&] {
+    auto fail = [&](const char* cause) {
         r.error = true;
+        r.cause = cause;
         r.value = spec.no_return_code;
         return r;
     };
     double range = hit.hit ? hit.t_m : kInf;
     if (spec.type == "urg04lx") {
-        if (std::isfinite(smoke.first_local_m)) return fail();           // particle smoke: error
-        if (smoke.column_regional > cfg.penetration_power) return fail(); // power exhausted: error 0
+        if (std::isfinite(smoke.first_local_m)) return fail("local_smoke");
+        if (smoke.column_regional > cfg.penetration_power) return fail("penetration_power");
     } else if (std::isfinite(smoke.first_local_m) && smoke.first_local_m < range) {
         range = smoke.first_local_m;  // the Sick sees particle smoke as a solid object
     }
-    if (!std::isfinite(range) || range > spec.range_max_m || range < spec.range_min_m) return fail();
+    if (!std::isfinite(range) || range > spec.range_max_m || range < spec.range_min_m) return fail("out_of_range");
     r.true_range_m = range;
     const double measured = range + spec.rangeSigma(range) * noise;
     const long long v = std::llround(std::max(measured, spec.range_min_m) / spec.unit_m);
-    if (spec.isErrorValue(v)) return fail();
+    if (spec.isErrorValue(v)) return fail("out_of_range");
     r.value = v;
     return r;
 }

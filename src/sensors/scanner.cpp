@@ -6,6 +6,8 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/io/sensor_file.hpp"
+#include "smokescan/sensors/physical_model.hpp"
 
 namespace smokescan {
 
@@ -20,8 +22,10 @@ Scanner::Scanner(const Scene& scene, const SurfaceSet& surfaces, const ScanConfi
         throw Error(scene.source, "no sensor named or of type '" + cfg.sensor + "' (sensors: " + names + ")");
     }
     mount_ = scene.sensors[size_t(si)];
+    if (!cfg.sensor_file.empty()) applySensorFile(cfg.sensor_file, mount_);
     if (!cfg.model.empty()) mount_.model = cfg.model;
-    if (mount_.model != "paper") throw Error("--model", "unknown sensor model '" + mount_.model + "' (paper)");
+    if (mount_.model != "paper" && mount_.model != "physical")
+        throw Error("--model", "unknown sensor model '" + mount_.model + "' (paper, physical)");
     spec_ = specFor(mount_);
     paper_.penetration_power = cfg.penetration_power > 0 ? cfg.penetration_power : mount_.penetration_power;
     paper_.local_threshold = mount_.local_threshold;
@@ -60,11 +64,23 @@ Scan Scanner::scanAt(double t_s, uint64_t index) const
     q.local_threshold = paper_.local_threshold;
     tbb::parallel_for(0, n, [&](int i) {
         const Ray ray = beamRay(i);
-        const SurfaceHit hit = surfaces_.closest(ray, spec_.range_max_m);
-        const double t_end = hit.hit ? hit.t_m : spec_.range_max_m;
-        const BeamSmoke smoke = field.trace(ray, 0.0, t_end, q);
         KeyedRng rng(cfg_.seed, index, uint64_t(i));
-        BeamResult r = paperBeam(spec_, paper_, hit, smoke, rng.normal());
+        BeamResult r;
+        if (mount_.model == "physical") {
+            SurfaceHit hit;
+            BeamSmoke smoke;
+            const BeamSignal sig = traceBeamSignal(ray, spec_, mount_.physical, scene_, surfaces_, field, &hit,
+                                                   cfg_.keep_beams ? &smoke : nullptr);
+            r = spec_.type == "urg04lx" ? amcwBeam(spec_, mount_.physical, sig, rng)
+                                        : pulsedBeam(spec_, mount_.physical, sig, rng);
+            r.hit = hit;
+            r.smoke = std::move(smoke);
+        } else {
+            const SurfaceHit hit = surfaces_.closest(ray, spec_.range_max_m);
+            const double t_end = hit.hit ? hit.t_m : spec_.range_max_m;
+            const BeamSmoke smoke = field.trace(ray, 0.0, t_end, q);
+            r = paperBeam(spec_, paper_, hit, smoke, rng.normal());
+        }
         scan.angle_rad[size_t(i)] = spec_.angle(i);
         scan.value[size_t(i)] = r.value;
         if (cfg_.keep_beams) scan.beams[size_t(i)] = std::move(r);

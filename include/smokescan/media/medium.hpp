@@ -9,6 +9,7 @@
 /// | sigma_t_905      | 270     | 1/m per density unit   | extinction at 905 nm (Sick LMS200)           |
 /// | albedo           | 0.97    | –                      | single-scattering albedo σ_s/σ_t             |
 /// | g                | 0.7     | –                      | Henyey–Greenstein asymmetry                  |
+/// | lidar_ratio_sr   | 0       | sr                     | extinction-to-backscatter ratio σ_t/β; 0 = from HG |
 ///
 /// The density unit is the smoke paper's engine density (its threshold 0.0028 at saturation 0.14),
 /// so the paper's penetration power (density·m) is the column ∫ρ ds the integrator returns. The
@@ -18,6 +19,10 @@
 /// smoke: droplets near 1 µm give an Ångström exponent near 0 (same σ_t at all three wavelengths)
 /// and albedo close to 1. Presets for soot (Å ≈ 1, albedo 0.3) and fine smoke (Å ≈ 2, albedo 0.9)
 /// follow ../shared/REFERENCE.md.
+///
+/// Backscatter for the lidar equation, β = σ_s·p(π) [1/(m·sr)]: HG's p(π) = (1−g)/(4π(1+g)²) is
+/// known to understate the backscatter peak of real droplets and soot (HG has no glory), so a
+/// medium may state its lidar ratio S = σ_t/β instead, the quantity aerosol lidars measure.
 #include <string>
 
 namespace smokescan {
@@ -33,6 +38,10 @@ struct Medium {
     double sigma_t_905 = kCalibratedSigmaT;
     double albedo = 0.97;
     double g = 0.7;
+    double lidar_ratio_sr = 0;
+
+    /// Backscatter per unit extinction, β/σ_t [1/sr]: 1/S, or albedo·p_HG(π) when S is 0.
+    double backscatterPerExtinction() const;
 
     /// σ_t per unit density [1/m] at a wavelength: the tabulated value at 550/785/905 nm,
     /// power-law (Ångström) interpolation between them, extrapolation beyond.

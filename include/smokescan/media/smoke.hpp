@@ -42,12 +42,14 @@ struct BeamSmoke {
     double first_local_m = kInf; ///< first distance where local density ≥ the query threshold
     /// Non-zero pieces of σ_t(s) [1/m] at the query wavelength, all volumes summed (if asked).
     std::vector<ProfileSegment> sigma_t_profile;
+    /// Non-zero pieces of the backscatter β(s) = σ_t·β/σ_t [1/(m·sr)], all volumes (if asked).
+    std::vector<ProfileSegment> beta_profile;
 };
 
 struct BeamQuery {
     double wavelength_nm = 785.0;
     double local_threshold = kInf;  ///< density at which local smoke counts as met
-    bool want_profile = false;
+    bool want_profile = false;     ///< fill sigma_t_profile and beta_profile
     Reconstruction recon = Reconstruction::Box;
 };
 

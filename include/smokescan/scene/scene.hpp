@@ -9,6 +9,7 @@
 
 #include "smokescan/core/ray.hpp"
 #include "smokescan/media/smoke.hpp"
+#include "smokescan/sensors/physical_params.hpp"
 
 namespace smokescan {
 
@@ -47,12 +48,14 @@ struct Surface {
 struct SensorMount {
     std::string name;
     std::string type;           ///< "urg04lx" or "lms200"
-    std::string model = "paper";
+    std::string model = "paper";   ///< "paper" or "physical"
+    std::string sensor_file;       ///< sensor file the parameters came from ("" = built-in defaults)
     Pose pose;
     double penetration_power = 0.007;   ///< paper model [density·m]
     double local_threshold = 0.002;     ///< paper model: local density that counts as met
     double sick_resolution_deg = 0.5;   ///< LMS200: 1 or 0.5
     double sick_range_m = 8.0;          ///< LMS200 range mode: 8 (mm) or 80 (cm)
+    PhysicalParams physical;            ///< physical model (defaults per type: physicalDefaults)
 };
 
 struct Light {

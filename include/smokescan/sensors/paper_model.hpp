@@ -30,6 +30,8 @@ struct BeamResult {
     double true_range_m = kInf;  ///< noiseless distance of what was measured (surface or smoke)
     SurfaceHit hit;          ///< first surface in clear air (up to the sensor's maximum range)
     BeamSmoke smoke;         ///< smoke met up to the surface (or maximum range)
+    const char* cause = "ok";  ///< why: "ok", or the error's cause (docs/sensors.md)
+    double power = 0;        ///< physical model: received amplitude (normalised power)
 };
 
 /// @brief Applies the paper model to one beam. `noise` is a standard normal draw.

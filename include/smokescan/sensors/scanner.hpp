@@ -19,13 +19,15 @@ namespace smokescan {
 /// | to_s       | scene   | s    | last scan time (inclusive when on the grid)        |
 /// | rate_hz    | 1       | Hz   | scans per second                                   |
 /// | seed       | 1       | –    | noise seed; results do not depend on thread count  |
-/// | model      | ""      | –    | "" = the sensor's own; "paper"                      |
+/// | sensor_file| ""      | –    | sensor file applied to the mount (io/sensor_file.hpp) |
+/// | model      | ""      | –    | "" = the sensor's own (after sensor_file); "paper", "physical" |
 /// | penetration_power | mount's | density·m | overrides the mount's when > 0         |
 struct ScanConfig {
     std::string sensor;
     double from_s = kInf, to_s = kInf;
     double rate_hz = 1.0;
     uint64_t seed = 1;
+    std::string sensor_file;
     std::string model;
     double penetration_power = 0;
     bool keep_beams = true;  ///< keep per-beam details (optical depth, hit) in Scan::beams

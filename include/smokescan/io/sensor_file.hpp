@@ -1,0 +1,26 @@
+#pragma once
+/// @file sensor_file.hpp
+/// @brief Sensor files: a sensor's model and parameters in TOML, used by `scan --sensor-file`,
+/// by a scene's `sensor_file = "…"`, and written by `smokescan fit`. Format: docs/sensors.md.
+///
+/// ```toml
+/// type = "urg04lx"          # must match the sensor it is applied to
+/// model = "physical"        # optional: paper | physical
+/// [paper]                   # optional: penetration_power [density·m], local_threshold [density]
+/// [physical]                # optional: any PhysicalParams field by name (physical_params.hpp)
+/// ```
+#include <string>
+
+#include "smokescan/scene/scene.hpp"
+
+namespace smokescan {
+
+/// @brief Reads a sensor file and applies it to `mount` (fields absent keep their values).
+/// @throw Error "FILE:LINE: problem" for unreadable files, unknown keys, bad values, or a type
+/// that differs from the mount's.
+void applySensorFile(const std::string& path, SensorMount& mount);
+
+/// @brief Writes the mount's model and every parameter as a sensor file (atomically).
+void writeSensorFile(const std::string& path, const SensorMount& mount, const std::string& comment = "");
+
+}  // namespace smokescan

@@ -1,0 +1,95 @@
+#pragma once
+/// @file physical_model.hpp
+/// @brief The physical laser return model: the lidar equation per beam, then each sensor's own
+/// way of turning the received signal into a range or an error value.
+///
+/// A beam's signal is a list of echoes (range, power), from three kinds of scatterer:
+///  - surfaces hit by the sub-rays of the footprint: π·f_r(θ)·cos θ·O(R)/R²·T²(R), with f_r the
+///    monostatic BRDF (Lambert at the sensor's wavelength plus the material's GGX lobe);
+///  - smoke along the beam, in bins: π·β(r)·O(r)/r²·T²(r)·Δr, weighted by the part of the
+///    footprint not yet stopped by a surface;
+///  - the mirror path of a specular surface: the beam's specular part travels on, is
+///    backscattered by smoke (or returned by a surface) and comes back the same way. The sensor
+///    sees it at R + u, beyond the surface (docs/sensors.md: why the gold paper reads long).
+/// The URG-04LX (AMCW) reports the phase of the sum of all echoes; the LMS200 (pulsed) detects
+/// the first echo in the waveform. Both choose their error values by cause.
+#include <vector>
+
+#include "smokescan/media/density_grid.hpp"
+#include "smokescan/media/smoke.hpp"
+#include "smokescan/scene/scene.hpp"
+#include "smokescan/scene/surfaces.hpp"
+#include "smokescan/sensors/lrf.hpp"
+#include "smokescan/sensors/paper_model.hpp"
+#include "smokescan/sensors/physical_params.hpp"
+
+namespace smokescan {
+
+class KeyedRng;
+
+enum class EchoSource { Surface, Smoke, Mirror };
+
+struct Echo {
+    double range_m = 0;   ///< apparent range (half the path length) [m]
+    double power = 0;     ///< normalised received power (white Lambertian at 1 m = 1)
+    EchoSource source = EchoSource::Surface;
+};
+
+/// Everything a beam sends back, before the sensor's electronics.
+struct BeamSignal {
+    std::vector<Echo> echoes;   ///< sorted by range
+    double surface_power = 0, smoke_power = 0, mirror_power = 0;
+    bool surface_in_range = false;  ///< some sub-ray hit a surface within the sensor's range
+};
+
+/// Optical depth along a beam from a piecewise-constant σ_t profile: τ(r) in O(log n).
+class TauProfile {
+public:
+    explicit TauProfile(const std::vector<ProfileSegment>& sigma_t);
+    double tau(double r_m) const;
+    double sigmaAt(double r_m) const;  ///< σ_t [1/m] at r (0 outside the segments)
+
+private:
+    std::vector<ProfileSegment> seg_;
+    std::vector<double> cum_;  ///< τ at each segment's start
+};
+
+/// @brief Monostatic BRDF f_r [1/sr] of a material at the given wavelength, for light leaving
+/// and returning along the same direction at incidence cos θ.
+double monostaticBrdf(const Material& m, double wavelength_nm, double cos_theta);
+
+/// @brief Power of a surface echo: π·f_r·cos θ·O(R)/R²·T², T² = exp(−2τ).
+double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wavelength_nm,
+                        double cos_theta, double range_m, double tau_to_surface);
+
+/// @brief Appends smoke echoes for the path s ∈ [s0, s1] of a beam whose σ_t and β profiles
+/// are given in path coordinates s.
+/// @param range_offset_m added to s to make the apparent range (the mirror path's R)
+/// @param gain multiplies every echo (footprint weight, mirror reflectance², T² to the path start)
+/// @param lobe_ratio Ω_lobe/Ω_beam of the mirror's specular lobe (0 on the direct path): the
+///        geometric factor is 1/((R+u)² + u²·lobe_ratio), the mirror image (1/(R+u)²) for a smooth
+///        mirror, the rough lobe's (Ω_beam/Ω_lobe)/u² for a wide one
+/// @param blocked sorted distances at which each of the footprint's sub-rays stops (may be empty)
+void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau,
+                       const std::vector<ProfileSegment>& beta, double s0, double s1,
+                       double range_offset_m, double gain, double lobe_ratio,
+                       const std::vector<double>& blocked, EchoSource source, BeamSignal& out);
+
+/// @brief Traces a beam's footprint (sub-rays) through the surfaces and the smoke and collects
+/// its echoes: surfaces, smoke along the central ray, and mirror paths of specular surfaces.
+/// @param central_hit, central_smoke receive the central ray's surface hit and smoke (may be null)
+BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalParams& p, const Scene& scene,
+                           const SurfaceSet& surfaces, const SmokeField& field, SurfaceHit* central_hit,
+                           BeamSmoke* central_smoke);
+
+/// @brief URG-04LX: amplitude and phase of the summed echoes at two modulation frequencies.
+/// Codes: 18 strong reflection (amplitude above saturation), 1 low intensity, 8 intensity
+/// difference of the two waves (a spread return), 0 nothing in range.
+BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng);
+
+/// @brief LMS200: the waveform (Gaussian pulse ⊗ echoes + noise), first echo above threshold,
+/// range at its half-maximum leading edge plus half the pulse width. Codes: 8183 no echo,
+/// 8189 echo too weak or too wide (ambiguous), 8191 dazzled.
+BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng);
+
+}  // namespace smokescan

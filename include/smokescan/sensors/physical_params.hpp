@@ -1,0 +1,67 @@
+#pragma once
+/// @file physical_params.hpp
+/// @brief Parameters of the physical laser return model (docs/sensors.md, "Physical model").
+///
+/// Received powers are normalised: 1 is the return of a white Lambertian target (ρ = 1) at 1 m,
+/// at normal incidence, in clear air, at full overlap. So P = π·f_r·cos θ·O(R)/R²·T²(R) for a
+/// surface (the lidar equation of Rasshofer et al. 2011 with C_A·P₀ = 1) and
+/// dP = π·β(r)·O(r)/r²·T²(r) dr for smoke.
+///
+/// | parameter           | URG-04LX   | LMS200   | unit | source / meaning                                          |
+/// |---------------------|------------|----------|------|-----------------------------------------------------------|
+/// | divergence_mrad     | 10         | 12       | mrad | full beam divergence; URG: footprint < 20 mm at 2 m (datasheet); Sick: assumed |
+/// | sub_rays            | 5          | 5        | –    | rays over the footprint (centre + 4 at 0.7 of the half-angle) |
+/// | window_m            | 0.02       | 0.02     | m    | no return from inside the housing                          |
+/// | overlap_start_m     | 1.5        | 0.1      | m    | start of the biaxial overlap (URG: calibrated, see below; Sick: assumed) |
+/// | overlap_full_m      | 3.0        | 1.5      | m    | full overlap; O rises as a smoothstep in between           |
+/// | overlap_floor       | 0.03       | 0.01     | –    | defocused light below the overlap, itself falling as r² (assumed) |
+/// | noise_floor         | 1.675e-4   | 5e-5     | –    | r.m.s. receiver noise (normalised power), calibrated       |
+/// | saturation_power    | 40         | 40       | –    | received power that dazzles (URG code 18, Sick 8191), assumed |
+/// | snr_min             | 8          | –        | –    | AMCW: amplitude/noise below which the step is invalid (code 1) |
+/// | mod_freq_lo_hz      | 6.8e6      | –        | Hz   | AMCW coarse frequency: unambiguous to 22 m (cf. code 0 "possibly at 22 m"), assumed |
+/// | mod_freq_hi_hz      | 46.5e6     | –        | Hz   | AMCW fine frequency (ambiguity 3.2 m), assumed              |
+/// | two_wave_tolerance  | 0.15       | –        | –    | AMCW: relative amplitude difference of the two waves allowed (code 8), calibrated |
+/// | pulse_fwhm_ns       | –          | 4        | ns   | Sick pulse width (assumed)                                 |
+/// | threshold_snr       | –          | 6        | –    | Sick: echo detection threshold over the noise              |
+/// | valid_snr           | –          | 12       | –    | Sick: an echo peaking below this is too weak (8189)        |
+/// | max_echo_width      | –          | 1.8      | –    | Sick: an echo wider (FWHM) than this × the pulse's is ambiguous (8189) |
+///
+/// Range noise follows the received power: the receiver noise enters the phasors (AMCW) and the
+/// waveform (pulsed), so the phase or leading-edge jitter grows as noise_floor/amplitude
+/// (σ_r ≈ c/(4π f_hi)·noise/A for the URG); the datasheet σ (lrf.hpp) is added on top as the
+/// strong-signal floor.
+///
+/// "assumed" values are engineering guesses, documented as such; "calibrated" ones are fitted
+/// so that the bocas scene reproduces the smoke paper (docs/sensors.md).
+#include <string>
+
+namespace smokescan {
+
+struct PhysicalParams {
+    double divergence_mrad = 10.0;
+    int sub_rays = 5;
+    double overlap_start_m = 0.1;
+    double overlap_full_m = 1.5;
+    double overlap_floor = 0.01;
+    double window_m = 0.02;
+    double noise_floor = 5e-5;
+    double saturation_power = 40.0;
+    // AMCW (URG-04LX)
+    double snr_min = 8.0;
+    double mod_freq_lo_hz = 6.8e6;
+    double mod_freq_hi_hz = 46.5e6;
+    double two_wave_tolerance = 0.15;
+    // pulsed (LMS200)
+    double pulse_fwhm_ns = 4.0;
+    double threshold_snr = 6.0;
+    double valid_snr = 12.0;
+    double max_echo_width = 1.8;
+
+    /// Overlap O(r) ∈ [0, 1] of the receiver's field of view with the beam at range r [m].
+    double overlap(double r_m) const;
+};
+
+/// @brief Defaults for a sensor type ("urg04lx", "lms200"), calibrated values included.
+PhysicalParams physicalDefaults(const std::string& type);
+
+}  // namespace smokescan

@@ -1,0 +1,114 @@
+// The lidar equation per beam: sub-rays over the footprint, smoke along the beam, mirror paths.
+#include <algorithm>
+#include <cmath>
+
+#include "smokescan/sensors/physical_model.hpp"
+
+namespace smokescan {
+namespace {
+
+/// Sub-ray directions: the centre and four rays at 0.7 of the half divergence (in the scan
+/// plane and across it), an equal-weight quadrature of a Gaussian-ish footprint.
+std::vector<Vec3> footprint(const Vec3& d, double half_angle_rad, int n)
+{
+    std::vector<Vec3> out{d};
+    if (n <= 1) return out;
+    const Vec3 helper = std::abs(d.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX();
+    const Vec3 u = d.cross(helper).normalized(), v = d.cross(u);
+    const double t = std::tan(0.7 * half_angle_rad);
+    for (int k = 0; k < n - 1; ++k) {
+        const double a = 2 * M_PI * k / (n - 1);
+        out.push_back((d + t * (std::cos(a) * u + std::sin(a) * v)).normalized());
+    }
+    return out;
+}
+
+}  // namespace
+
+BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalParams& p, const Scene& scene,
+                           const SurfaceSet& surfaces, const SmokeField& field, SurfaceHit* central_hit,
+                           BeamSmoke* central_smoke)
+{
+    BeamSignal sig;
+    const double wl = spec.wavelength_nm;
+    const double half = 0.5e-3 * p.divergence_mrad;
+    const std::vector<Vec3> dirs = footprint(ray.d, half, p.sub_rays);
+    const double w = 1.0 / double(dirs.size());
+    // Echoes beyond the sensor's range window still pull the phase or widen the waveform; look
+    // a pulse length further than the maximum range.
+    const double reach = spec.range_max_m + 1.0;
+
+    std::vector<SurfaceHit> hits(dirs.size());
+    std::vector<double> blocked(dirs.size());
+    double t_end = 0;
+    for (size_t j = 0; j < dirs.size(); ++j) {
+        hits[j] = surfaces.closest(Ray{ray.o, dirs[j]}, reach);
+        blocked[j] = hits[j].hit ? hits[j].t_m : reach;
+        t_end = std::max(t_end, blocked[j]);
+        if (hits[j].hit && hits[j].t_m <= spec.range_max_m) sig.surface_in_range = true;
+    }
+    if (central_hit) *central_hit = hits[0];
+
+    // Smoke along the central ray: smoke varies little across a footprint of centimetres.
+    BeamQuery q;
+    q.wavelength_nm = wl;
+    q.want_profile = true;
+    BeamSmoke smoke = field.trace(ray, 0.0, t_end, q);
+    const TauProfile tau(smoke.sigma_t_profile);
+    std::sort(blocked.begin(), blocked.end());
+    appendSmokeEchoes(p, tau, smoke.beta_profile, 0.0, t_end, 0.0, 1.0, 0.0, blocked, EchoSource::Smoke, sig);
+
+    for (size_t j = 0; j < dirs.size(); ++j) {
+        const SurfaceHit& h = hits[j];
+        if (!h.hit) continue;
+        const Material& m = scene.materials[size_t(h.material)];
+        const double cos_t = std::abs(dirs[j].dot(h.normal));
+        const double tau_R = tau.tau(h.t_m);
+        const double P = w * surfaceEchoPower(p, m, wl, cos_t, h.t_m, tau_R);
+        if (P > 0) {
+            sig.echoes.push_back({h.t_m, P, EchoSource::Surface});
+            sig.surface_power += P;
+        }
+        if (m.specular <= 0) continue;
+        // Mirror path: the specular part of the beam goes on along the reflected direction and
+        // whatever it meets returns the same way (reciprocity), seen at R + u.
+        const double rho = wl < 845 ? m.nir_785 : m.nir_905;
+        const double refl = m.specular * rho;
+        const double gain = w * refl * refl * std::exp(-2 * tau_R);
+        if (gain < 1e-9) continue;
+        const double alpha = std::max(1e-3, m.roughness * m.roughness);
+        const double lobe_ratio = std::pow(2 * alpha / std::max(half, 1e-6), 2);
+        const Vec3 d = dirs[j], n = h.normal;
+        const Vec3 rd = (d - 2 * d.dot(n) * n).normalized();
+        const Ray mray{ray.o + h.t_m * d + 1e-6 * n, rd};
+        const double u_max = reach - h.t_m;
+        if (u_max <= 0) continue;
+        const SurfaceHit mh = surfaces.closest(mray, u_max);
+        const double u_end = mh.hit ? mh.t_m : u_max;
+        BeamSmoke ms = field.trace(mray, 0.0, u_end, q);
+        const TauProfile mtau(ms.sigma_t_profile);
+        appendSmokeEchoes(p, mtau, ms.beta_profile, 0.0, u_end, h.t_m, gain, lobe_ratio, {}, EchoSource::Mirror, sig);
+        if (mh.hit) {
+            const Material& mm = scene.materials[size_t(mh.material)];
+            const double u = mh.t_m, R = h.t_m + u;
+            const double cos_m = std::abs(rd.dot(mh.normal));
+            const double Pm = gain * M_PI * monostaticBrdf(mm, wl, cos_m) * cos_m * p.overlap(R) /
+                              (R * R + u * u * lobe_ratio) * std::exp(-2 * mtau.tau(u));
+            if (Pm > 0) {
+                sig.echoes.push_back({R, Pm, EchoSource::Mirror});
+                sig.mirror_power += Pm;
+            }
+        }
+    }
+    std::sort(sig.echoes.begin(), sig.echoes.end(), [](const Echo& a, const Echo& b) { return a.range_m < b.range_m; });
+    if (central_smoke) {
+        // The paper model's bookkeeping up to the central surface, for reports and --tau.
+        const double t_c = hits[0].hit ? hits[0].t_m : spec.range_max_m;
+        BeamQuery qc;
+        qc.wavelength_nm = wl;
+        *central_smoke = t_c == t_end ? std::move(smoke) : field.trace(ray, 0.0, t_c, qc);
+    }
+    return sig;
+}
+
+}  // namespace smokescan

@@ -1,0 +1,248 @@
+#include "smokescan/sensors/physical_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/random.hpp"
+
+namespace smokescan {
+namespace {
+
+constexpr double kC = 299792458.0;  // [m/s]
+constexpr double kBin_m = 0.05;     // smoke bins: phase error at 46.5 MHz < 0.1 rad, well inside the pulse
+
+double smoothstep(double x)
+{
+    x = std::clamp(x, 0.0, 1.0);
+    return x * x * (3 - 2 * x);
+}
+
+}  // namespace
+
+double PhysicalParams::overlap(double r) const
+{
+    if (r < window_m) return 0.0;  // inside the housing
+    const double s = overlap_full_m <= overlap_start_m
+                         ? (r >= overlap_full_m ? 1.0 : 0.0)
+                         : smoothstep((r - overlap_start_m) / (overlap_full_m - overlap_start_m));
+    // Below the biaxial overlap only defocused light reaches the detector: a small floor that
+    // itself falls as r² near the sensor (a blur circle larger than the detector).
+    const double x = r / std::max(overlap_start_m, 1e-9);
+    return std::max(s, overlap_floor * std::min(1.0, x * x));
+}
+
+PhysicalParams physicalDefaults(const std::string& type)
+{
+    PhysicalParams p;
+    if (type == "urg04lx") {
+        p.overlap_start_m = 1.5;
+        p.overlap_full_m = 3.0;
+        p.overlap_floor = 0.03;
+        p.noise_floor = 1.675e-4;  // calibrated: bocas blue-paper onset at 0.007 density·m (docs/sensors.md)
+        return p;
+    }
+    if (type == "lms200") {
+        p.divergence_mrad = 12.0;
+        p.noise_floor = 5e-5;  // calibrated: dense plume cores read as obstacles, thin edges as 8189 (docs/sensors.md)
+        return p;
+    }
+    throw Error("", "unknown sensor type '" + type + "' (urg04lx, lms200)");
+}
+
+TauProfile::TauProfile(const std::vector<ProfileSegment>& s) : seg_(s)
+{
+    cum_.reserve(seg_.size());
+    double acc = 0;
+    for (const auto& g : seg_) {
+        cum_.push_back(acc);
+        acc += g.density * (g.t1_m - g.t0_m);
+    }
+}
+
+double TauProfile::tau(double r) const
+{
+    // first segment whose end lies beyond r
+    auto it = std::upper_bound(seg_.begin(), seg_.end(), r,
+                               [](double v, const ProfileSegment& g) { return v < g.t1_m; });
+    const size_t i = size_t(it - seg_.begin());
+    if (i == seg_.size()) return seg_.empty() ? 0.0 : cum_.back() + seg_.back().density * (seg_.back().t1_m - seg_.back().t0_m);
+    return cum_[i] + seg_[i].density * std::max(0.0, r - seg_[i].t0_m);
+}
+
+double TauProfile::sigmaAt(double r) const
+{
+    auto it = std::upper_bound(seg_.begin(), seg_.end(), r,
+                               [](double v, const ProfileSegment& g) { return v < g.t1_m; });
+    return (it != seg_.end() && it->t0_m <= r) ? it->density : 0.0;
+}
+
+double monostaticBrdf(const Material& m, double wl, double cos_theta)
+{
+    const double rho = wl < 845 ? m.nir_785 : m.nir_905;  // the sensor's band
+    double f = (1 - m.specular) * rho / M_PI;
+    if (m.specular > 0 && cos_theta > 0) {
+        // GGX with the half vector along the beam: θ_h = θ; Smith G1 twice; Schlick F = F0 = rho.
+        const double a2 = std::pow(std::max(1e-3, m.roughness * m.roughness), 2);
+        const double c2 = cos_theta * cos_theta, t2 = (1 - c2) / c2;
+        const double D = a2 / (M_PI * c2 * c2 * (a2 + t2) * (a2 + t2));
+        const double G1 = 2 / (1 + std::sqrt(1 + a2 * t2));
+        f += m.specular * rho * D * G1 * G1 / (4 * c2);
+    }
+    return f;
+}
+
+double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wl, double cos_theta,
+                        double R, double tau)
+{
+    if (!(R > 0) || cos_theta <= 0) return 0;
+    return M_PI * monostaticBrdf(m, wl, cos_theta) * cos_theta * p.overlap(R) / (R * R) * std::exp(-2 * tau);
+}
+
+void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
+                       double s0, double s1, double offset, double gain, double lobe_ratio,
+                       const std::vector<double>& blocked, EchoSource source, BeamSignal& out)
+{
+    const double n_sub = blocked.empty() ? 1.0 : double(blocked.size());
+    for (const auto& g : beta) {
+        const double a = std::max(g.t0_m, s0), b = std::min(g.t1_m, s1);
+        if (!(b > a) || g.density <= 0) continue;
+        const int nb = std::max(1, int(std::ceil((b - a) / kBin_m)));
+        const double dx = (b - a) / nb;
+        for (int k = 0; k < nb; ++k) {
+            const double x0 = a + k * dx, xc = x0 + 0.5 * dx, range = offset + xc;
+            const double O = p.overlap(range);
+            if (O <= 0) continue;
+            double open = 1.0;  // share of the footprint still travelling at xc
+            if (!blocked.empty())
+                open = double(blocked.end() - std::upper_bound(blocked.begin(), blocked.end(), xc)) / n_sub;
+            if (open <= 0) break;
+            // ∫ exp(−2τ) over the bin, exact for constant σ_t in it
+            const double sig = tau.sigmaAt(xc), t0 = tau.tau(x0);
+            const double T2int = sig * dx > 1e-9 ? std::exp(-2 * t0) * -std::expm1(-2 * sig * dx) / (2 * sig)
+                                                 : std::exp(-2 * t0) * dx;
+            const double geom = 1.0 / (range * range + xc * xc * lobe_ratio);
+            const double P = gain * open * M_PI * g.density * O * geom * T2int;
+            if (P <= 0) continue;
+            out.echoes.push_back({range, P, source});
+            (source == EchoSource::Mirror ? out.mirror_power : out.smoke_power) += P;
+        }
+    }
+}
+
+BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
+{
+    BeamResult r;
+    auto fail = [&](long long code, const char* cause) {
+        r.error = true;
+        r.value = code;
+        r.cause = cause;
+        return r;
+    };
+    // Phasors at both modulation frequencies; the receiver's noise is complex Gaussian.
+    const double k_lo = 4 * M_PI * p.mod_freq_lo_hz / kC, k_hi = 4 * M_PI * p.mod_freq_hi_hz / kC;
+    std::complex<double> Z_lo(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
+    std::complex<double> Z_hi(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
+    for (const Echo& e : s.echoes) {
+        Z_lo += std::polar(e.power, k_lo * e.range_m);
+        Z_hi += std::polar(e.power, k_hi * e.range_m);
+    }
+    const double A_lo = std::abs(Z_lo), A_hi = std::abs(Z_hi);
+    r.power = A_lo;
+    const double ds_noise = rng.normal();
+    if (A_lo > p.saturation_power) return fail(18, "strong_reflection");
+    if (A_lo < p.snr_min * p.noise_floor)
+        return s.surface_in_range ? fail(1, "low_intensity") : fail(0, "nothing_in_range");
+    if (std::abs(A_hi - A_lo) > p.two_wave_tolerance * A_lo) return fail(8, "two_wave_difference");
+    // Fine phase, unwrapped by the coarse one.
+    const double L_lo = 2 * M_PI / k_lo, L_hi = 2 * M_PI / k_hi;  // ambiguity intervals [m]
+    auto wrap = [](double phi) { return phi < 0 ? phi + 2 * M_PI : phi; };
+    const double r_lo = wrap(std::arg(Z_lo)) / k_lo, r_hi = wrap(std::arg(Z_hi)) / k_hi;
+    const double range = r_hi + L_hi * std::round((r_lo - r_hi) / L_hi);
+    (void)L_lo;
+    if (range > spec.range_max_m || range < spec.range_min_m) return fail(0, "out_of_range");
+    r.true_range_m = range;
+    const double measured = range + spec.rangeSigma(range) * ds_noise;
+    const long long v = std::llround(std::max(measured, spec.range_min_m) / spec.unit_m);
+    if (spec.isErrorValue(v)) return fail(0, "out_of_range");
+    r.value = v;
+    return r;
+}
+
+BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
+{
+    BeamResult r;
+    auto fail = [&](long long code, const char* cause) {
+        r.error = true;
+        r.value = code;
+        r.cause = cause;
+        return r;
+    };
+    // Range-domain Gaussian pulse: FWHM in time → σ in range (half the path).
+    const double sig_p = kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
+    const double dr = sig_p / 4, reach = 4 * sig_p;
+    const double thr = p.threshold_snr * p.noise_floor;
+    const double r_end = spec.range_max_m + reach;
+    // Only the span the echoes cover is sampled: noise alone stays below the threshold
+    // (probability ~1e-9 per sample at threshold_snr = 6).
+    double lo = r_end, hi = 0;
+    for (const Echo& e : s.echoes)
+        if (e.power > 0 && e.range_m < r_end) {
+            lo = std::min(lo, e.range_m - reach);
+            hi = std::max(hi, e.range_m + reach);
+        }
+    if (!(hi > lo)) return fail(spec.no_return_code, "no_echo");
+    lo = std::max(0.0, lo);
+    hi = std::min(hi, r_end);
+    const int n = int(std::ceil((hi - lo) / dr)) + 1;
+    std::vector<double> w(size_t(n), 0.0);
+    const double inv2s2 = 1.0 / (2 * sig_p * sig_p);
+    for (const Echo& e : s.echoes) {
+        const int k0 = std::max(0, int(std::floor((e.range_m - reach - lo) / dr)));
+        const int k1 = std::min(n - 1, int(std::ceil((e.range_m + reach - lo) / dr)));
+        for (int k = k0; k <= k1; ++k) {
+            const double x = lo + k * dr - e.range_m;
+            w[size_t(k)] += e.power * std::exp(-x * x * inv2s2);
+        }
+    }
+    for (double& v : w) v += p.noise_floor * rng.normal();
+    const double ds_noise = rng.normal();
+    int k0 = 0;
+    while (k0 < n && w[size_t(k0)] < thr) ++k0;
+    if (k0 == n) return fail(spec.no_return_code, "no_echo");
+    int k1 = k0;
+    double peak = w[size_t(k0)];
+    int kp = k0;
+    while (k1 + 1 < n && w[size_t(k1 + 1)] >= thr) {
+        ++k1;
+        if (w[size_t(k1)] > peak) { peak = w[size_t(k1)]; kp = k1; }
+    }
+    r.power = peak;
+    if (peak > p.saturation_power) return fail(8191, "dazzled");
+    if (peak < p.valid_snr * p.noise_floor) return fail(8189, "weak_echo");
+    // Half-maximum crossings around the peak (linear interpolation between samples).
+    const double half = 0.5 * peak;
+    int a = kp;
+    while (a > k0 && w[size_t(a - 1)] >= half) --a;
+    double lead = lo + a * dr;
+    if (a > 0 && w[size_t(a - 1)] < half)
+        lead -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
+    int b = kp;
+    while (b < n - 1 && w[size_t(b + 1)] >= half) ++b;
+    double trail = lo + b * dr;
+    if (b < n - 1 && w[size_t(b + 1)] < half)
+        trail += dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
+    const double fwhm_pulse = 2.354820045 * sig_p;
+    if (trail - lead > p.max_echo_width * fwhm_pulse) return fail(8189, "ambiguous_echo");
+    const double range = lead + 0.5 * fwhm_pulse;
+    if (range > spec.range_max_m || range < spec.range_min_m) return fail(spec.no_return_code, "out_of_range");
+    r.true_range_m = range;
+    const double measured = range + spec.rangeSigma(range) * ds_noise;
+    const long long v = std::llround(std::max(measured, spec.range_min_m) / spec.unit_m);
+    if (spec.isErrorValue(v)) return fail(spec.no_return_code, "out_of_range");
+    r.value = v;
+    return r;
+}
+
+}  // namespace smokescan
