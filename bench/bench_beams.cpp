@@ -152,17 +152,21 @@ void BM_Naive(benchmark::State& st, const std::string& name)
     report(st, c);
 }
 
-/// A full URG-04LX scan of the bocas room in smoke (t = 150 s), paper model, on one core.
-void BM_FullScanOneCore(benchmark::State& st)
+/// A full scan of the bocas room in smoke (t = 150 s) on one core: URG-04LX with the paper or the
+/// physical model, and the LMS200 (physical) of the plume scene at t = 60 s.
+void BM_FullScanOneCore(benchmark::State& st, const std::string& model, const std::string& scene_name)
 {
     tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-    static const Scene scene = loadScene("bocas");
-    static const SurfaceSet set(scene);
-    ScanConfig cfg{"urg04lx"};
+    const Scene scene = loadScene(scene_name);
+    const SurfaceSet set(scene);
+    ScanConfig cfg;
+    cfg.model = model;
     cfg.keep_beams = false;
     const Scanner sc(scene, set, cfg);
+    const double t = scene_name == "bocas" ? 150.0 : 60.0;
     uint64_t k = 0;
-    for (auto _ : st) benchmark::DoNotOptimize(sc.scanAt(150.0, k++));
+    for (auto _ : st) benchmark::DoNotOptimize(sc.scanAt(t, k++));
+    st.counters["time/beam"] = benchmark::Counter(double(sc.spec().n_beams), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
     st.counters["beams/s"] = benchmark::Counter(double(sc.spec().n_beams), benchmark::Counter::kIsIterationInvariantRate);
 }
 
@@ -175,7 +179,10 @@ int main(int argc, char** argv)
         benchmark::RegisterBenchmark(("optical_depth/" + n + "/hierarchical").c_str(), BM_Hierarchical, n)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("optical_depth/" + n + "/naive_dda").c_str(), BM_Naive, n)->Unit(benchmark::kMillisecond);
     }
-    benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core", BM_FullScanOneCore)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/paper", BM_FullScanOneCore, "paper", "bocas")->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/physical", BM_FullScanOneCore, "physical", "bocas")->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/lms200_plume_1core/paper", BM_FullScanOneCore, "paper", "plume")->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/lms200_plume_1core/physical", BM_FullScanOneCore, "physical", "plume")->Unit(benchmark::kMicrosecond);
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
