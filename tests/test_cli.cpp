@@ -98,6 +98,23 @@ TEST(Cli, ScanImageDrawsTheSeriesLikeFig10)
               file("x.log"));
 }
 
+TEST(Cli, ScanPhysicalModelAndSensorFiles)
+{
+    const std::string log = file("phys.log");
+    const std::string sf = file("hokuyo.toml", "type = \"urg04lx\"\nmodel = \"physical\"\n[physical]\nnoise_floor = 1.675e-4\n");
+    CliRun r = cli("scan bocas --from 0 --to 2 --rate 1 --sensor-file " + sf + " --out " + log);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("model physical"), std::string::npos) << r.out;
+    EXPECT_NE(slurp(log).find("model=physical"), std::string::npos);
+    r = cli("scan bocas --from 0 --to 2 --rate 1 --model physical --out " + log);
+    ASSERT_EQ(r.status, 0) << r.err;
+    expectBad("scan bocas --from 0 --to 1 --model magic --out " + file("m.log"), "unknown sensor model", file("m.log"));
+    const std::string bad = file("bad_sensor.toml", "type = \"urg04lx\"\n[physical]\nnoise_floor = \"loud\"\n");
+    expectBad("scan bocas --from 0 --to 1 --sensor-file " + bad + " --out " + file("b.log"), "bad_sensor.toml:3", file("b.log"));
+    expectBad("scan bocas --from 0 --to 1 --sensor-file " + file("none.toml") + " --out " + file("n.log"), "cannot open sensor file",
+              file("n.log"));
+}
+
 TEST(Cli, VolumeBuildInfoExport)
 {
     const std::string vdb = file("bocas.vdb");
