@@ -158,11 +158,10 @@ BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSign
         return s.surface_in_range ? fail(1, "low_intensity") : fail(0, "nothing_in_range");
     if (std::abs(A_hi - A_lo) > p.two_wave_tolerance * A_lo) return fail(8, "two_wave_difference");
     // Fine phase, unwrapped by the coarse one.
-    const double L_lo = 2 * M_PI / k_lo, L_hi = 2 * M_PI / k_hi;  // ambiguity intervals [m]
+    const double L_hi = 2 * M_PI / k_hi;  // fine ambiguity interval [m]
     auto wrap = [](double phi) { return phi < 0 ? phi + 2 * M_PI : phi; };
     const double r_lo = wrap(std::arg(Z_lo)) / k_lo, r_hi = wrap(std::arg(Z_hi)) / k_hi;
     const double range = r_hi + L_hi * std::round((r_lo - r_hi) / L_hi);
-    (void)L_lo;
     if (range > spec.range_max_m || range < spec.range_min_m) return fail(0, "out_of_range");
     r.true_range_m = range;
     const double measured = range + spec.rangeSigma(range) * ds_noise;
