@@ -72,8 +72,7 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
         if (m.specular <= 0) continue;
         // Mirror path: the specular part of the beam goes on along the reflected direction and
         // whatever it meets returns the same way (reciprocity), seen at R + u.
-        const double rho = wl < 845 ? m.nir_785 : m.nir_905;
-        const double refl = m.specular * rho;
+        const double refl = m.specular * nirReflectance(m, wl);
         const double gain = w * refl * refl * std::exp(-2 * tau_R);
         if (gain < 1e-9) continue;
         const double alpha = std::max(1e-3, m.roughness * m.roughness);

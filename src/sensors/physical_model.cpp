@@ -78,9 +78,14 @@ double TauProfile::sigmaAt(double r) const
     return (it != seg_.end() && it->t0_m <= r) ? it->density : 0.0;
 }
 
+double nirReflectance(const Material& m, double wl)
+{
+    return wl < 845 ? m.nir_785 : m.nir_905;  // the nearer of the two tabulated bands
+}
+
 double monostaticBrdf(const Material& m, double wl, double cos_theta)
 {
-    const double rho = wl < 845 ? m.nir_785 : m.nir_905;  // the sensor's band
+    const double rho = nirReflectance(m, wl);
     double f = (1 - m.specular) * rho / M_PI;
     if (m.specular > 0 && cos_theta > 0) {
         // GGX with the half vector along the beam: θ_h = θ; Smith G1 twice; Schlick F = F0 = rho.
@@ -136,12 +141,7 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
 BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
 {
     BeamResult r;
-    auto fail = [&](long long code, const char* cause) {
-        r.error = true;
-        r.value = code;
-        r.cause = cause;
-        return r;
-    };
+    auto fail = [&](long long code, const char* cause) { return markError(r, code, cause); };
     // Phasors at both modulation frequencies; the receiver's noise is complex Gaussian.
     const double k_lo = 4 * M_PI * p.mod_freq_lo_hz / kC, k_hi = 4 * M_PI * p.mod_freq_hi_hz / kC;
     std::complex<double> Z_lo(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
@@ -162,24 +162,13 @@ BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSign
     auto wrap = [](double phi) { return phi < 0 ? phi + 2 * M_PI : phi; };
     const double r_lo = wrap(std::arg(Z_lo)) / k_lo, r_hi = wrap(std::arg(Z_hi)) / k_hi;
     const double range = r_hi + L_hi * std::round((r_lo - r_hi) / L_hi);
-    if (range > spec.range_max_m || range < spec.range_min_m) return fail(0, "out_of_range");
-    r.true_range_m = range;
-    const double measured = range + spec.rangeSigma(range) * ds_noise;
-    const long long v = std::llround(std::max(measured, spec.range_min_m) / spec.unit_m);
-    if (spec.isErrorValue(v)) return fail(0, "out_of_range");
-    r.value = v;
-    return r;
+    return reportRange(spec, range, ds_noise, r);
 }
 
 BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
 {
     BeamResult r;
-    auto fail = [&](long long code, const char* cause) {
-        r.error = true;
-        r.value = code;
-        r.cause = cause;
-        return r;
-    };
+    auto fail = [&](long long code, const char* cause) { return markError(r, code, cause); };
     // Range-domain Gaussian pulse: FWHM in time → σ in range (half the path).
     const double sig_p = kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
     const double dr = sig_p / 4, reach = 4 * sig_p;
@@ -237,13 +226,7 @@ BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSi
     const double fwhm_pulse = 2.354820045 * sig_p;
     if (trail - lead > p.max_echo_width * fwhm_pulse) return fail(8189, "ambiguous_echo");
     const double range = lead + 0.5 * fwhm_pulse;
-    if (range > spec.range_max_m || range < spec.range_min_m) return fail(spec.no_return_code, "out_of_range");
-    r.true_range_m = range;
-    const double measured = range + spec.rangeSigma(range) * ds_noise;
-    const long long v = std::llround(std::max(measured, spec.range_min_m) / spec.unit_m);
-    if (spec.isErrorValue(v)) return fail(spec.no_return_code, "out_of_range");
-    r.value = v;
-    return r;
+    return reportRange(spec, range, ds_noise, r);
 }
 
 }  // namespace smokescan

@@ -34,6 +34,14 @@ struct BeamResult {
     double power = 0;        ///< physical model: received amplitude (normalised power)
 };
 
+/// @brief Marks r as an error: `code` in the sensor's unit, and why.
+BeamResult& markError(BeamResult& r, long long code, const char* cause);
+
+/// @brief Reports a measured distance the way the sensor does: outside its window → its no-return
+/// value; else range_m plus the datasheet noise (`noise` a standard normal), rounded to the unit,
+/// again refused when that lands on an error value. Shared by the paper and physical models.
+BeamResult& reportRange(const LrfSpec& spec, double range_m, double noise, BeamResult& r);
+
 /// @brief Applies the paper model to one beam. `noise` is a standard normal draw.
 BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit,
                      const BeamSmoke& smoke, double noise);

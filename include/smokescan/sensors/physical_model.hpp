@@ -54,6 +54,9 @@ private:
     std::vector<double> cum_;  ///< τ at each segment's start
 };
 
+/// @brief The material's diffuse reflectance in the sensor's band (785 or 905 nm).
+double nirReflectance(const Material& m, double wavelength_nm);
+
 /// @brief Monostatic BRDF f_r [1/sr] of a material at the given wavelength, for light leaving
 /// and returning along the same direction at incidence cos θ.
 double monostaticBrdf(const Material& m, double wavelength_nm, double cos_theta);
