@@ -1,14 +1,15 @@
-# Writes OUT: a C++ file holding every scenes/*.toml as a built-in scene (name = file stem).
-file(GLOB scene_files "${SCENE_DIR}/*.toml")
-list(SORT scene_files)
-set(body "// Generated from scenes/*.toml by cmake/embed_scenes.cmake. Do not edit.\n")
+# Writes OUT: a C++ file holding every DIR/*.EXT as a built-in text (name = file stem), returned by
+# the function FUNC() as (name, text) pairs. Used for scenes/*.toml and calib/*.json.
+file(GLOB files "${DIR}/*.${EXT}")
+list(SORT files)
+set(body "// Generated from ${DIR}/*.${EXT} by cmake/embed_scenes.cmake. Do not edit.\n")
 string(APPEND body "#include <string>\n#include <vector>\n#include <utility>\n")
-string(APPEND body "namespace smokescan {\nconst std::vector<std::pair<std::string, std::string>>& builtinSceneTable()\n{\n")
+string(APPEND body "namespace smokescan {\nconst std::vector<std::pair<std::string, std::string>>& ${FUNC}()\n{\n")
 string(APPEND body "    static const std::vector<std::pair<std::string, std::string>> t = {\n")
-foreach(f ${scene_files})
+foreach(f ${files})
   get_filename_component(stem "${f}" NAME_WE)
   file(READ "${f}" text)
-  string(APPEND body "        {\"${stem}\", R\"SMOKESCAN_SCENE(${text})SMOKESCAN_SCENE\"},\n")
+  string(APPEND body "        {\"${stem}\", R\"SMOKESCAN_TEXT(${text})SMOKESCAN_TEXT\"},\n")
 endforeach()
 string(APPEND body "    };\n    return t;\n}\n}  // namespace smokescan\n")
 file(WRITE "${OUT}.tmp" "${body}")

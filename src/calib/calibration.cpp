@@ -5,6 +5,9 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+#include <sstream>
+
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/render/renderer.hpp"
@@ -152,6 +155,51 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
     AtomicFile f(path);
     f.stream() << std::setw(2) << j << '\n';
     f.commit();
+}
+
+const std::vector<std::pair<std::string, std::string>>& builtinCalibrationTable();  // generated
+
+CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::string& patch)
+{
+    std::string text, where = path_or_name;
+    for (const auto& [name, t] : builtinCalibrationTable())
+        if (name == path_or_name) {
+            text = t;
+            where = "builtin:" + name;
+        }
+    if (text.empty()) {
+        std::ifstream in(path_or_name);
+        if (!in) throw Error(path_or_name, "no such file or built-in calibration");
+        std::stringstream ss;
+        ss << in.rdbuf();
+        text = ss.str();
+    }
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+        const nlohmann::json& f = patch.empty() ? j.at("combined") : j.at("patches").at(patch);
+        CurveFitResult r;
+        const auto& p = f.at("parameters");
+        r.curve.S0 = p.at("S0").get<double>();
+        r.curve.a = p.at("a").get<double>();
+        r.curve.b = p.at("b").get<double>();
+        r.curve.gamma = p.at("gamma").get<double>();
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) r.covariance(a, b) = f.at("covariance").at(size_t(a)).at(size_t(b)).get<double>();
+        for (int k = 0; k < 3; ++k) r.std_error[size_t(k)] = std::sqrt(std::max(0.0, r.covariance(k, k)));
+        r.converged = f.at("converged").get<bool>();
+        r.chi2 = f.value("chi2", 0.0);
+        r.dof = f.value("dof", 0);
+        if (!(r.curve.S0 > 0 && r.curve.S0 <= 1 && r.curve.a > 0 && r.curve.b > 0 && r.curve.gamma > 0))
+            throw Error(where, "calibration parameters out of range (S0 in (0, 1], a, b, gamma > 0)");
+        return r;
+    } catch (const nlohmann::json::out_of_range& e) {
+        if (!patch.empty() && j.is_object() && !(j.contains("patches") && j["patches"].contains(patch)))
+            throw Error(where, "has no patch '" + patch + "'");
+        throw Error(where, std::string("not a smokescan calibration: ") + e.what());
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(where, std::string("not a smokescan calibration: ") + e.what());
+    }
 }
 
 }  // namespace smokescan

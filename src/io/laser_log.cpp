@@ -10,6 +10,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/recorded.hpp"
 #include "smokescan/render/image.hpp"
 
 namespace smokescan {
@@ -30,40 +31,7 @@ void writeLaserLog(const std::string& path, const std::vector<std::string>& head
     f.commit();
 }
 
-std::vector<LaserLogScan> readLaserLog(const std::string& path)
-{
-    if (!std::filesystem::exists(path)) throw Error(path, "no such file");
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot read");
-    std::vector<LaserLogScan> out;
-    std::string line;
-    for (int ln = 1; std::getline(in, line); ++ln) {
-        const std::string where = path + ":" + std::to_string(ln);
-        const size_t first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#') continue;
-        std::istringstream ss(line);
-        std::vector<double> f;
-        std::string tok;
-        while (ss >> tok) {
-            char* end = nullptr;
-            const double v = std::strtod(tok.c_str(), &end);
-            if (end == tok.c_str() || *end != '\0') throw Error(where, "field " + std::to_string(f.size() + 1) + " is not a number: '" + tok + "'");
-            if (!std::isfinite(v)) throw Error(where, "field " + std::to_string(f.size() + 1) + " is not finite");
-            f.push_back(v);
-        }
-        if (f.size() < 3 || (f.size() - 1) % 2 != 0)
-            throw Error(where, "expected a time and (angle, range) pairs, got " + std::to_string(f.size()) + " fields");
-        LaserLogScan s;
-        s.time_s = f[0];
-        if (!out.empty() && s.time_s < out.back().time_s) throw Error(where, "time goes backwards");
-        for (size_t i = 1; i < f.size(); i += 2) {
-            s.angle_rad.push_back(f[i]);
-            s.range.push_back(f[i + 1]);
-        }
-        out.push_back(std::move(s));
-    }
-    return out;
-}
+std::vector<LaserLogScan> readLaserLog(const std::string& path) { return readRecordedLog(path).scans; }
 
 void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const Scene& scene)
 {

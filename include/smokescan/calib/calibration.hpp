@@ -64,4 +64,9 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
 /// confidence band, the threshold saturation and its density marked. PNG through OpenImageIO.
 void writeCalibrationPlot(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg);
 
+/// @brief Reads a calibration written by writeCalibrationJson: a file, or the name of a built-in
+/// one (calib/*.json compiled in: "bocas"). `patch` "" = the combined target, else that patch's fit.
+/// @throw Error naming the file and the missing or bad field.
+CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::string& patch = "");
+
 }  // namespace smokescan

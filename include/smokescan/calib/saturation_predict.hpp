@@ -1,0 +1,55 @@
+#pragma once
+/// @file saturation_predict.hpp
+/// @brief The target saturation a camera would measure, predicted cheaply from the smoke along its
+/// line of sight through the calibration curve: the column C = ∫ρ ds from the camera to the target
+/// over the distance L is read as the homogeneous density C/L the curve was calibrated with.
+/// (Rendering frames and measuring them, `smokescan render` + `smokescan saturation`, is the
+/// expensive alternative.)
+#include <string>
+
+#include "smokescan/calib/saturation_curve.hpp"
+#include "smokescan/io/recorded.hpp"
+#include "smokescan/media/smoke.hpp"
+#include "smokescan/scene/scene.hpp"
+#include "smokescan/scene/surfaces.hpp"
+
+namespace smokescan {
+
+class SaturationPredictor {
+public:
+    /// @param camera scene camera name ("" = the first)
+    /// @param target_prefix surfaces whose names start with it are the target (their centroid is aimed at)
+    /// @throw Error when the scene has no such camera or target, or the camera does not see it.
+    SaturationPredictor(const Scene& scene, const SurfaceSet& surfaces, const SaturationCurve& curve,
+                        const std::string& camera = "", const std::string& target_prefix = "target_");
+
+    /// Column ∫ρ ds along the line of sight [density·m] (regional and local smoke).
+    double column(const SmokeField& field) const;
+    /// Predicted saturation.
+    double saturation(const SmokeField& field) const { return curve_(column(field) / path_m_); }
+    /// Camera–target distance [m].
+    double path_m() const { return path_m_; }
+
+private:
+    SaturationCurve curve_;
+    Ray ray_;
+    double path_m_ = 0;
+};
+
+/// | field          | default | unit | meaning                                                  |
+/// |----------------|---------|------|----------------------------------------------------------|
+/// | from_s, to_s   | –       | s    | scene times of the first and last frame                  |
+/// | rate_hz        | 1       | Hz   | frames per second                                        |
+/// | sigma          | 0       | –    | standard deviation of the saturation's measurement noise |
+/// | clock_offset_s | 0       | s    | camera clock − scene (laser) clock, added to written times |
+/// | seed           | 1       | –    | noise seed (frame k's noise depends on seed and k only)  |
+struct SaturationSimConfig {
+    double from_s = 0, to_s = 0, rate_hz = 1, sigma = 0, clock_offset_s = 0;
+    uint64_t seed = 1;
+};
+
+/// @brief The camera's stream of a simulated run: predicted saturation per frame, plus noise,
+/// clamped to [0, 1], on the camera's clock.
+SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor, const SaturationSimConfig& cfg);
+
+}  // namespace smokescan

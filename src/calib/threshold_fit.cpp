@@ -1,0 +1,186 @@
+// Fisher scoring for the binomial threshold model with Ceres: each solve is Gauss–Newton on Pearson
+// residuals (e − n·p(θ))/√(n·p₀(1−p₀)) with the weights p₀ frozen at the previous solution; at the
+// fixed point the score equations hold (maximum likelihood) and JᵀJ is the Fisher information.
+#include "threshold_fit.hpp"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <Eigen/Dense>
+
+namespace smokescan::detail {
+namespace {
+
+inline double scalar(double x) { return x; }
+template <class J>
+double scalar(const J& j) { return j.a; }
+
+/// Saturation at (laser time + δ), linear between samples, held at the ends.
+template <class T>
+T interpolate(const SaturationSeries& s, const T& t)
+{
+    const auto& ts = s.time_s;
+    const double td = scalar(t);
+    if (ts.size() == 1 || td <= ts.front()) return T(s.saturation.front());
+    if (td >= ts.back()) return T(s.saturation.back());
+    const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), td) - ts.begin()) - 1;
+    const double dt = ts[i + 1] - ts[i];
+    if (!(dt > 0)) return T(s.saturation[i]);
+    return T(s.saturation[i]) + T(s.saturation[i + 1] - s.saturation[i]) * (t - T(ts[i])) / T(dt);
+}
+
+template <class T>
+T probability(const T& S, const T& S_star, const T& w, bool logistic)
+{
+    const T z = (S_star - S) / w;
+    if (logistic) return T(1) / (T(1) + exp(-z));
+    return T(0.5) * erfc(-z / T(M_SQRT2));
+}
+
+struct PearsonResidual {
+    const SaturationSeries* sat;
+    double t, n, e, weight, sigma_S;
+    bool logistic;
+    template <class T>
+    bool operator()(const T* offset, const T* sw, T* r) const
+    {
+        const T S = interpolate(*sat, T(t) + offset[0]);
+        const T w = sqrt(sw[1] * sw[1] + T(sigma_S * sigma_S));
+        r[0] = (T(e) - T(n) * probability(S, sw[0], w, logistic)) * T(weight);
+        return true;
+    }
+};
+
+double clampP(double p) { return std::clamp(p, 1e-9, 1 - 1e-9); }
+
+}  // namespace
+
+double errorProbability(double S, double S_star, double w, bool logistic) { return probability(S, S_star, w, logistic); }
+
+double noiseOfSeries(const std::vector<double>& y)
+{
+    if (y.size() < 5) return 0;
+    std::vector<double> d;
+    for (size_t i = 1; i + 1 < y.size(); ++i) d.push_back(std::abs(y[i - 1] - 2 * y[i] + y[i + 1]));
+    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+    return d[d.size() / 2] / 0.6745 / std::sqrt(6.0);
+}
+
+ThresholdSolution solveThresholds(const ThresholdProblem& p)
+{
+    const size_t G = p.groups.size();
+    ThresholdSolution sol;
+    double offset = p.offset0;
+    std::vector<std::array<double, 2>> sw = p.start;
+    auto pAt = [&](size_t g, size_t k, double off, const std::array<double, 2>& x) {
+        return errorProbability(interpolate(*p.sat, p.groups[g].t[k] + off), x[0], std::hypot(x[1], p.sigma_S), p.logistic);
+    };
+    ceres::Solver::Summary summary;
+    bool converged = false;
+    double prev_change = 1e300;
+    for (int outer = 0; outer < 40 && !converged; ++outer) {
+        ceres::Problem::Options po;
+        ceres::Problem problem(po);
+        problem.AddParameterBlock(&offset, 1);
+        if (!p.fit_offset) problem.SetParameterBlockConstant(&offset);
+        bool any = false;
+        for (size_t g = 0; g < G; ++g) {
+            problem.AddParameterBlock(sw[g].data(), 2);
+            problem.SetParameterLowerBound(sw[g].data(), 1, p.sigma_S > 0 ? 0.0 : kMinWidth);
+            for (size_t k = 0; k < p.groups[g].t.size(); ++k) {
+                const double n = p.groups[g].n[k], p0 = clampP(pAt(g, k, offset, sw[g]));
+                auto* cost = new ceres::AutoDiffCostFunction<PearsonResidual, 1, 1, 2>(
+                    new PearsonResidual{p.sat, p.groups[g].t[k], n, double(p.groups[g].e[k]), 1.0 / std::sqrt(n * p0 * (1 - p0)), p.sigma_S, p.logistic});
+                problem.AddResidualBlock(cost, nullptr, &offset, sw[g].data());
+                any = true;
+            }
+        }
+        if (!any) break;
+        const double off_before = offset;
+        const auto sw_before = sw;
+        ceres::Solver::Options opt;
+        opt.max_num_iterations = 100;
+        opt.linear_solver_type = ceres::DENSE_QR;
+        opt.function_tolerance = 1e-12;
+        opt.parameter_tolerance = 1e-12;
+        ceres::Solve(opt, &problem, &summary);
+        double change = std::abs(offset - off_before);
+        for (size_t g = 0; g < G; ++g) change = std::max({change, std::abs(sw[g][0] - sw_before[g][0]), std::abs(sw[g][1] - sw_before[g][1])});
+        // Fixed point reached; after many rounds, a change far below any standard error will do
+        // (the interpolated saturation's kinks can make the weights flicker in the last digits).
+        // Fisher scoring can fall into a two-cycle (the weights of one solution pull to the
+        // other): when a round does not shrink the change, step only halfway.
+        if (outer >= 3 && change > 0.7 * prev_change) {
+            offset = 0.5 * (offset + off_before);
+            for (size_t g = 0; g < G; ++g)
+                for (int i = 0; i < 2; ++i) sw[g][size_t(i)] = 0.5 * (sw[g][size_t(i)] + sw_before[g][size_t(i)]);
+            change *= 0.5;
+        }
+        prev_change = change;
+        converged = summary.IsSolutionUsable() && (change < 1e-8 || (outer >= 10 && change < 1e-5));
+        if (!converged && outer < 39) continue;
+        // Covariance at the fixed point, cluster-robust: A⁻¹·B·A⁻¹ with A = JᵀJ (the Fisher
+        // information: the weights are those of the solution) and B the sum over clusters of
+        // their score outer products. Model-based A⁻¹ alone would treat the beams of one scan, which
+        // share their smoke, and scans within one camera frame, which share its noise, as
+        // independent and understate the errors many times over.
+        std::vector<double*> blocks;
+        if (p.fit_offset) blocks.push_back(&offset);
+        for (size_t g = 0; g < G; ++g) blocks.push_back(sw[g].data());
+        ceres::Problem::EvaluateOptions eo;
+        eo.parameter_blocks = blocks;
+        std::vector<double> r;
+        ceres::CRSMatrix jac;
+        problem.Evaluate(eo, nullptr, &r, nullptr, &jac);
+        const int P = jac.num_cols;
+        Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jac.num_rows, P);
+        for (int row = 0; row < jac.num_rows; ++row)
+            for (int i = jac.rows[size_t(row)]; i < jac.rows[size_t(row) + 1]; ++i) J(row, jac.cols[size_t(i)]) = jac.values[size_t(i)];
+        const Eigen::MatrixXd A = J.transpose() * J;
+        std::map<long long, Eigen::VectorXd> score;
+        size_t row = 0;
+        for (size_t g = 0; g < G; ++g)
+            for (size_t k = 0; k < p.groups[g].t.size(); ++k, ++row) {
+                const long long c = (long long)std::floor(p.groups[g].t[k] / p.cluster_s);
+                auto it = score.try_emplace(c, Eigen::VectorXd::Zero(P)).first;
+                it->second += J.row(long(row)).transpose() * r[row];
+            }
+        Eigen::MatrixXd B = Eigen::MatrixXd::Zero(P, P);
+        for (const auto& [c, v] : score) B += v * v.transpose();
+        const Eigen::MatrixXd Ainv = A.completeOrthogonalDecomposition().pseudoInverse();
+        const Eigen::MatrixXd C = Ainv * B * Ainv;
+        // Small-sample correction of the cluster-robust estimator: m/(m − 1) for m clusters.
+        const double m = double(score.size()), corr = m > 1 ? m / (m - 1) : 1.0;
+        const int o = p.fit_offset ? 1 : 0;
+        sol.offset = offset;
+        sol.sw = sw;
+        sol.cov.assign(G, Eigen::Matrix2d::Constant(NAN));
+        sol.pearson_chi2.assign(G, 0);
+        sol.deviance.assign(G, 0);
+        sol.inflation.assign(G, NAN);
+        sol.nobs.assign(G, 0);
+        for (size_t g = 0; g < G; ++g) {
+            const auto& d = p.groups[g];
+            for (size_t k = 0; k < d.t.size(); ++k) {
+                const double n = d.n[k], e = d.e[k], q = clampP(pAt(g, k, offset, sw[g]));
+                sol.pearson_chi2[g] += (e - n * q) * (e - n * q) / (n * q * (1 - q));
+                const double a = e > 0 ? e * std::log(e / (n * q)) : 0, b = e < n ? (n - e) * std::log((n - e) / (n * (1 - q))) : 0;
+                sol.deviance[g] += 2 * (a + b);
+            }
+            sol.nobs[g] = int(d.t.size());
+            const int i = o + 2 * int(g);
+            sol.cov[g] = corr * C.block(i, i, 2, 2);
+            sol.inflation[g] = Ainv(i, i) > 0 ? sol.cov[g](0, 0) / Ainv(i, i) : NAN;
+        }
+        if (p.fit_offset) sol.offset_se = std::sqrt(std::max(0.0, corr * C(0, 0)));
+        sol.converged = converged;
+        sol.message = summary.BriefReport();
+        break;
+    }
+    return sol;
+}
+
+}  // namespace smokescan::detail
