@@ -25,5 +25,6 @@ void addVolume(CLI::App& app, Runner& run);
 void addScene(CLI::App& app, Runner& run);
 void addRender(CLI::App& app, Runner& run);
 void addCalibration(CLI::App& app, Runner& run);
+void addFit(CLI::App& app, Runner& run);
 
 }  // namespace smokescan::cli

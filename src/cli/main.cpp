@@ -14,6 +14,7 @@ int main(int argc, char** argv)
     smokescan::cli::addScene(app, run);
     smokescan::cli::addRender(app, run);
     smokescan::cli::addCalibration(app, run);
+    smokescan::cli::addFit(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -5,6 +5,8 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "smokescan/calib/calibration.hpp"
+#include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/laser_log.hpp"
 #include "smokescan/render/image.hpp"
@@ -16,6 +18,8 @@ namespace {
 
 struct ScanArgs {
     std::string scene = "bocas", out, tau_csv, image, target = "target";
+    std::string saturation_out, calibration = "bocas", camera;
+    SaturationSimConfig sat;
     double image_range_m = 0;
     ScanConfig cfg;
     double from = NAN, to = NAN, bin_s = 0;
@@ -87,12 +91,17 @@ int runScan(const ScanArgs& a0)
     requireOutputFolder(a.out);
     requireOutputFolder(a.tau_csv);
     requireOutputFolder(a.image);
+    requireOutputFolder(a.saturation_out);
     if (!a.image.empty() && !isImageExtension(a.image)) throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
     const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
     if (!std::isnan(a.to)) a.cfg.to_s = a.to;
     const Scanner sc(scene, surfaces, a.cfg);
+    // The camera's stream, checked before the scans are made.
+    std::unique_ptr<SaturationPredictor> predictor;
+    if (!a.saturation_out.empty())
+        predictor = std::make_unique<SaturationPredictor>(scene, surfaces, readCalibrationJson(a.calibration).curve, a.camera, a.target + "_");
     const auto times = sc.times();
     std::vector<Scan> scans;
     scans.reserve(times.size());
@@ -108,11 +117,23 @@ int runScan(const ScanArgs& a0)
             std::string(sc.spec().type == "urg04lx" ? "values below 20 (0 = no return)" : "values >= 8183 (8183 = no echo within range)")};
     writeLaserLog(a.out, header, scans, sc.spec());
     if (!a.tau_csv.empty()) writeBeamCsv(a.tau_csv, scans, scene);
+    if (predictor) {
+        SaturationSimConfig ss = a.sat;
+        ss.from_s = times.front();
+        ss.to_s = times.back();
+        ss.seed = a.cfg.seed;
+        char h[256];
+        std::snprintf(h, sizeof h, "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
+                      a.camera.empty() ? "(first)" : a.camera.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(),
+                      ss.sigma, ss.clock_offset_s);
+        writeSaturationCsv(a.saturation_out, simulateSaturation(scene, *predictor, ss), {"smokescan scan " + scene.source + ": predicted target saturation", h});
+    }
     if (!a.image.empty())
         writeScanImage(a.image, scans, sc.spec(), a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
     if (!a.quiet) printSummary(scene, sc, scans, a);
-    std::printf("wrote %s (%zu scans)%s%s%s%s\n", a.out.c_str(), scans.size(), a.tau_csv.empty() ? "" : ", ",
-                a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str());
+    std::printf("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), scans.size(), a.tau_csv.empty() ? "" : ", ",
+                a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str(), a.saturation_out.empty() ? "" : ", ",
+                a.saturation_out.c_str());
     return 0;
 }
 
@@ -138,6 +159,12 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--target", a->target, "Surface-name prefix the summary counts as the target")->capture_default_str();
     c->add_option("--bin", a->bin_s, "Summary time bin [s] (default: automatic)");
     c->add_flag("--quiet", a->quiet, "No summary");
+    c->add_option("--saturation-out", a->saturation_out, "Also write the camera's target saturation over time (CSV), predicted from the smoke on its line of sight");
+    c->add_option("--calibration", a->calibration, "Density-saturation calibration for --saturation-out (JSON or built-in name)")->capture_default_str();
+    c->add_option("--camera", a->camera, "Scene camera for --saturation-out (default: the first)");
+    c->add_option("--saturation-rate", a->sat.rate_hz, "Camera frames per second for --saturation-out [Hz]")->capture_default_str();
+    c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")->capture_default_str();
+    c->add_option("--camera-offset", a->sat.clock_offset_s, "Camera clock - laser clock [s] in --saturation-out")->capture_default_str();
     c->callback([a, &run] { run = [a] { return runScan(*a); }; });
 }
 

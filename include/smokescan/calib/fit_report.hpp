@@ -1,0 +1,35 @@
+#pragma once
+/// @file fit_report.hpp
+/// @brief What `smokescan fit` hands back besides the sensor file: a JSON report of every fitted
+/// value with its error and every diagnosis, the aligned streams, and plots like the smoke
+/// paper's Fig. 5 (saturation and range over time) and Fig. 9 (range and error rate against
+/// saturation, with the fitted threshold).
+#include <string>
+#include <vector>
+
+#include "smokescan/calib/sensor_fit.hpp"
+
+namespace smokescan {
+
+/// Where the fitted data came from (for the report).
+struct FitSources {
+    std::string laser, saturation, calibration, groups_from;
+    double unit_m = 0.001;
+    std::vector<SkippedLine> skipped;  ///< lines left out under --lenient
+};
+
+/// @brief The report as JSON, written atomically.
+void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src);
+
+/// @brief The aligned streams as CSV: time_s, saturation, then per group errors, beams, mean range.
+void writeAlignedCsv(const std::string& path, const SensorFitResult& r);
+
+/// @brief Fig. 5: the saturation (camera clock shifted onto the laser's) and the group's mean range
+/// over time, error scans marked.
+void writeFitTimePlot(const std::string& path, const SensorFitResult& r, int group);
+
+/// @brief Fig. 9: per group, error rate and range against saturation, with the fitted threshold
+/// curve and S* marked.
+void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg);
+
+}  // namespace smokescan

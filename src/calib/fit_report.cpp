@@ -1,0 +1,228 @@
+// The fit's report (JSON), aligned streams (CSV) and plots (the smoke paper's Fig. 5 and 9).
+#include "smokescan/calib/fit_report.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+
+#include "canvas.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
+#include "threshold_fit.hpp"
+
+namespace smokescan {
+namespace {
+
+nlohmann::json est(const Estimate& e)
+{
+    if (std::isnan(e.value)) return nullptr;
+    return {{"value", e.value}, {"std_error", std::isnan(e.se) ? nlohmann::json(nullptr) : nlohmann::json(e.se)}};
+}
+
+std::string fmt(const char* f, double v)
+{
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+const std::array<Col, 6> kPalette = {{{0.15f, 0.3f, 0.9f}, {0.85f, 0.65f, 0.0f}, {0.6f, 0.4f, 0.05f}, {0.1f, 0.6f, 0.2f}, {0.6f, 0.1f, 0.6f}, {0.3f, 0.3f, 0.3f}}};
+
+/// A plot frame: data ranges mapped into a box of the canvas, with ticks and labels.
+struct Frame {
+    int x0, y0, x1, y1;  // pixel box (y0 top)
+    double ux0, ux1, uy0, uy1;
+    int X(double u) const { return int(std::lround(x0 + (x1 - x0) * (u - ux0) / (ux1 - ux0))); }
+    int Y(double v) const { return int(std::lround(y1 - (y1 - y0) * (std::clamp(v, uy0, uy1) - uy0) / (uy1 - uy0))); }
+    void axes(Canvas& c, const std::string& xl, const std::string& yl, const char* xf, const char* yf) const
+    {
+        c.line(x0, y1, x1, y1, {0, 0, 0});
+        c.line(x0, y0, x0, y1, {0, 0, 0});
+        for (int k = 0; k <= 5; ++k) {
+            const double xv = ux0 + (ux1 - ux0) * k / 5, yv = uy0 + (uy1 - uy0) * k / 5;
+            c.line(X(xv), y1, X(xv), y1 + 5, {0, 0, 0});
+            c.text(X(xv) - 18, y1 + 20, fmt(xf, xv), 12);
+            c.line(x0 - 5, Y(yv), x0, Y(yv), {0, 0, 0});
+            c.text(x0 - 52, Y(yv) + 4, fmt(yf, yv), 12);
+        }
+        c.text((x0 + x1) / 2 - 60, y1 + 40, xl, 13);
+        c.text(x0, y0 - 8, yl, 13);
+    }
+};
+
+}  // namespace
+
+void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src)
+{
+    nlohmann::json j;
+    j["model"] = {{"threshold", "P(error | S) = F((S* - S) / sqrt(w^2 + sigma_S^2)), F = " + cfg.link},
+                  {"penetration_power", "P = rho(S*) * range_m through the calibration curve; tau = sigma_t * P"},
+                  {"range", "bias(x) = bias0 + bias_slope*x, noise(x) = noise0 + noise_slope*x, x = S_ref - S [m]"},
+                  {"offset", "camera time - laser time [s]"},
+                  {"doc", "docs/fitting.md"}};
+    j["sources"] = {{"laser", src.laser}, {"saturation", src.saturation}, {"calibration", src.calibration},
+                    {"groups_from", src.groups_from}, {"unit_m", src.unit_m}, {"skipped_lines", src.skipped.size()}};
+    nlohmann::json sk = nlohmann::json::array();
+    for (const auto& s : src.skipped) sk.push_back(s.where + ": " + s.problem);
+    j["sources"]["skipped"] = sk;
+    j["offset"] = {{"estimated", r.offset.estimated}, {"offset_s", est(r.offset.offset_s)}, {"transitions", r.offset.transitions},
+                   {"diagnosis", r.offset.diagnosis}};
+    j["saturation_noise"] = r.saturation_noise;
+    j["smoothing_samples"] = r.smoothing_samples;
+    j["reference_group"] = r.ok() ? nlohmann::json(r.thresholds[size_t(r.reference)].group) : nlohmann::json(nullptr);
+    j["diagnoses"] = r.diagnoses;
+    nlohmann::json gs = nlohmann::json::array();
+    for (size_t g = 0; g < r.thresholds.size(); ++g) {
+        const auto& t = r.thresholds[g];
+        const auto& q = r.ranges[g];
+        nlohmann::json iv = nlohmann::json::array();
+        for (const auto& [a0, a1] : r.groups[g].intervals_rad) iv.push_back({a0, a1});
+        nlohmann::json bins = nlohmann::json::array();
+        for (const auto& b : q.bins)
+            bins.push_back({{"saturation", b.S}, {"n", b.n}, {"bias_m", b.mean_m}, {"bias_se_m", b.se_mean_m}, {"noise_m", b.sd_m}, {"noise_se_m", b.se_sd_m}});
+        gs.push_back({{"name", t.group},
+                      {"material", r.groups[g].material},
+                      {"angles_rad", iv},
+                      {"beams", t.beams},
+                      {"scans", t.scans},
+                      {"errors", t.errors},
+                      {"observations", t.observations},
+                      {"threshold",
+                       {{"fitted", t.fitted}, {"sharp", t.sharp}, {"diagnosis", t.diagnosis}, {"S_star", est(t.S_star)},
+                        {"width", est(t.width)}, {"cov_S_star_width", t.cov_S_star_width}, {"range_m", t.range_m},
+                        {"density", est(t.density)}, {"penetration_power_density_m", est(t.penetration_power)}, {"tau", est(t.tau)},
+                        {"pearson_chi2", t.pearson_chi2}, {"deviance", t.deviance}, {"dof", t.dof}, {"variance_inflation", t.variance_inflation}}},
+                      {"range",
+                       {{"fitted", q.fitted}, {"diagnosis", q.diagnosis}, {"S_ref", std::isnan(q.S_ref) ? nlohmann::json(nullptr) : nlohmann::json(q.S_ref)},
+                        {"bias0_m", est(q.bias0)}, {"bias_slope_m", est(q.bias_slope)}, {"noise0_m", est(q.noise0)},
+                        {"noise_slope_m", est(q.noise_slope)}, {"chi2_bias", q.chi2_bias}, {"chi2_noise", q.chi2_noise}, {"dof", q.dof},
+                        {"observations", q.observations}, {"bins", bins}}}});
+    }
+    j["groups"] = gs;
+    j["config"] = {{"link", cfg.link}, {"estimate_offset", cfg.estimate_offset}, {"offset_s", cfg.offset_s},
+                   {"offset_window_s", cfg.offset_window_s}, {"smooth_s", cfg.smooth_s}, {"clear_quantile", cfg.clear_quantile},
+                   {"sigma_t_per_density", cfg.sigma_t_per_density}};
+    AtomicFile f(path);
+    f.stream() << std::setw(2) << j << '\n';
+    f.commit();
+}
+
+void writeAlignedCsv(const std::string& path, const SensorFitResult& r)
+{
+    AtomicFile f(path);
+    std::ostream& o = f.stream();
+    o << "time_s,saturation";
+    for (const auto& g : r.groups) o << ',' << g.name << "_errors," << g.name << "_beams," << g.name << "_mean_range_m";
+    o << '\n' << std::setprecision(9);
+    for (const auto& a : r.aligned) {
+        o << a.time_s << ',';
+        if (!std::isnan(a.saturation)) o << a.saturation;
+        for (size_t g = 0; g < a.errors.size(); ++g) {
+            o << ',' << a.errors[g] << ',' << a.beams[g] << ',';
+            if (!std::isnan(a.mean_range_m[g])) o << a.mean_range_m[g];
+        }
+        o << '\n';
+    }
+    f.commit();
+}
+
+void writeFitTimePlot(const std::string& path, const SensorFitResult& r, int group)
+{
+    const int W = 900, H = 620;
+    Canvas c(W, H);
+    if (r.aligned.empty()) throw Error(path, "nothing to plot");
+    const double t0 = r.aligned.front().time_s, t1 = std::max(t0 + 1e-6, r.aligned.back().time_s);
+    const size_t g = size_t(std::max(0, group));
+    double rmax = 0;
+    for (const auto& a : r.aligned)
+        if (g < a.mean_range_m.size() && !std::isnan(a.mean_range_m[g])) rmax = std::max(rmax, a.mean_range_m[g]);
+    const Frame top{80, 60, W - 30, 300, t0, t1, 0, 1}, bot{80, 370, W - 30, H - 70, t0, t1, 0, std::max(0.5, rmax * 1.15)};
+    const std::string name = g < r.groups.size() ? r.groups[g].name : "";
+    c.text(W / 2 - 220, 28, "saturation and range over time (smoke paper, Fig. 5): " + name, 15);
+    top.axes(c, "", "target saturation (camera, shifted by the fitted offset)", "%.0f", "%.1f");
+    bot.axes(c, "time [s] (laser clock)", "mean range [m]; red: error codes", "%.0f", "%.1f");
+    if (g < r.thresholds.size() && r.thresholds[g].fitted) {
+        const int ys = top.Y(r.thresholds[g].S_star.value);
+        for (int x = top.x0; x < top.x1; x += 10) c.line(x, ys, std::min(top.x1, x + 5), ys, {0.8f, 0.1f, 0.1f});
+        c.text(top.x1 - 120, ys - 6, "S* = " + fmt("%.3f", r.thresholds[g].S_star.value), 12, {0.8f, 0.1f, 0.1f});
+    }
+    int px = -1, py = -1;
+    for (const auto& a : r.aligned) {
+        if (std::isnan(a.saturation)) continue;
+        const int x = top.X(a.time_s), y = top.Y(a.saturation);
+        if (px >= 0) c.line(px, py, x, y, {0.1f, 0.2f, 0.7f});
+        px = x;
+        py = y;
+    }
+    for (const auto& a : r.aligned) {
+        if (g >= a.errors.size()) break;
+        const int x = bot.X(a.time_s);
+        if (a.errors[g] > 0) {
+            const int h = int(std::lround(40.0 * a.errors[g] / std::max(1, a.beams[g])));
+            c.line(x, bot.y1, x, bot.y1 - h, {0.85f, 0.1f, 0.1f});
+        }
+        if (!std::isnan(a.mean_range_m[g])) c.box(x - 1, bot.Y(a.mean_range_m[g]) - 1, x + 1, bot.Y(a.mean_range_m[g]) + 1, {0, 0, 0}, true);
+    }
+    writeImage(path, c.image());
+}
+
+void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg)
+{
+    const int W = 900, H = 620;
+    Canvas c(W, H);
+    double smin = 1, smax = 0;
+    for (const auto& a : r.aligned)
+        if (!std::isnan(a.saturation)) {
+            smin = std::min(smin, a.saturation);
+            smax = std::max(smax, a.saturation);
+        }
+    if (smax <= smin) smax = smin + 0.1;
+    double bmin = 0, bmax = 0;
+    for (const auto& q : r.ranges)
+        for (const auto& b : q.bins) {
+            bmin = std::min(bmin, b.mean_m - 2 * b.sd_m);
+            bmax = std::max(bmax, b.mean_m + 2 * b.sd_m);
+        }
+    if (bmax <= bmin) bmax = bmin + 0.05;
+    const Frame top{80, 60, W - 30, 300, smin, smax, 0, 1}, bot{80, 370, W - 30, H - 70, smin, smax, bmin, bmax};
+    c.text(W / 2 - 250, 28, "error rate and range against saturation (smoke paper, Fig. 9)", 15);
+    top.axes(c, "", "error rate per scan; fitted threshold curves", "%.2f", "%.1f");
+    bot.axes(c, "target saturation", "range - clear-air range [m] (bins: mean +/- sd)", "%.2f", "%.2f");
+    for (size_t g = 0; g < r.thresholds.size(); ++g) {
+        const Col col = kPalette[g % kPalette.size()];
+        for (const auto& a : r.aligned)
+            if (!std::isnan(a.saturation) && a.beams[g] > 0)
+                c.box(top.X(a.saturation) - 1, top.Y(double(a.errors[g]) / a.beams[g]) - 1, top.X(a.saturation) + 1,
+                      top.Y(double(a.errors[g]) / a.beams[g]) + 1, col, true);
+        const auto& t = r.thresholds[g];
+        if (t.fitted) {
+            const double w = std::hypot(std::isnan(t.width.value) ? 0.0 : t.width.value, r.saturation_noise / std::sqrt(double(r.smoothing_samples)));
+            int px = -1, py = -1;
+            for (int x = top.x0; x <= top.x1; ++x) {
+                const double S = smin + (smax - smin) * (x - top.x0) / (top.x1 - top.x0);
+                const double p = w > 0 ? detail::errorProbability(S, t.S_star.value, w, cfg.link == "logistic") : double(S < t.S_star.value);
+                const int y = top.Y(p);
+                if (px >= 0) c.line(px, py, x, y, col);
+                px = x;
+                py = y;
+            }
+            const int xs = top.X(t.S_star.value);
+            c.line(xs, top.y0, xs, top.y1, col);
+        }
+        c.text(top.x1 - 260, top.y0 + 16 + 16 * int(g), t.group + (t.fitted ? "  S* = " + fmt("%.4f", t.S_star.value) + " +/- " + fmt("%.4f", t.S_star.se) : "  (not fitted)"), 12, col);
+        const auto& q = r.ranges[g];
+        for (const auto& b : q.bins) {
+            const int x = bot.X(b.S) + int(g) * 3;
+            c.line(x, bot.Y(b.mean_m - b.sd_m), x, bot.Y(b.mean_m + b.sd_m), col);
+            c.box(x - 3, bot.Y(b.mean_m) - 3, x + 3, bot.Y(b.mean_m) + 3, col, true);
+        }
+        if (q.fitted)
+            c.line(bot.X(smin), bot.Y(q.bias0.value + q.bias_slope.value * (q.S_ref - smin)), bot.X(smax),
+                   bot.Y(q.bias0.value + q.bias_slope.value * (q.S_ref - smax)), col);
+    }
+    writeImage(path, c.image());
+}
+
+}  // namespace smokescan

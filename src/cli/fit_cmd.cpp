@@ -1,0 +1,178 @@
+// `smokescan fit`: a recorded laser log and the camera's saturation → clock offset, thresholds,
+// penetration power, range bias/noise; a sensor file `smokescan scan` uses as it is, a JSON report,
+// the aligned streams and the paper's Fig. 5 and 9.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "commands.hpp"
+#include "smokescan/analysis/covariates.hpp"
+#include "smokescan/calib/calibration.hpp"
+#include "smokescan/calib/fit_report.hpp"
+#include "smokescan/io/sensor_file.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+namespace smokescan::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct FitArgs {
+    std::string laser, saturation, scene, sensor, surfaces_file, calibration = "bocas", patch, unit = "mm";
+    std::string sensor_type = "urg04lx", prefix = "target_", out, report, plots, aligned, covariates;
+    std::vector<std::string> surfaces;
+    double offset = 0;
+    bool fixed_offset = false, lenient = false, covariates_all = false;
+    SensorFitConfig cfg;
+};
+
+/// OUT with its extension replaced: sensor.toml → sensor_report.json.
+std::string beside(const std::string& out, const std::string& suffix)
+{
+    fs::path p(out);
+    return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+int runFit(const FitArgs& a0)
+{
+    FitArgs a = a0;
+    if (a.report.empty()) a.report = beside(a.out, "_report.json");
+    if (a.plots.empty()) a.plots = beside(a.out, "");
+    for (const auto& p : {a.out, a.report, a.plots + "_fig5.png", a.aligned, a.covariates}) requireOutputFolder(p);
+    if (!a.covariates.empty() && a.scene.empty()) throw Error("--covariates", "needs --scene (the simulation's side of the table)");
+    const int sources = !a.scene.empty() + (!a.surfaces.empty() || !a.surfaces_file.empty());
+    if (sources == 0) throw Error("fit", "say which beams see which surface: --scene, --surface or --surfaces");
+    ReadOptions ro;
+    ro.unit_m = parseRangeUnit(a.unit);
+    ro.lenient = a.lenient;
+    const RecordedLog log = readRecordedLog(a.laser, ro);
+    const SaturationSeries sat0 = readSaturationCsv(a.saturation, ro);
+    SaturationSeries sat = sat0;
+    if (!a.patch.empty()) {  // the patch's column as the saturation
+        size_t p = 0;
+        while (p < sat0.patch_names.size() && sat0.patch_names[p] != a.patch) ++p;
+        if (p == sat0.patch_names.size()) throw Error(a.saturation, "has no patch column '" + a.patch + "'");
+        sat.time_s.clear();
+        sat.saturation.clear();
+        for (size_t k = 0; k < sat0.time_s.size(); ++k)
+            if (std::isfinite(sat0.patch[p][k])) {
+                sat.time_s.push_back(sat0.time_s[k]);
+                sat.saturation.push_back(sat0.patch[p][k]);
+            }
+        if (sat.time_s.empty()) throw Error(a.saturation, "patch '" + a.patch + "' has no values");
+    }
+    const CurveFitResult calib = readCalibrationJson(a.calibration, a.patch);
+    // The sensor and its beam groups.
+    SensorMount mount;
+    mount.type = a.sensor_type;
+    std::unique_ptr<Scene> scene;
+    std::unique_ptr<SurfaceSet> surfaces;
+    std::vector<BeamGroup> groups;
+    FitSources src{a.laser, a.saturation, a.calibration, "", ro.unit_m, {}};
+    if (!a.scene.empty()) {
+        scene = std::make_unique<Scene>(loadScene(a.scene));
+        surfaces = std::make_unique<SurfaceSet>(*scene);
+        const int si = a.sensor.empty() ? scene->findSensor(a.sensor_type) : scene->findSensor(a.sensor);
+        if (si < 0) throw Error(scene->source, "no sensor '" + (a.sensor.empty() ? a.sensor_type : a.sensor) + "'");
+        mount = scene->sensors[size_t(si)];
+        groups = beamGroupsFromScene(*scene, *surfaces, mount, specFor(mount), a.prefix);
+        if (groups.empty()) throw Error(scene->source, "no beam of sensor '" + mount.name + "' hits a surface named '" + a.prefix + "*'");
+        for (const auto& v : scene->volumes)
+            if (v.role == SmokeRole::Regional) {
+                a.cfg.sigma_t_per_density = v.medium.sigmaT(specFor(mount).wavelength_nm);
+                break;
+            }
+        src.groups_from = scene->source;
+    }
+    if (!a.surfaces_file.empty()) {
+        groups = readBeamGroupFile(a.surfaces_file);
+        src.groups_from = a.surfaces_file;
+    }
+    if (!a.surfaces.empty()) {
+        if (a.surfaces_file.empty()) groups.clear();  // --surface replaces the scene's groups
+        for (const auto& s : a.surfaces) groups.push_back(parseBeamGroup(s));
+        src.groups_from = a.surfaces_file.empty() ? "--surface" : a.surfaces_file + " and --surface";
+    }
+    const LrfSpec spec = specFor(mount);
+    a.cfg.offset_s = a.offset;
+    a.cfg.estimate_offset = !a.fixed_offset;
+    src.skipped = log.skipped;
+    src.skipped.insert(src.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
+
+    const SensorFitResult r = fitSensor(log, sat, groups, spec, &calib, a.cfg);
+    writeFitReportJson(a.report, r, a.cfg, src);
+    if (!a.aligned.empty()) writeAlignedCsv(a.aligned, r);
+    if (!a.covariates.empty()) writeCovariates(a.covariates, log, r, *scene, *surfaces, mount, spec, a.covariates_all);
+    if (!r.aligned.empty()) {
+        writeFitTimePlot(a.plots + "_fig5.png", r, std::max(0, r.reference));
+        writeFitSaturationPlot(a.plots + "_fig9.png", r, a.cfg);
+    }
+    // Summary.
+    if (!src.skipped.empty()) std::printf("skipped %zu bad lines (--lenient; listed in the report)\n", src.skipped.size());
+    const auto& o = r.offset;
+    std::printf("clock offset (camera - laser): %.2f +/- %.2f s%s; %d transitions; saturation noise %.4f\n", o.offset_s.value,
+                o.offset_s.se, o.estimated ? "" : " (held)", o.transitions, r.saturation_noise);
+    for (size_t g = 0; g < r.thresholds.size(); ++g) {
+        const auto& t = r.thresholds[g];
+        const auto& q = r.ranges[g];
+        if (t.fitted)
+            std::printf("%-16s %3d beams  S* = %.4f +/- %.4f  w = %.4f  P = %.5f +/- %.5f density.m over %.2f m  tau = %.2f +/- %.2f\n",
+                        t.group.c_str(), t.beams, t.S_star.value, t.S_star.se, t.width.value, t.penetration_power.value,
+                        t.penetration_power.se, t.range_m, t.tau.value, t.tau.se);
+        else
+            std::printf("%-16s %3d beams  not fitted\n", t.group.c_str(), t.beams);
+        if (q.fitted)
+            std::printf("%-16s range bias %.4f + %.4f*(S_ref-S) m (+/- %.4f), noise %.4f + %.4f*(S_ref-S) m\n", "", q.bias0.value,
+                        q.bias_slope.value, q.bias_slope.se, q.noise0.value, q.noise_slope.value);
+        if (!t.diagnosis.empty()) std::printf("%-16s note: %s\n", "", t.diagnosis.c_str());
+    }
+    for (const auto& d : r.diagnoses) std::printf("diagnosis: %s\n", d.c_str());
+    if (!r.ok()) throw Error(a.laser, "no threshold could be fitted: " + (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
+    const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
+    mount.model = "paper";
+    mount.penetration_power = ref.penetration_power.value;
+    char comment[512];
+    std::snprintf(comment, sizeof comment,
+                  "fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m (report: %s)",
+                  a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
+                  ref.penetration_power.value, ref.penetration_power.se, a.report.c_str());
+    writeSensorFile(a.out, mount, comment);
+    std::printf("wrote %s (penetration power from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), ref.group.c_str(),
+                a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ", a.aligned.c_str(),
+                a.covariates.empty() ? "" : ", ", a.covariates.c_str());
+    return 0;
+}
+
+}  // namespace
+
+void addFit(CLI::App& app, Runner& run)
+{
+    auto a = std::make_shared<FitArgs>();
+    auto* c = app.add_subcommand("fit", "Fit a laser's smoke thresholds from a recorded log and the camera's saturation; write a sensor file");
+    c->add_option("--laser", a->laser, "Laser log (the paper's format, as `scan` writes it)")->required();
+    c->add_option("--saturation", a->saturation, "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it)")->required();
+    c->add_option("--out", a->out, "Sensor file to write (TOML, for `scan --sensor-file`)")->required();
+    c->add_option("--scene", a->scene, "Scene whose surfaces name the beam groups (built-in name or file)");
+    c->add_option("--sensor", a->sensor, "Sensor in the scene (default: the first of --sensor-type)");
+    c->add_option("--target-prefix", a->prefix, "With --scene: surfaces whose names start with it form the groups")->capture_default_str();
+    c->add_option("--surface", a->surfaces, "A beam group: NAME=A0:A1[,A2:A3][@RANGE_M], degrees (repeatable)");
+    c->add_option("--surfaces", a->surfaces_file, "Beam groups file: lines NAME A0_DEG A1_DEG [RANGE_M]");
+    c->add_option("--sensor-type", a->sensor_type, "urg04lx or lms200 (without --scene)")->capture_default_str();
+    c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
+    c->add_flag("--lenient", a->lenient, "Skip bad lines (counted and listed in the report) instead of failing");
+    c->add_option("--calibration", a->calibration, "Density-saturation calibration JSON, or a built-in name")->capture_default_str();
+    c->add_option("--patch", a->patch, "Use this patch's saturation column and calibration curve");
+    c->add_option("--offset", a->offset, "Clock offset camera - laser [s]: the search centre, or the value with --fixed-offset")->capture_default_str();
+    c->add_flag("--fixed-offset", a->fixed_offset, "Do not estimate the offset");
+    c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")->capture_default_str();
+    c->add_option("--link", a->cfg.link, "Threshold link: probit or logistic")->capture_default_str();
+    c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")->capture_default_str();
+    c->add_option("--reference", a->cfg.reference, "Group whose penetration power goes into the sensor file (default: most beams)");
+    c->add_option("--report", a->report, "JSON report (default: OUT's name + _report.json)");
+    c->add_option("--plots", a->plots, "Plot path prefix: PREFIX_fig5.png, PREFIX_fig9.png (default: OUT's name)");
+    c->add_option("--aligned", a->aligned, "Also write the aligned streams (CSV)");
+    c->add_option("--covariates", a->covariates, "Also write per-beam, per-scan covariates from the scene (CSV; needs --scene)");
+    c->add_flag("--covariates-all", a->covariates_all, "Covariates for every beam, not only the groups'");
+    c->callback([a, &run] { run = [a] { return runFit(*a); }; });
+}
+
+}  // namespace smokescan::cli
