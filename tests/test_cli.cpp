@@ -178,3 +178,51 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput)
     expectBad("volume export nothere.vdb --out " + vdb_out, "nothere.vdb: no such file", vdb_out);
     expectBad("volume export ../shared/data/vdb/teapot_cloud.vdb --scale -1 --out " + vdb_out, "scale must be", vdb_out);
 }
+
+// A simulated recorded run (the laser's log and the camera's saturation 3 s ahead) goes through
+// `fit`; its sensor file drives `scan` again; bad recorded data is a one-line error naming the
+// file and line, or, with --lenient, skipped and counted.
+TEST(Cli, FitRecoversTheSensorFromASimulatedRun)
+{
+    const std::string log = file("rec.log"), sat = file("rec_sat.csv"), toml = file("fitted.toml");
+    CliRun r = cli("scan bocas --rate 2 --seed 4 --quiet --out " + log + " --saturation-out " + sat +
+                   " --saturation-sigma 0.01 --saturation-rate 10 --camera-offset 3");
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = cli("fit --laser " + log + " --saturation " + sat + " --scene bocas --out " + toml + " --aligned " + file("aligned.csv"));
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(r.out.find("clock offset"), std::string::npos);
+    for (const auto& f : {toml, file("fitted_report.json"), file("fitted_fig5.png"), file("fitted_fig9.png"), file("aligned.csv")})
+        EXPECT_TRUE(fs::exists(f)) << f;
+    EXPECT_NE(slurp(toml).find("penetration_power = 0.00"), std::string::npos);
+    r = cli("scan bocas --from 95 --to 100 --quiet --sensor-file " + toml + " --out " + file("again.log"));
+    EXPECT_EQ(r.status, 0) << r.err;
+
+    // Groups by angle instead of a scene; the offset held.
+    r = cli("fit --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --fixed-offset --offset 3 --out " + file("f2.toml"));
+    EXPECT_EQ(r.status, 0) << r.err << r.out;
+
+    // Bad recorded data.
+    std::string text = slurp(log);
+    const std::string bad_log = file("bad.log", text + "400.0 0.1 2500 0.2\n");
+    expectBad("fit --laser " + bad_log + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"), "bad.log:", file("bad.toml"));
+    r = cli("fit --lenient --laser " + bad_log + " --saturation " + sat + " --scene bocas --out " + file("len.toml"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("skipped 1 bad lines"), std::string::npos) << r.out;
+    expectBad("fit --laser " + log + " --saturation " + file("bad_sat.csv", "time_s,saturation\n0,0.5\n1,1.5\n") + " --scene bocas --out " + file("bad.toml"),
+              "bad_sat.csv:3: saturation 1.5 is outside [0, 1]", file("bad.toml"));
+    expectBad("fit --laser " + log + " --saturation " + file("nan_sat.csv", "0,0.5\n1,nan\n") + " --scene bocas --out " + file("bad.toml"),
+              "nan_sat.csv:2", file("bad.toml"));
+    expectBad("fit --laser " + log + " --saturation " + file("back_sat.csv", "0,0.5\n2,0.5\n1,0.5\n") + " --scene bocas --out " + file("bad.toml"),
+              "time goes backwards", file("bad.toml"));
+    expectBad("fit --unit furlong --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"), "unknown unit", file("bad.toml"));
+    expectBad("fit --laser " + file("odd.log", "0.0 0.1 2500 0.2\n") + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"),
+              "odd.log:1: expected a time and (angle, range) pairs", file("bad.toml"));
+    expectBad("fit --laser " + file("word.log", "0.0 0.1 abc\n") + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"),
+              "word.log:1: field 3 is not a number", file("bad.toml"));
+    // Degenerate: the camera's clock a day off: a diagnosis, no sensor file.
+    const std::string far_sat = file("far_sat.csv", "86400,0.6\n86401,0.6\n86402,0.1\n86403,0.6\n");
+    r = cli("fit --laser " + log + " --saturation " + far_sat + " --scene bocas --out " + file("far.toml"));
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("do not overlap"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(file("far.toml")));
+}

@@ -30,6 +30,15 @@ std::string fmt(const char* f, double v)
 
 const std::array<Col, 6> kPalette = {{{0.15f, 0.3f, 0.9f}, {0.85f, 0.65f, 0.0f}, {0.6f, 0.4f, 0.05f}, {0.1f, 0.6f, 0.2f}, {0.6f, 0.1f, 0.6f}, {0.3f, 0.3f, 0.3f}}};
 
+/// A group's colour: by its name where it names one, else from the palette.
+Col colourOf(const std::string& name, size_t g)
+{
+    if (name.find("blue") != std::string::npos) return {0.15f, 0.3f, 0.9f};
+    if (name.find("yellow") != std::string::npos) return {0.85f, 0.65f, 0.0f};
+    if (name.find("gold") != std::string::npos) return {0.6f, 0.4f, 0.05f};
+    return kPalette[(g + 3) % kPalette.size()];
+}
+
 /// A plot frame: data ranges mapped into a box of the canvas, with ticks and labels.
 struct Frame {
     int x0, y0, x1, y1;  // pixel box (y0 top)
@@ -191,7 +200,7 @@ void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, c
     top.axes(c, "", "error rate per scan; fitted threshold curves", "%.2f", "%.1f");
     bot.axes(c, "target saturation", "range - clear-air range [m] (bins: mean +/- sd)", "%.2f", "%.2f");
     for (size_t g = 0; g < r.thresholds.size(); ++g) {
-        const Col col = kPalette[g % kPalette.size()];
+        const Col col = colourOf(r.groups[g].name, g);
         for (const auto& a : r.aligned)
             if (!std::isnan(a.saturation) && a.beams[g] > 0)
                 c.box(top.X(a.saturation) - 1, top.Y(double(a.errors[g]) / a.beams[g]) - 1, top.X(a.saturation) + 1,
