@@ -252,6 +252,7 @@ SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, c
         }
         delta0 = cfg.offset_s + 0.5 * (best_i + best_j) * cfg.offset_step_s;
         res.offset.offset_s = {delta0, (best_j - best_i + 1) * cfg.offset_step_s / std::sqrt(12.0)};
+        res.offset.estimated = true;  // refined below unless every group's step is sharp
         if (best_i == -steps || best_j == steps)
             res.diagnoses.push_back(fmt("the best clock offset lies at the edge of the search (%.1f s): widen --offset-window", delta0));
     } else {
