@@ -123,13 +123,8 @@ std::vector<double> transitionTimes(const std::vector<GroupData>& gd, size_t n_s
 
 double saturationAt(const SaturationSeries& s, double t)
 {
-    const auto& ts = s.time_s;
-    if (ts.empty() || t < ts.front() || t > ts.back()) return NAN;
-    const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin());
-    if (i >= ts.size()) return s.saturation.back();
-    const size_t j = i - 1;
-    const double dt = ts[i] - ts[j];
-    return dt > 0 ? s.saturation[j] + (s.saturation[i] - s.saturation[j]) * (t - ts[j]) / dt : s.saturation[j];
+    if (s.time_s.empty() || t < s.time_s.front() || t > s.time_s.back()) return NAN;
+    return detail::interpolate(s, t);
 }
 
 SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, const std::vector<BeamGroup>& groups,

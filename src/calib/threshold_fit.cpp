@@ -14,24 +14,6 @@
 namespace smokescan::detail {
 namespace {
 
-inline double scalar(double x) { return x; }
-template <class J>
-double scalar(const J& j) { return j.a; }
-
-/// Saturation at (laser time + δ), linear between samples, held at the ends.
-template <class T>
-T interpolate(const SaturationSeries& s, const T& t)
-{
-    const auto& ts = s.time_s;
-    const double td = scalar(t);
-    if (ts.size() == 1 || td <= ts.front()) return T(s.saturation.front());
-    if (td >= ts.back()) return T(s.saturation.back());
-    const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), td) - ts.begin()) - 1;
-    const double dt = ts[i + 1] - ts[i];
-    if (!(dt > 0)) return T(s.saturation[i]);
-    return T(s.saturation[i]) + T(s.saturation[i + 1] - s.saturation[i]) * (t - T(ts[i])) / T(dt);
-}
-
 template <class T>
 T probability(const T& S, const T& S_star, const T& w, bool logistic)
 {

@@ -1,6 +1,7 @@
 #pragma once
 // The binomial threshold fit behind fitSensor (internal): per group of beams, errors e of n per
 // scan against the saturation at scan time + δ, by Fisher scoring with Ceres.
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -42,6 +43,25 @@ struct ThresholdSolution {
     bool converged = false;
     std::string message;
 };
+
+inline double scalar(double x) { return x; }
+template <class J>
+double scalar(const J& j) { return j.a; }
+
+/// Saturation at time t, linear between samples, held at the ends; T a double or a Ceres Jet
+/// (the fit differentiates it in the clock offset).
+template <class T>
+T interpolate(const SaturationSeries& s, const T& t)
+{
+    const auto& ts = s.time_s;
+    const double td = scalar(t);
+    if (ts.size() == 1 || td <= ts.front()) return T(s.saturation.front());
+    if (td >= ts.back()) return T(s.saturation.back());
+    const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), td) - ts.begin()) - 1;
+    const double dt = ts[i + 1] - ts[i];
+    if (!(dt > 0)) return T(s.saturation[i]);
+    return T(s.saturation[i]) + T(s.saturation[i + 1] - s.saturation[i]) * (t - T(ts[i])) / T(dt);
+}
 
 /// Smallest width the fit may reach; at it the step is called sharp.
 constexpr double kMinWidth = 1e-4;
