@@ -197,6 +197,18 @@ TEST(Cli, FitRecoversTheSensorFromASimulatedRun)
     r = cli("scan bocas --from 95 --to 100 --quiet --sensor-file " + toml + " --out " + file("again.log"));
     EXPECT_EQ(r.status, 0) << r.err;
 
+    // The physical model's sensor file: its noise floor fitted in the scene, and used as it is.
+    r = cli("fit --model physical --reference target_blue --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("phys.toml"));
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(slurp(file("phys.toml")).find("model = \"physical\""), std::string::npos);
+    EXPECT_NE(slurp(file("phys_report.json")).find("\"noise_floor\""), std::string::npos);
+    r = cli("scan bocas --from 95 --to 96 --quiet --sensor-file " + file("phys.toml") + " --out " + file("again_phys.log"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    expectBad("fit --model physical --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --out " + file("nophys.toml"),
+              "needs --scene", file("nophys.toml"));
+    expectBad("fit --model fancy --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("nophys.toml"),
+              "unknown model", file("nophys.toml"));
+
     // Groups by angle instead of a scene; the offset held.
     r = cli("fit --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --fixed-offset --offset 3 --out " + file("f2.toml"));
     EXPECT_EQ(r.status, 0) << r.err << r.out;

@@ -389,3 +389,29 @@ TEST(SensorFile, RoundTripAndStrictErrors)
     expectError("type = \"urg04lx\"\n[physical]\nsub_rays = 0\n", "sub_rays");
     fs::remove_all(dir);
 }
+
+TEST(PhysicalModel, AmcwErrorProbabilityMatchesTheSimulatedReadings)
+{
+    // One echo of amplitude A at 2.5 m; the closed-form error probability (low intensity and the
+    // two waves' difference, Gaussian amplitudes) against 4000 noisy readings of amcwBeam, from
+    // the clean side of the threshold through it.
+    const PhysicalParams p = physicalDefaults("urg04lx");
+    const LrfSpec spec = urg04lx();
+    const int N = 4000;
+    for (double snr : {6.0, 8.0, 9.0, 11.0, 14.0, 20.0, 40.0}) {
+        BeamSignal s;
+        s.echoes.push_back({2.5, snr * p.noise_floor, EchoSource::Surface});
+        s.surface_power = s.echoes[0].power;
+        s.surface_in_range = true;
+        const AmcwAmplitudes A = amcwAmplitudes(p, s);
+        EXPECT_NEAR(A.lo, s.surface_power, 1e-15);
+        EXPECT_NEAR(A.hi, s.surface_power, 1e-15);
+        int err = 0;
+        for (int k = 0; k < N; ++k) {
+            KeyedRng rng(11, uint64_t(k), 0);
+            err += amcwBeam(spec, p, s, rng).error;
+        }
+        const double mc = double(err) / N, an = amcwErrorProbability(p, A);
+        EXPECT_NEAR(an, mc, 3 * std::sqrt(std::max(an * (1 - an), 1e-4) / N) + 0.01) << "A/noise " << snr;
+    }
+}

@@ -63,7 +63,8 @@ struct Frame {
 
 }  // namespace
 
-void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src)
+void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src,
+                        const UrgNoiseFloorResult* physical)
 {
     nlohmann::json j;
     j["model"] = {{"threshold", "P(error | S) = F((S* - S) / sqrt(w^2 + sigma_S^2)), F = " + cfg.link},
@@ -110,6 +111,15 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
                         {"observations", q.observations}, {"bins", bins}}}});
     }
     j["groups"] = gs;
+    if (physical)
+        j["physical"] = {{"model", "URG-04LX noise floor by maximum likelihood on the group's error counts, the physical model's own "
+                                   "error probability at each scan's density (docs/fitting.md)"},
+                         {"ok", physical->ok}, {"diagnosis", physical->diagnosis}, {"group", physical->group},
+                         {"beams", physical->beams}, {"scans", physical->scans}, {"scene_time_s", physical->scene_time_s},
+                         {"noise_floor", est(physical->noise_floor)}, {"se_statistical", physical->se_statistical},
+                         {"se_calibration", physical->se_calibration}, {"variance_inflation", physical->variance_inflation},
+                         {"onset_column_density_m", est(physical->onset_column)}, {"pearson_chi2", physical->pearson_chi2},
+                         {"dof", physical->dof}};
     j["config"] = {{"link", cfg.link}, {"estimate_offset", cfg.estimate_offset}, {"offset_s", cfg.offset_s},
                    {"offset_window_s", cfg.offset_window_s}, {"smooth_s", cfg.smooth_s}, {"clear_quantile", cfg.clear_quantile},
                    {"sigma_t_per_density", cfg.sigma_t_per_density}};

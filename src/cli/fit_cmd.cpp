@@ -1,6 +1,7 @@
 // `smokescan fit`: a recorded laser log and the camera's saturation → clock offset, thresholds,
 // penetration power, range bias/noise; a sensor file `smokescan scan` uses as it is, a JSON report,
 // the aligned streams and the paper's Fig. 5 and 9.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 
 struct FitArgs {
     std::string laser, saturation, scene, sensor, surfaces_file, calibration = "bocas", patch, unit = "mm";
-    std::string sensor_type = "urg04lx", prefix = "target_", out, report, plots, aligned, covariates;
+    std::string sensor_type = "urg04lx", prefix = "target_", out, report, plots, aligned, covariates, model = "paper";
     std::vector<std::string> surfaces;
     double offset = 0;
     bool fixed_offset = false, lenient = false, covariates_all = false;
@@ -39,6 +40,8 @@ int runFit(const FitArgs& a0)
     if (a.plots.empty()) a.plots = beside(a.out, "");
     for (const auto& p : {a.out, a.report, a.plots + "_fig5.png", a.aligned, a.covariates}) requireOutputFolder(p);
     if (!a.covariates.empty() && a.scene.empty()) throw Error("--covariates", "needs --scene (the simulation's side of the table)");
+    if (a.model != "paper" && a.model != "physical") throw Error("--model", "unknown model '" + a.model + "' (paper, physical)");
+    if (a.model == "physical" && a.scene.empty()) throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
     const int sources = !a.scene.empty() + (!a.surfaces.empty() || !a.surfaces_file.empty());
     if (sources == 0) throw Error("fit", "say which beams see which surface: --scene, --surface or --surfaces");
     ReadOptions ro;
@@ -98,8 +101,13 @@ int runFit(const FitArgs& a0)
     src.skipped = log.skipped;
     src.skipped.insert(src.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
 
+    if (a.model == "physical" && spec.type != "urg04lx")
+        throw Error("--model physical", "writes a URG-04LX noise floor; the " + spec.type + " is fitted from its plume ranges (fit-sick)");
     const SensorFitResult r = fitSensor(log, sat, groups, spec, &calib, a.cfg);
-    writeFitReportJson(a.report, r, a.cfg, src);
+    std::unique_ptr<UrgNoiseFloorResult> phys;
+    if (a.model == "physical" && r.ok())
+        phys = std::make_unique<UrgNoiseFloorResult>(fitUrgNoiseFloor(*scene, *surfaces, mount, r, size_t(r.reference), calib));
+    writeFitReportJson(a.report, r, a.cfg, src, phys.get());
     if (!a.aligned.empty()) writeAlignedCsv(a.aligned, r);
     if (!a.covariates.empty()) writeCovariates(a.covariates, log, r, *scene, *surfaces, mount, spec, a.covariates_all);
     if (!r.aligned.empty()) {
@@ -128,15 +136,26 @@ int runFit(const FitArgs& a0)
     for (const auto& d : r.diagnoses) std::printf("diagnosis: %s\n", d.c_str());
     if (!r.ok()) throw Error(a.laser, "no threshold could be fitted: " + (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
     const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
-    mount.model = "paper";
+    mount.model = a.model;
     mount.penetration_power = ref.penetration_power.value;
-    char comment[512];
-    std::snprintf(comment, sizeof comment,
-                  "fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m (report: %s)",
-                  a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
-                  ref.penetration_power.value, ref.penetration_power.se, a.report.c_str());
+    char comment[768];
+    int n = std::snprintf(comment, sizeof comment,
+                          "fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m",
+                          a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
+                          ref.penetration_power.value, ref.penetration_power.se);
+    n = std::clamp(n, 0, int(sizeof comment) - 1);
+    if (phys) {
+        if (!phys->ok) throw Error(a.laser, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
+        mount.physical.noise_floor = phys->noise_floor.value;
+        std::printf("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n", phys->group.c_str(),
+                    phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value, phys->onset_column.se);
+        n += std::snprintf(comment + n, sizeof comment - size_t(n), "; physical noise_floor = %.4g +/- %.2g", phys->noise_floor.value,
+                           phys->noise_floor.se);
+        n = std::clamp(n, 0, int(sizeof comment) - 1);
+    }
+    std::snprintf(comment + n, sizeof comment - size_t(n), " (report: %s)", a.report.c_str());
     writeSensorFile(a.out, mount, comment);
-    std::printf("wrote %s (penetration power from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), ref.group.c_str(),
+    std::printf("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), a.model.c_str(), ref.group.c_str(),
                 a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ", a.aligned.c_str(),
                 a.covariates.empty() ? "" : ", ", a.covariates.c_str());
     return 0;
@@ -166,6 +185,8 @@ void addFit(CLI::App& app, Runner& run)
     c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")->capture_default_str();
     c->add_option("--link", a->cfg.link, "Threshold link: probit or logistic")->capture_default_str();
     c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")->capture_default_str();
+    c->add_option("--model", a->model, "Sensor file model: paper (penetration power) or physical (URG noise floor solved in --scene)")
+        ->capture_default_str();
     c->add_option("--reference", a->cfg.reference, "Group whose penetration power goes into the sensor file (default: most beams)");
     c->add_option("--report", a->report, "JSON report (default: OUT's name + _report.json)");
     c->add_option("--plots", a->plots, "Plot path prefix: PREFIX_fig5.png, PREFIX_fig9.png (default: OUT's name)");

@@ -21,6 +21,14 @@ SmokeField SmokeField::at(const std::vector<SmokeVolume>& volumes, double t_s)
     return f;
 }
 
+SmokeField SmokeField::scaledRegional(double k) const
+{
+    SmokeField f = *this;
+    for (Entry& e : f.entries_)
+        if (e.volume->role == SmokeRole::Regional) e.scale *= k;
+    return f;
+}
+
 BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q) const
 {
     BeamSmoke out;

@@ -165,7 +165,55 @@ BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSign
     return reportRange(spec, range, ds_noise, r);
 }
 
+AmcwAmplitudes amcwAmplitudes(const PhysicalParams& p, const BeamSignal& s)
+{
+    const double k_lo = 4 * M_PI * p.mod_freq_lo_hz / kC, k_hi = 4 * M_PI * p.mod_freq_hi_hz / kC;
+    std::complex<double> Z_lo(0, 0), Z_hi(0, 0);
+    for (const Echo& e : s.echoes) {
+        Z_lo += std::polar(e.power, k_lo * e.range_m);
+        Z_hi += std::polar(e.power, k_hi * e.range_m);
+    }
+    return {std::abs(Z_lo), std::abs(Z_hi)};
+}
+
+double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A)
+{
+    const double sd = p.noise_floor;
+    if (!(sd > 0)) return (A.lo < 0 || A.lo > p.saturation_power || std::abs(A.hi - A.lo) > p.two_wave_tolerance * A.lo) ? 1.0 : 0.0;
+    const double mx = std::sqrt(A.lo * A.lo + sd * sd), my = std::sqrt(A.hi * A.hi + sd * sd);
+    const double a = std::max(p.snr_min * sd, mx - 8 * sd), b = std::min(p.saturation_power, mx + 8 * sd);
+    if (!(b > a)) return 1.0;
+    // ∫ φ(x) P(|Y − x| ≤ t·x) dx over the valid X, midpoint rule: 32 points over at most 16σ
+    // (the integrand is smooth on the scale of σ: half-σ steps are accurate to ~1e-6).
+    auto Phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+    const int n = 32;
+    const double dx = (b - a) / n;
+    double valid = 0;
+    for (int k = 0; k < n; ++k) {
+        const double x = a + (k + 0.5) * dx, z = (x - mx) / sd;
+        const double pdf = std::exp(-0.5 * z * z) / (sd * std::sqrt(2 * M_PI));
+        const double t = p.two_wave_tolerance * x;
+        valid += pdf * (Phi((x + t - my) / sd) - Phi((x - t - my) / sd)) * dx;
+    }
+    return std::clamp(1.0 - valid, 0.0, 1.0);
+}
+
+namespace {
+BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng* rng);
+}
+
 BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
+{
+    return pulsedBeamImpl(spec, p, s, &rng);
+}
+
+BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+{
+    return pulsedBeamImpl(spec, p, s, nullptr);
+}
+
+namespace {
+BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng* rng)
 {
     BeamResult r;
     auto fail = [&](long long code, const char* cause) { return markError(r, code, cause); };
@@ -196,8 +244,9 @@ BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSi
             w[size_t(k)] += e.power * std::exp(-x * x * inv2s2);
         }
     }
-    for (double& v : w) v += p.noise_floor * rng.normal();
-    const double ds_noise = rng.normal();
+    if (rng)
+        for (double& v : w) v += p.noise_floor * rng->normal();
+    const double ds_noise = rng ? rng->normal() : 0.0;
     int k0 = 0;
     while (k0 < n && w[size_t(k0)] < thr) ++k0;
     if (k0 == n) return fail(spec.no_return_code, "no_echo");
@@ -228,5 +277,7 @@ BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSi
     const double range = lead + 0.5 * fwhm_pulse;
     return reportRange(spec, range, ds_noise, r);
 }
+
+}  // namespace
 
 }  // namespace smokescan

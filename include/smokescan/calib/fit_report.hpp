@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "smokescan/calib/physical_fit.hpp"
 #include "smokescan/calib/sensor_fit.hpp"
 
 namespace smokescan {
@@ -19,7 +20,9 @@ struct FitSources {
 };
 
 /// @brief The report as JSON, written atomically.
-void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src);
+/// @param physical the physical model's noise floor derived from the fit (null: paper model only)
+void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src,
+                        const UrgNoiseFloorResult* physical = nullptr);
 
 /// @brief The aligned streams as CSV: time_s, saturation, then per group errors, beams, mean range.
 void writeAlignedCsv(const std::string& path, const SensorFitResult& r);

@@ -71,6 +71,10 @@ public:
 
     const std::vector<Entry>& entries() const { return entries_; }
 
+    /// @brief The same field with every regional volume's density multiplied by k (local plumes
+    /// unchanged): columns through regional smoke scale by k exactly.
+    SmokeField scaledRegional(double k) const;
+
 private:
     std::vector<Entry> entries_;
 };

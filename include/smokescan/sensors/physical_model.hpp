@@ -90,9 +90,27 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
 /// difference of the two waves (a spread return), 0 nothing in range.
 BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng);
 
+/// Noise-free amplitudes |Σ P·e^{i·k·r}| of the summed echoes at the two modulation frequencies.
+struct AmcwAmplitudes {
+    double lo = 0, hi = 0;
+};
+
+/// @brief URG-04LX without receiver noise: the amplitudes amcwBeam's validity rules look at.
+AmcwAmplitudes amcwAmplitudes(const PhysicalParams& p, const BeamSignal& s);
+
+/// @brief Probability that amcwBeam returns an error code for noise-free amplitudes A, in the
+/// high-SNR limit where each measured amplitude is Gaussian about its Rician mean √(A² + σ²) with
+/// σ = noise_floor: 1 − P(snr_min·σ ≤ X ≤ saturation_power, |Y − X| ≤ two_wave_tolerance·X),
+/// X, Y the coarse and fine amplitudes. Smooth in every parameter (for fitting the noise floor).
+double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A);
+
 /// @brief LMS200: the waveform (Gaussian pulse ⊗ echoes + noise), first echo above threshold,
 /// range at its half-maximum leading edge plus half the pulse width. Codes: 8183 no echo,
 /// 8189 echo too weak or too wide (ambiguous), 8191 dazzled.
 BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng);
+
+/// @brief LMS200 without receiver noise: the reading the noise-free waveform gives (range or
+/// error value), what a fit of the Sick's thresholds compares recorded readings with.
+BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
 
 }  // namespace smokescan

@@ -1,0 +1,288 @@
+#include "smokescan/calib/physical_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <ceres/ceres.h>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/sensors/physical_model.hpp"
+
+namespace smokescan {
+namespace {
+
+/// Noise-free amplitudes of each beam over a density grid, interpolated in log amplitude (they
+/// fall as e^{−2σ_t·ρ·L}).
+struct AmplitudeTable {
+    double rho_max = 0;
+    int n = 0;
+    std::vector<std::vector<AmcwAmplitudes>> beam;  ///< [beam][grid point]
+
+    AmcwAmplitudes at(size_t b, double rho) const
+    {
+        const double x = std::clamp(rho / rho_max, 0.0, 1.0) * (n - 1);
+        const int j = std::min(n - 2, int(x));
+        const double f = x - j;
+        const AmcwAmplitudes &a = beam[b][size_t(j)], &c = beam[b][size_t(j + 1)];
+        auto lerp = [f](double u, double v) {
+            return (u > 0 && v > 0) ? std::exp((1 - f) * std::log(u) + f * std::log(v)) : (1 - f) * u + f * v;
+        };
+        return {lerp(a.lo, c.lo), lerp(a.hi, c.hi)};
+    }
+};
+
+struct Obs {
+    double rho = 0;
+    int n = 0, e = 0, block = 0;
+};
+
+/// Mean error probability of the group's beams at density rho for noise floor exp(theta).
+template <typename Table>
+double groupErrorProbability(const Table& tab, PhysicalParams p, double theta, double rho)
+{
+    p.noise_floor = std::exp(theta);
+    double sum = 0;
+    for (size_t b = 0; b < tab.beam.size(); ++b) sum += amcwErrorProbability(p, tab.at(b, rho));
+    return sum / double(tab.beam.size());
+}
+
+/// The group's error probability on the density grid for noise floor exp(theta); observations
+/// interpolate it (the grid is much finer than p changes).
+std::vector<double> probabilityTable(const AmplitudeTable& tab, const PhysicalParams& p, double theta)
+{
+    std::vector<double> out(size_t(tab.n));
+    for (int j = 0; j < tab.n; ++j) out[size_t(j)] = groupErrorProbability(tab, p, theta, tab.rho_max * j / (tab.n - 1));
+    return out;
+}
+
+double interpolateTable(const AmplitudeTable& tab, const std::vector<double>& P, double rho)
+{
+    const double x = std::clamp(rho / tab.rho_max, 0.0, 1.0) * (tab.n - 1);
+    const int j = std::min(tab.n - 2, int(x));
+    return P[size_t(j)] + (x - j) * (P[size_t(j) + 1] - P[size_t(j)]);
+}
+
+/// Pearson residuals (e_k − n_k·p_k(θ))/sd_k of all scans, their variances frozen at the last
+/// iterate (Fisher scoring); the derivative in θ by central differences of the probability table.
+class PearsonResiduals : public ceres::CostFunction {
+public:
+    PearsonResiduals(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs, std::vector<double> sd)
+        : tab_(tab), p_(p), obs_(obs), sd_(std::move(sd))
+    {
+        set_num_residuals(int(obs.size()));
+        mutable_parameter_block_sizes()->push_back(1);
+    }
+    bool Evaluate(double const* const* x, double* r, double** J) const override
+    {
+        const double theta = x[0][0], h = 1e-4;
+        const std::vector<double> P = probabilityTable(tab_, p_, theta);
+        std::vector<double> Pa, Pb;
+        if (J && J[0]) {
+            Pa = probabilityTable(tab_, p_, theta + h);
+            Pb = probabilityTable(tab_, p_, theta - h);
+        }
+        for (size_t k = 0; k < obs_.size(); ++k) {
+            const Obs& o = obs_[k];
+            r[k] = (o.e - o.n * interpolateTable(tab_, P, o.rho)) / sd_[k];
+            if (J && J[0])
+                J[0][k] = -o.n * (interpolateTable(tab_, Pa, o.rho) - interpolateTable(tab_, Pb, o.rho)) / (2 * h) / sd_[k];
+        }
+        return true;
+    }
+
+private:
+    const AmplitudeTable& tab_;
+    const PhysicalParams& p_;
+    const std::vector<Obs>& obs_;
+    std::vector<double> sd_;
+};
+
+struct ThetaFit {
+    double theta = NAN, var_model = NAN, var_robust = NAN, chi2 = 0;
+    bool ok = false;
+};
+
+ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs, int iterations)
+{
+    ThetaFit out;
+    // Start: the noise floor whose expected error count matches the observed one (monotone).
+    double E = 0;
+    for (const Obs& o : obs) E += o.e;
+    auto expected = [&](double th) {
+        const std::vector<double> P = probabilityTable(tab, p, th);
+        double s = 0;
+        for (const Obs& o : obs) s += o.n * interpolateTable(tab, P, o.rho);
+        return s;
+    };
+    double lo = std::log(1e-9), hi = std::log(1e2);
+    for (int it = 0; it < 40; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (expected(mid) < E ? lo : hi) = mid;
+    }
+    double theta = 0.5 * (lo + hi);
+    for (int it = 0; it < iterations; ++it) {
+        const std::vector<double> P = probabilityTable(tab, p, theta);
+        std::vector<double> sd(obs.size());
+        for (size_t k = 0; k < obs.size(); ++k) {
+            const double pk = std::clamp(interpolateTable(tab, P, obs[k].rho), 1e-4, 1 - 1e-4);
+            sd[k] = std::sqrt(obs[k].n * pk * (1 - pk));
+        }
+        ceres::Problem problem;
+        problem.AddResidualBlock(new PearsonResiduals(tab, p, obs, sd), nullptr, &theta);
+        const double before = theta;
+        ceres::Solver::Options opt;
+        opt.linear_solver_type = ceres::DENSE_QR;
+        opt.max_num_iterations = 50;
+        ceres::Solver::Summary summary;
+        ceres::Solve(opt, &problem, &summary);
+        out.chi2 = 2 * summary.final_cost;
+        if (std::abs(theta - before) < 1e-6 || it + 1 == iterations) {
+            // Information from Ceres; scores per block for the sandwich.
+            ceres::Covariance::Options co;
+            ceres::Covariance cov(co);
+            std::vector<std::pair<const double*, const double*>> blocks{{&theta, &theta}};
+            if (!cov.Compute(blocks, &problem)) return out;
+            cov.GetCovarianceBlock(&theta, &theta, &out.var_model);
+            ceres::CRSMatrix J;
+            std::vector<double> r;
+            problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, &r, nullptr, &J);
+            std::vector<double> U(size_t(obs.back().block + 1), 0.0);
+            for (size_t k = 0; k < obs.size(); ++k)
+                for (int q = J.rows[k]; q < J.rows[k + 1]; ++q) U[size_t(obs[k].block)] += J.values[size_t(q)] * r[k];
+            double meat = 0;
+            int clusters = 0;
+            for (double u : U)
+                if (u != 0) {
+                    meat += u * u;
+                    ++clusters;
+                }
+            const double corr = clusters > 1 ? clusters / (clusters - 1.0) : 1.0;
+            out.var_robust = corr * out.var_model * meat * out.var_model;
+            out.theta = theta;
+            out.ok = std::isfinite(theta) && out.var_model > 0 && std::abs(theta - before) < 1e-3;
+            return out;
+        }
+    }
+    return out;
+}
+
+Ray beamRay(const SensorMount& m, double angle_rad)
+{
+    return Ray{m.pose.t, m.pose.rotate(Vec3(std::cos(angle_rad), std::sin(angle_rad), 0.0)).normalized()};
+}
+
+}  // namespace
+
+UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
+                                     const SensorFitResult& fit, size_t g, const CurveFitResult& calib,
+                                     const UrgNoiseFloorConfig& cfg)
+{
+    const LrfSpec spec = specFor(mount);
+    if (spec.type != "urg04lx")
+        throw Error("--model physical", "the noise floor fit is for the URG-04LX (AMCW); not for the " + spec.type);
+    UrgNoiseFloorResult out;
+    const BeamGroup& group = fit.groups.at(g);
+    const ThresholdFit& th = fit.thresholds.at(g);
+    out.group = group.name;
+    auto fail = [&](const std::string& why) {
+        out.diagnosis = why;
+        return out;
+    };
+    if (!th.fitted) return fail("group '" + group.name + "' has no fitted threshold");
+    std::vector<Ray> rays;
+    std::vector<double> L;
+    for (int i = 0; i < spec.n_beams; ++i)
+        if (group.contains(spec.angle(i))) {
+            rays.push_back(beamRay(mount, spec.angle(i)));
+            const SurfaceHit h = surfaces.closest(rays.back(), spec.range_max_m);
+            L.push_back(h.hit ? h.t_m : spec.range_max_m);
+        }
+    out.beams = int(rays.size());
+    if (rays.empty()) return fail("group '" + group.name + "' has no beam of this sensor in the scene");
+    // Observations: each aligned scan's density from its saturation.
+    std::vector<Obs> obs;
+    double rho_obs_max = 0, t_block0 = NAN;
+    for (const AlignedScan& a : fit.aligned) {
+        if (!std::isfinite(a.saturation) || a.beams[g] == 0) continue;
+        double rho = 0;
+        if (a.saturation < calib.curve.S0) {
+            try {
+                rho = calib.curve.invert(a.saturation);
+            } catch (const Error&) {
+                continue;  // at or below the curve's floor: no density
+            }
+        }
+        if (std::isnan(t_block0)) t_block0 = a.time_s;
+        obs.push_back({rho, a.beams[g], a.errors[g], int(std::floor((a.time_s - t_block0) / cfg.block_s))});
+        rho_obs_max = std::max(rho_obs_max, rho);
+    }
+    out.scans = int(obs.size());
+    if (obs.size() < 3 || !(rho_obs_max > 0)) return fail("too few aligned scans with smoke for '" + group.name + "'");
+    // The densest regional smoke state of the scene on these beams: its shape, scaled to each ρ.
+    double best = 0;
+    SmokeField field;
+    for (double t = scene.t_start_s; t <= scene.t_end_s + 1e-9; t += cfg.time_step_s) {
+        SmokeField f = SmokeField::at(scene.volumes, t);
+        double rho_mean = 0;
+        for (size_t b = 0; b < rays.size(); ++b) rho_mean += f.trace(rays[b], 0.0, L[b], BeamQuery{}).column_regional / L[b];
+        rho_mean /= double(rays.size());
+        if (rho_mean > best) {
+            best = rho_mean;
+            field = std::move(f);
+            out.scene_time_s = t;
+        }
+    }
+    if (!(best > 0)) return fail("the scene has no regional smoke on the beams of '" + group.name + "'");
+    AmplitudeTable tab;
+    tab.n = std::max(3, cfg.grid);
+    tab.rho_max = 1.05 * rho_obs_max;
+    tab.beam.assign(rays.size(), std::vector<AmcwAmplitudes>(size_t(tab.n)));
+    for (int j = 0; j < tab.n; ++j) {
+        const SmokeField scaled = field.scaledRegional(tab.rho_max * j / (tab.n - 1) / best);
+        for (size_t b = 0; b < rays.size(); ++b)
+            tab.beam[b][size_t(j)] =
+                amcwAmplitudes(mount.physical, traceBeamSignal(rays[b], spec, mount.physical, scene, surfaces, scaled, nullptr, nullptr));
+    }
+    const ThetaFit f = fitTheta(tab, mount.physical, obs, cfg.iterations);
+    if (!f.ok) return fail("the noise floor fit did not converge");
+    // The curve's error: every density moved by its relative standard error at S*.
+    double se_cal = 0;
+    try {
+        const auto [rho_s, se_rho] = calib.invert(th.S_star.value, 0.0);
+        if (rho_s > 0 && se_rho > 0) {
+            std::vector<Obs> moved = obs;
+            for (Obs& o : moved) o.rho *= 1 + se_rho / rho_s;
+            const ThetaFit f2 = fitTheta(tab, mount.physical, moved, cfg.iterations);  // the table holds beyond its end
+            if (f2.ok) se_cal = std::abs(f2.theta - f.theta);
+        }
+    } catch (const Error&) {
+    }
+    const double nf = std::exp(f.theta);
+    const double var_stat = std::max(f.var_model, f.var_robust);
+    out.variance_inflation = f.var_robust / f.var_model;
+    out.se_statistical = nf * std::sqrt(var_stat);
+    out.se_calibration = nf * se_cal;
+    out.noise_floor = {nf, nf * std::sqrt(var_stat + se_cal * se_cal)};
+    out.pearson_chi2 = f.chi2;
+    out.dof = int(obs.size()) - 1;
+    // Where the fitted model errs half the time, as a column over the group's mean distance.
+    double Lm = 0;
+    for (double l : L) Lm += l / double(L.size());
+    auto rhoAtHalf = [&](double theta) {
+        double lo = 0, hi = tab.rho_max;
+        if (groupErrorProbability(tab, mount.physical, theta, hi) < 0.5) return double(NAN);
+        for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (groupErrorProbability(tab, mount.physical, theta, mid) < 0.5 ? lo : hi) = mid;
+        }
+        return 0.5 * (lo + hi);
+    };
+    const double se_theta = std::sqrt(var_stat + se_cal * se_cal);
+    const double c0 = rhoAtHalf(f.theta) * Lm;
+    const double ca = rhoAtHalf(f.theta - se_theta) * Lm, cb = rhoAtHalf(f.theta + se_theta) * Lm;
+    out.onset_column = {c0, 0.5 * std::abs(ca - cb)};
+    out.ok = true;
+    return out;
+}
+
+}  // namespace smokescan
