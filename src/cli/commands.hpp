@@ -26,5 +26,6 @@ void addScene(CLI::App& app, Runner& run);
 void addRender(CLI::App& app, Runner& run);
 void addCalibration(CLI::App& app, Runner& run);
 void addFit(CLI::App& app, Runner& run);
+void addFitPlume(CLI::App& app, Runner& run);
 
 }  // namespace smokescan::cli

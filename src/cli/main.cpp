@@ -15,6 +15,7 @@ int main(int argc, char** argv)
     smokescan::cli::addRender(app, run);
     smokescan::cli::addCalibration(app, run);
     smokescan::cli::addFit(app, run);
+    smokescan::cli::addFitPlume(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

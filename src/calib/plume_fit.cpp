@@ -1,0 +1,250 @@
+#include "smokescan/calib/plume_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+
+#include <ceres/ceres.h>
+#include <nlohmann/json.hpp>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
+
+namespace smokescan {
+namespace {
+
+/// ln d_i − (ln D − k·x_i), x = ln(ρ/ρ_ref).
+struct DepthResidual {
+    double x, ln_d;
+    template <typename T>
+    bool operator()(const T* lnD_k, T* r) const
+    {
+        r[0] = T(ln_d) - (lnD_k[0] - lnD_k[1] * T(x));
+        return true;
+    }
+};
+
+/// (share − p)/√(p̃(1 − p̃)/n), p = 1/(1 + e^{−s·(x − x50)}), x = ln ρ; p̃ frozen.
+struct ShareResidual {
+    double x, share, inv_sd;
+    template <typename T>
+    bool operator()(const T* x50_s, T* r) const
+    {
+        const T p = T(1) / (T(1) + exp(-x50_s[1] * (T(x) - x50_s[0])));
+        r[0] = (T(share) - p) * T(inv_sd);
+        return true;
+    }
+};
+
+double median(std::vector<double> v)
+{
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+nlohmann::json est(const Estimate& e)
+{
+    return {{"value", std::isfinite(e.value) ? nlohmann::json(e.value) : nlohmann::json(nullptr)},
+            {"se", std::isfinite(e.se) ? nlohmann::json(e.se) : nlohmann::json(nullptr)}};
+}
+
+}  // namespace
+
+PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
+                            const PlumeFitConfig& cfg)
+{
+    const LrfSpec spec = specFor(mount);
+    if (spec.type != "lms200") throw Error("fit-plume", "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + spec.type);
+    std::vector<SmokeVolume> local;
+    for (const auto& v : scene.volumes)
+        if (v.role == SmokeRole::Local) local.push_back(v);
+    if (local.empty()) throw Error(scene.source, "has no local smoke (plumes) for the Sick to see");
+    const double sigma_per_density = local.front().medium.sigmaT(spec.wavelength_nm);
+    PlumeFitResult res;
+    BeamQuery q;
+    q.wavelength_nm = spec.wavelength_nm;
+    q.want_profile = true;
+    for (const LaserLogScan& s : log.scans) {
+        const SmokeField field = SmokeField::at(local, s.time_s + cfg.time_offset_s);
+        for (size_t i = 0; i < s.angle_rad.size(); ++i) {
+            const double a = s.angle_rad[i];
+            const Ray ray{mount.pose.t, mount.pose.rotate(Vec3(std::cos(a), std::sin(a), 0.0)).normalized()};
+            const SurfaceHit h = surfaces.closest(ray, spec.range_max_m);
+            const double L = h.hit ? h.t_m : spec.range_max_m;
+            const BeamSmoke sm = field.trace(ray, 0.0, L, q);
+            if (sm.sigma_t_profile.empty()) continue;
+            double peak = 0;
+            for (const auto& g : sm.sigma_t_profile) peak = std::max(peak, g.density);
+            if (!(peak > 0)) continue;
+            PlumeObservation o;
+            o.time_s = s.time_s;
+            o.angle_rad = a;
+            o.peak_density = peak / sigma_per_density;
+            o.surface_m = L;
+            for (const auto& g : sm.sigma_t_profile)
+                if (g.density >= cfg.entry_fraction * peak) {
+                    o.entry_m = g.t0_m;
+                    break;
+                }
+            const double m = s.range[i] * log.unit_m;
+            if (spec.isErrorValue(std::llround(m / spec.unit_m))) {
+                o.outcome = PlumeObservation::ErrorValue;
+            } else {
+                o.range_m = m;
+                o.outcome = m < L - cfg.surface_margin_m ? PlumeObservation::SmokeEcho : PlumeObservation::Surface;
+            }
+            res.obs.push_back(o);
+        }
+    }
+    if (res.obs.empty()) {
+        res.diagnoses.push_back("no beam of the log crosses the scene's plumes (check the sensor, the times and --time-offset)");
+        return res;
+    }
+    // Density bins (log-spaced over the observed range).
+    double lo = kInf, hi = 0;
+    for (const auto& o : res.obs) {
+        lo = std::min(lo, o.peak_density);
+        hi = std::max(hi, o.peak_density);
+    }
+    const int B = std::max(1, cfg.bins);
+    const double llo = std::log(lo), lhi = std::log(hi) + 1e-12;
+    res.bins.resize(size_t(B));
+    std::vector<std::vector<double>> depths(static_cast<size_t>(B));
+    for (int b = 0; b < B; ++b) {
+        res.bins[size_t(b)].rho_lo = std::exp(llo + (lhi - llo) * b / B);
+        res.bins[size_t(b)].rho_hi = std::exp(llo + (lhi - llo) * (b + 1) / B);
+    }
+    std::vector<double> echo_rho;
+    for (const auto& o : res.obs) {
+        const int b = std::clamp(int((std::log(o.peak_density) - llo) / (lhi - llo) * B), 0, B - 1);
+        auto& bin = res.bins[size_t(b)];
+        ++bin.n;
+        if (o.outcome == PlumeObservation::SmokeEcho) {
+            ++bin.echo;
+            depths[size_t(b)].push_back(o.range_m - o.entry_m);
+            echo_rho.push_back(o.peak_density);
+        } else if (o.outcome == PlumeObservation::Surface) {
+            ++bin.surface;
+        } else {
+            ++bin.error;
+        }
+    }
+    for (int b = 0; b < B; ++b) {
+        const auto& d = depths[size_t(b)];
+        if (d.empty()) continue;
+        double m = 0, v = 0;
+        for (double x : d) m += x / double(d.size());
+        for (double x : d) v += (x - m) * (x - m);
+        res.bins[size_t(b)].mean_depth_m = m;
+        res.bins[size_t(b)].se_depth_m = d.size() > 1 ? std::sqrt(v / double(d.size() - 1) / double(d.size())) : NAN;
+    }
+    // Depth against density.
+    if (echo_rho.size() < 3) {
+        res.diagnoses.push_back("fewer than 3 smoke echoes: the Sick saw through or lost every plume");
+        return res;
+    }
+    res.rho_ref = median(echo_rho);
+    double lnD_k[2] = {std::log(std::max(cfg.min_depth_m, 0.1)), 0.5};
+    {
+        ceres::Problem problem;
+        for (const auto& o : res.obs)
+            if (o.outcome == PlumeObservation::SmokeEcho)
+                problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DepthResidual, 1, 2>(new DepthResidual{
+                                             std::log(o.peak_density / res.rho_ref), std::log(std::max(cfg.min_depth_m, o.range_m - o.entry_m))}),
+                                         nullptr, lnD_k);
+        ceres::Solver::Options opt;
+        opt.linear_solver_type = ceres::DENSE_QR;
+        ceres::Solver::Summary sum;
+        ceres::Solve(opt, &problem, &sum);
+        res.depth_chi2 = 2 * sum.final_cost;
+        res.depth_dof = int(echo_rho.size()) - 2;
+        ceres::Covariance cov({});
+        double C[4];
+        if (res.depth_dof > 0 && cov.Compute(std::vector<const double*>{lnD_k}, &problem) &&
+            cov.GetCovarianceMatrix(std::vector<const double*>{lnD_k}, C)) {
+            const double s2 = res.depth_chi2 / res.depth_dof;  // unknown scatter: scale by the residuals'
+            const double D = std::exp(lnD_k[0]);
+            res.depth_m = {D, D * std::sqrt(C[0] * s2)};
+            res.exponent = {lnD_k[1], std::sqrt(C[3] * s2)};
+            res.cov_lnD_k = C[1] * s2;
+            res.ok = true;
+        } else {
+            res.diagnoses.push_back("the depth fit's covariance could not be computed");
+        }
+    }
+    // Share of beams that echo from the plume against ln ρ (Fisher scoring on the bins).
+    std::vector<const PlumeFitResult::Bin*> used;
+    for (const auto& b : res.bins)
+        if (b.n > 0) used.push_back(&b);
+    if (used.size() >= 3) {
+        double xs[2] = {std::log(res.rho_ref), 2.0};
+        for (int it = 0; it < 20; ++it) {
+            ceres::Problem problem;
+            for (const auto* b : used) {
+                const double x = 0.5 * (std::log(b->rho_lo) + std::log(b->rho_hi));
+                const double p0 = std::clamp(1.0 / (1.0 + std::exp(-xs[1] * (x - xs[0]))), 0.02, 0.98);
+                problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(new ShareResidual{
+                                             x, double(b->echo) / b->n, 1.0 / std::sqrt(p0 * (1 - p0) / b->n)}),
+                                         nullptr, xs);
+            }
+            const double before[2] = {xs[0], xs[1]};
+            ceres::Solver::Options opt;
+            opt.linear_solver_type = ceres::DENSE_QR;
+            ceres::Solver::Summary sum;
+            ceres::Solve(opt, &problem, &sum);
+            res.share_chi2 = 2 * sum.final_cost;
+            const bool done = std::abs(xs[0] - before[0]) < 1e-8 && std::abs(xs[1] - before[1]) < 1e-8;
+            if (!done && it < 19) continue;
+            res.share_dof = int(used.size()) - 2;
+            ceres::Covariance cov({});
+            double C[4];
+            if (cov.Compute(std::vector<const double*>{xs}, &problem) && cov.GetCovarianceMatrix(std::vector<const double*>{xs}, C)) {
+                const double infl = std::max(1.0, res.share_dof > 0 ? res.share_chi2 / res.share_dof : 1.0);
+                const double r50 = std::exp(xs[0]);
+                res.rho_50 = {r50, r50 * std::sqrt(C[0] * infl)};
+                res.slope = {xs[1], std::sqrt(C[3] * infl)};
+            }
+            if (!done) res.diagnoses.push_back("the echo share fit did not settle");
+            break;
+        }
+    }
+    return res;
+}
+
+Estimate plumeDepthAt(const PlumeFitResult& r, double rho)
+{
+    if (!r.ok || !(rho > 0)) return {};
+    const double x = std::log(rho / r.rho_ref), rel_D = r.depth_m.se / r.depth_m.value;
+    const double var = rel_D * rel_D + x * x * r.exponent.se * r.exponent.se - 2 * x * r.cov_lnD_k;
+    const double d = r.depth_m.value * std::exp(-r.exponent.value * x);
+    return {d, d * std::sqrt(std::max(0.0, var))};
+}
+
+void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
+                       const std::string& scene)
+{
+    nlohmann::json j;
+    j["model"] = {{"depth", "ln d = ln D - k ln(rho / rho_ref), d = range - plume entry [m]"},
+                  {"share", "P(smoke echo | rho) = 1 / (1 + exp(-s (ln rho - ln rho_50)))"},
+                  {"doc", "docs/fitting.md"}};
+    j["sources"] = {{"laser", laser}, {"scene", scene}, {"time_offset_s", cfg.time_offset_s}};
+    j["ok"] = r.ok;
+    j["diagnoses"] = r.diagnoses;
+    j["observations"] = r.obs.size();
+    j["rho_ref"] = std::isfinite(r.rho_ref) ? nlohmann::json(r.rho_ref) : nlohmann::json(nullptr);
+    j["depth"] = {{"D_m", est(r.depth_m)}, {"k", est(r.exponent)}, {"cov_lnD_k", r.cov_lnD_k}, {"chi2", r.depth_chi2}, {"dof", r.depth_dof}};
+    j["echo_share"] = {{"rho_50", est(r.rho_50)}, {"slope", est(r.slope)}, {"chi2", r.share_chi2}, {"dof", r.share_dof}};
+    nlohmann::json bins = nlohmann::json::array();
+    for (const auto& b : r.bins)
+        bins.push_back({{"rho_lo", b.rho_lo}, {"rho_hi", b.rho_hi}, {"n", b.n}, {"smoke_echo", b.echo}, {"surface", b.surface},
+                        {"error", b.error},
+                        {"mean_depth_m", std::isfinite(b.mean_depth_m) ? nlohmann::json(b.mean_depth_m) : nlohmann::json(nullptr)},
+                        {"se_depth_m", std::isfinite(b.se_depth_m) ? nlohmann::json(b.se_depth_m) : nlohmann::json(nullptr)}});
+    j["bins"] = bins;
+    AtomicFile f(path);
+    f.stream() << std::setw(2) << j << '\n';
+    f.commit();
+}
+
+}  // namespace smokescan
