@@ -238,3 +238,18 @@ TEST(Cli, FitRecoversTheSensorFromASimulatedRun)
     EXPECT_NE(r.err.find("do not overlap"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(file("far.toml")));
 }
+
+// `fit-plume` on a short simulated Sick run in the plume scene: a table and a JSON report; a log
+// that does not exist and a sensor that is not a Sick are one-line errors with no report.
+TEST(Cli, FitPlumeReportsTheSickPenetration)
+{
+    const std::string log = file("sick.log"), out = file("sick_plume.json");
+    CliRun r = cli("scan plume --sensor lms200 --model physical --from 20 --to 80 --rate 0.5 --quiet --out " + log);
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = cli("fit-plume --laser " + log + " --scene plume --out " + out);
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(r.out.find("penetration depth"), std::string::npos) << r.out;
+    EXPECT_NE(slurp(out).find("\"D_m\""), std::string::npos);
+    expectBad("fit-plume --laser " + file("none.log") + " --scene plume --out " + file("np.json"), "none.log", file("np.json"));
+    expectBad("fit-plume --laser " + log + " --scene plume --sensor hokuyo --out " + file("np.json"), "for the Sick LMS200", file("np.json"));
+}

@@ -319,7 +319,7 @@ RecordedLog sickInPlumes(double nf_scale, uint64_t seed)
 
 // The Sick in plumes: the depth it reads into a plume falls as the plume thickens (k > 0); a
 // depth bias planted in the log is found.
-TEST(PlumeFit, SickPenetrationFallsWithDensityAndFindsAPlantedNoisierReceiver)
+TEST(PlumeFit, SickPenetrationFallsWithDensityAndFindsAPlantedDepthBias)
 {
     const Scene scene = loadScene("plume");
     const SurfaceSet surfaces(scene);
