@@ -103,7 +103,7 @@ int runFit(const FitArgs& a0)
     src.skipped.insert(src.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
 
     if (a.model == "physical" && spec.type != "urg04lx")
-        throw Error("--model physical", "writes a URG-04LX noise floor; the " + spec.type + " is fitted from its plume ranges (fit-sick)");
+        throw Error("--model physical", "fits the URG-04LX noise floor only; for a " + spec.type + " in plumes see fit-plume");
     const SensorFitResult r = fitSensor(log, sat, groups, spec, &calib, a.cfg);
     std::unique_ptr<UrgNoiseFloorResult> phys;
     if (a.model == "physical" && r.ok())
