@@ -98,7 +98,7 @@ double trueThreshold(const BeamGroup& g, double P)
     for (int i = 0; i < spec.n_beams; ++i) {
         const double a = spec.angle(i);
         if (!g.contains(a)) continue;
-        const Ray ray{m.pose.t, m.pose.rotate(Vec3(std::cos(a), std::sin(a), 0)).normalized()};
+        const Ray ray = m.beamRay(a);
         sum += b.calib.curve(P / b.surfaces.closest(ray, 10).t_m);
         ++n;
     }
@@ -343,7 +343,7 @@ TEST(PlumeFit, SickPenetrationFallsWithDensityAndFindsAPlantedDepthBias)
     RecordedLog planted = sickInPlumes(1.0, 3);
     for (auto& sc : planted.scans)
         for (size_t i = 0; i < sc.range.size(); ++i) {
-            const Ray ray{mount.pose.t, mount.pose.rotate(Vec3(std::cos(sc.angle_rad[i]), std::sin(sc.angle_rad[i]), 0.0)).normalized()};
+            const Ray ray = mount.beamRay(sc.angle_rad[i]);
             const SurfaceHit h = surfaces.closest(ray, 8.0);
             const double surface_mm = 1000 * (h.hit ? h.t_m : 8.0);
             if (sc.range[i] < 8183 && sc.range[i] < surface_mm - 50) sc.range[i] += 100;

@@ -30,7 +30,7 @@ void writeCovariates(const std::string& path, const RecordedLog& log, const Sens
             for (const auto& g : fit.groups)
                 if (g.contains(a)) group = g.name;
             if (group.empty() && !all_beams) return;
-            const Ray ray{mount.pose.t, mount.pose.rotate(Vec3(std::cos(a), std::sin(a), 0.0)).normalized()};
+            const Ray ray = mount.beamRay(a);
             const SurfaceHit h = surfaces.closest(ray, spec.range_max_m);
             const BeamSmoke sm = field.trace(ray, 0.0, h.hit ? h.t_m : spec.range_max_m, q);
             const double m = s.range[i] * log.unit_m;

@@ -96,7 +96,7 @@ std::vector<BeamGroup> beamGroupsFromScene(const Scene& scene, const SurfaceSet&
     std::vector<double> range(size_t(n), 0);
     for (int i = 0; i < n; ++i) {
         const double a = spec.angle(i);
-        const Ray ray{mount.pose.t, mount.pose.rotate(Vec3(std::cos(a), std::sin(a), 0.0)).normalized()};
+        const Ray ray = mount.beamRay(a);
         const SurfaceHit h = surfaces.closest(ray, spec.range_max_m);
         if (h.hit && h.t_m >= spec.range_min_m) {
             surf[size_t(i)] = h.surface;

@@ -244,4 +244,30 @@ void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, c
     writeImage(path, c.image());
 }
 
+void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
+                       const std::string& scene)
+{
+    nlohmann::json j;
+    j["model"] = {{"depth", "ln d = ln D - k ln(rho / rho_ref), d = range - plume entry [m]"},
+                  {"share", "P(smoke echo | rho) = 1 / (1 + exp(-s (ln rho - ln rho_50)))"},
+                  {"doc", "docs/fitting.md"}};
+    j["sources"] = {{"laser", laser}, {"scene", scene}, {"time_offset_s", cfg.time_offset_s}};
+    j["ok"] = r.ok;
+    j["diagnoses"] = r.diagnoses;
+    j["observations"] = r.obs.size();
+    j["rho_ref"] = std::isfinite(r.rho_ref) ? nlohmann::json(r.rho_ref) : nlohmann::json(nullptr);
+    j["depth"] = {{"D_m", est(r.depth_m)}, {"k", est(r.exponent)}, {"cov_lnD_k", r.cov_lnD_k}, {"chi2", r.depth_chi2}, {"dof", r.depth_dof}};
+    j["echo_share"] = {{"rho_50", est(r.rho_50)}, {"slope", est(r.slope)}, {"chi2", r.share_chi2}, {"dof", r.share_dof}};
+    nlohmann::json bins = nlohmann::json::array();
+    for (const auto& b : r.bins)
+        bins.push_back({{"rho_lo", b.rho_lo}, {"rho_hi", b.rho_hi}, {"n", b.n}, {"smoke_echo", b.echo}, {"surface", b.surface},
+                        {"error", b.error},
+                        {"mean_depth_m", std::isfinite(b.mean_depth_m) ? nlohmann::json(b.mean_depth_m) : nlohmann::json(nullptr)},
+                        {"se_depth_m", std::isfinite(b.se_depth_m) ? nlohmann::json(b.se_depth_m) : nlohmann::json(nullptr)}});
+    j["bins"] = bins;
+    AtomicFile f(path);
+    f.stream() << std::setw(2) << j << '\n';
+    f.commit();
+}
+
 }  // namespace smokescan

@@ -166,11 +166,6 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
     return out;
 }
 
-Ray beamRay(const SensorMount& m, double angle_rad)
-{
-    return Ray{m.pose.t, m.pose.rotate(Vec3(std::cos(angle_rad), std::sin(angle_rad), 0.0)).normalized()};
-}
-
 }  // namespace
 
 UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
@@ -193,7 +188,7 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
     std::vector<double> L;
     for (int i = 0; i < spec.n_beams; ++i)
         if (group.contains(spec.angle(i))) {
-            rays.push_back(beamRay(mount, spec.angle(i)));
+            rays.push_back(mount.beamRay(spec.angle(i)));
             const SurfaceHit h = surfaces.closest(rays.back(), spec.range_max_m);
             L.push_back(h.hit ? h.t_m : spec.range_max_m);
         }

@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 
 #include <ceres/ceres.h>
-#include <nlohmann/json.hpp>
 
 #include "smokescan/core/error.hpp"
-#include "smokescan/io/atomic_file.hpp"
 
 namespace smokescan {
 namespace {
@@ -43,12 +40,6 @@ double median(std::vector<double> v)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-nlohmann::json est(const Estimate& e)
-{
-    return {{"value", std::isfinite(e.value) ? nlohmann::json(e.value) : nlohmann::json(nullptr)},
-            {"se", std::isfinite(e.se) ? nlohmann::json(e.se) : nlohmann::json(nullptr)}};
-}
-
 }  // namespace
 
 PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
@@ -69,7 +60,7 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
         const SmokeField field = SmokeField::at(local, s.time_s + cfg.time_offset_s);
         for (size_t i = 0; i < s.angle_rad.size(); ++i) {
             const double a = s.angle_rad[i];
-            const Ray ray{mount.pose.t, mount.pose.rotate(Vec3(std::cos(a), std::sin(a), 0.0)).normalized()};
+            const Ray ray = mount.beamRay(a);
             const SurfaceHit h = surfaces.closest(ray, spec.range_max_m);
             const double L = h.hit ? h.t_m : spec.range_max_m;
             const BeamSmoke sm = field.trace(ray, 0.0, L, q);
@@ -219,32 +210,6 @@ Estimate plumeDepthAt(const PlumeFitResult& r, double rho)
     const double var = rel_D * rel_D + x * x * r.exponent.se * r.exponent.se - 2 * x * r.cov_lnD_k;
     const double d = r.depth_m.value * std::exp(-r.exponent.value * x);
     return {d, d * std::sqrt(std::max(0.0, var))};
-}
-
-void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
-                       const std::string& scene)
-{
-    nlohmann::json j;
-    j["model"] = {{"depth", "ln d = ln D - k ln(rho / rho_ref), d = range - plume entry [m]"},
-                  {"share", "P(smoke echo | rho) = 1 / (1 + exp(-s (ln rho - ln rho_50)))"},
-                  {"doc", "docs/fitting.md"}};
-    j["sources"] = {{"laser", laser}, {"scene", scene}, {"time_offset_s", cfg.time_offset_s}};
-    j["ok"] = r.ok;
-    j["diagnoses"] = r.diagnoses;
-    j["observations"] = r.obs.size();
-    j["rho_ref"] = std::isfinite(r.rho_ref) ? nlohmann::json(r.rho_ref) : nlohmann::json(nullptr);
-    j["depth"] = {{"D_m", est(r.depth_m)}, {"k", est(r.exponent)}, {"cov_lnD_k", r.cov_lnD_k}, {"chi2", r.depth_chi2}, {"dof", r.depth_dof}};
-    j["echo_share"] = {{"rho_50", est(r.rho_50)}, {"slope", est(r.slope)}, {"chi2", r.share_chi2}, {"dof", r.share_dof}};
-    nlohmann::json bins = nlohmann::json::array();
-    for (const auto& b : r.bins)
-        bins.push_back({{"rho_lo", b.rho_lo}, {"rho_hi", b.rho_hi}, {"n", b.n}, {"smoke_echo", b.echo}, {"surface", b.surface},
-                        {"error", b.error},
-                        {"mean_depth_m", std::isfinite(b.mean_depth_m) ? nlohmann::json(b.mean_depth_m) : nlohmann::json(nullptr)},
-                        {"se_depth_m", std::isfinite(b.se_depth_m) ? nlohmann::json(b.se_depth_m) : nlohmann::json(nullptr)}});
-    j["bins"] = bins;
-    AtomicFile f(path);
-    f.stream() << std::setw(2) << j << '\n';
-    f.commit();
 }
 
 }  // namespace smokescan

@@ -46,8 +46,7 @@ std::vector<double> Scanner::times() const
 
 Ray Scanner::beamRay(int i) const
 {
-    const double a = spec_.angle(i);
-    return Ray{mount_.pose.t, mount_.pose.rotate(Vec3(std::cos(a), std::sin(a), 0.0)).normalized()};
+    return mount_.beamRay(spec_.angle(i));
 }
 
 Scan Scanner::scanAt(double t_s, uint64_t index) const

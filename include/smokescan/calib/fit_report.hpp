@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "smokescan/calib/physical_fit.hpp"
+#include "smokescan/calib/plume_fit.hpp"
 #include "smokescan/calib/sensor_fit.hpp"
 
 namespace smokescan {
@@ -34,5 +35,9 @@ void writeFitTimePlot(const std::string& path, const SensorFitResult& r, int gro
 /// @brief Fig. 9: per group, error rate and range against saturation, with the fitted threshold
 /// curve and S* marked.
 void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg);
+
+/// @brief The Sick plume fit as JSON (every value with its error, the bins), written atomically.
+void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
+                       const std::string& scene);
 
 }  // namespace smokescan

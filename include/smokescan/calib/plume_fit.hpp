@@ -81,8 +81,4 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
 /// @brief The fitted penetration depth at peak density rho [m], with its error (delta method).
 Estimate plumeDepthAt(const PlumeFitResult& r, double rho);
 
-/// @brief The result as JSON (every value with its error, the bins), written atomically.
-void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
-                       const std::string& scene);
-
 }  // namespace smokescan

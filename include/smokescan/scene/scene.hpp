@@ -3,6 +3,7 @@
 /// @brief Everything a scene file describes: materials, surfaces, sensors, lights, cameras,
 /// smoke volumes and the time line. Units: metres, seconds, degrees where named `_deg`.
 /// The file format is documented field by field in docs/scene-format.md.
+#include <cmath>
 #include <string>
 #include <variant>
 #include <vector>
@@ -56,6 +57,12 @@ struct SensorMount {
     double sick_resolution_deg = 0.5;   ///< LMS200: 1 or 0.5
     double sick_range_m = 8.0;          ///< LMS200 range mode: 8 (mm) or 80 (cm)
     PhysicalParams physical;            ///< physical model (defaults per type: physicalDefaults)
+
+    /// World ray of the beam at `angle_rad` in the sensor's scan plane (local x–y, 0 = local +x).
+    Ray beamRay(double angle_rad) const
+    {
+        return Ray{pose.t, pose.rotate(Vec3(std::cos(angle_rad), std::sin(angle_rad), 0.0)).normalized()};
+    }
 };
 
 struct Light {
