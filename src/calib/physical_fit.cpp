@@ -37,8 +37,7 @@ struct Obs {
 };
 
 /// Mean error probability of the group's beams at density rho for noise floor exp(theta).
-template <typename Table>
-double groupErrorProbability(const Table& tab, PhysicalParams p, double theta, double rho)
+double groupErrorProbability(const AmplitudeTable& tab, PhysicalParams p, double theta, double rho)
 {
     p.noise_floor = std::exp(theta);
     double sum = 0;

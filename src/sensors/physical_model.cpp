@@ -199,20 +199,7 @@ double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A)
 }
 
 namespace {
-BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng* rng);
-}
-
-BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
-{
-    return pulsedBeamImpl(spec, p, s, &rng);
-}
-
-BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
-{
-    return pulsedBeamImpl(spec, p, s, nullptr);
-}
-
-namespace {
+/// The LMS200's reading; rng = null: the noise-free waveform.
 BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng* rng)
 {
     BeamResult r;
@@ -279,5 +266,15 @@ BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const Be
 }
 
 }  // namespace
+
+BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
+{
+    return pulsedBeamImpl(spec, p, s, &rng);
+}
+
+BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+{
+    return pulsedBeamImpl(spec, p, s, nullptr);
+}
 
 }  // namespace smokescan
