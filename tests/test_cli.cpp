@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "smokescan/io/recorded.hpp"
 #include "smokescan/render/image.hpp"
 
 namespace fs = std::filesystem;
@@ -252,4 +253,31 @@ TEST(Cli, FitPlumeReportsTheSickPenetration)
     EXPECT_NE(slurp(out).find("\"D_m\""), std::string::npos);
     expectBad("fit-plume --laser " + file("none.log") + " --scene plume --out " + file("np.json"), "none.log", file("np.json"));
     expectBad("fit-plume --laser " + log + " --scene plume --sensor hokuyo --out " + file("np.json"), "for the Sick LMS200", file("np.json"));
+}
+
+// `scan --saturation-out --saturation-render`: the camera's stream measured in rendered frames,
+// with the target's patches as extra columns, close to the cheap prediction; asking for frames
+// without a stream, or from a camera the scene lacks, is a one-line error with no log.
+TEST(Cli, ScanSaturationFromRenderedFrames)
+{
+    const std::string rs = file("rendered_sat.csv"), ps = file("predicted_sat.csv");
+    const std::string common = "scan bocas --from 98 --to 102 --rate 1 --quiet --saturation-rate 0.5 ";
+    CliRun r = cli(common + "--out " + file("rs.log") + " --saturation-out " + rs +
+                   " --saturation-render --saturation-width 120 --saturation-height 90 --saturation-spp 4");
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = cli(common + "--out " + file("ps.log") + " --saturation-out " + ps);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(slurp(rs).find("rendered target saturation"), std::string::npos);
+    const smokescan::SaturationSeries R = smokescan::readSaturationCsv(rs), P = smokescan::readSaturationCsv(ps);
+    ASSERT_EQ(R.time_s, (std::vector<double>{98, 100, 102}));
+    ASSERT_EQ(P.time_s, R.time_s);
+    EXPECT_EQ(R.patch_names, (std::vector<std::string>{"blue", "gold", "yellow"}));
+    for (size_t k = 0; k < R.time_s.size(); ++k) EXPECT_NEAR(R.saturation[k], P.saturation[k], 0.03) << R.time_s[k];
+    EXPECT_GT(R.saturation.front(), R.saturation.back());  // the 40 s run thickens the smoke
+
+    expectBad("scan bocas --from 0 --to 1 --out " + file("g.log") + " --saturation-render", "needs --saturation-out", file("g.log"));
+    expectBad("scan bocas --from 0 --to 1 --out " + file("g.log") + " --saturation-out " + file("g.csv") +
+                  " --saturation-render --camera nobody",
+              "nobody", file("g.log"));
+    EXPECT_FALSE(fs::exists(file("g.csv")));
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "smokescan/calib/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/render/renderer.hpp"
@@ -53,16 +54,8 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg, con
 {
     const auto t0 = std::chrono::steady_clock::now();
     if (scene0.cameras.empty()) throw Error(scene0.source, "the scene has no camera to calibrate with");
-    std::map<int, std::string> patch_of;  // surface index → patch name
-    for (size_t i = 0; i < scene0.surfaces.size(); ++i) {
-        const std::string& n = scene0.surfaces[i].name;
-        if (n.rfind(cfg.target_prefix, 0) == 0) patch_of[int(i)] = n.substr(cfg.target_prefix.size());
-    }
-    if (patch_of.empty()) throw Error(scene0.source, "no target surfaces (names starting with '" + cfg.target_prefix + "')");
     for (double d : cfg.densities)
         if (!(d >= 0) || !std::isfinite(d)) throw Error("--densities", "densities must be finite and >= 0");
-    std::map<std::string, std::vector<int>> ids_by_patch;
-    for (const auto& [id, name] : patch_of) ids_by_patch[name].push_back(id);
     Scene scene = withUniformSmoke(scene0);
     const SurfaceSet surfaces(scene);
     CalibrationResult res;
@@ -77,18 +70,9 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg, con
         rc.seed = cfg.seed + uint64_t(k);
         rc.camera = cfg.camera;
         rc.progress = false;
-        const RenderResult r = render(scene, surfaces, rc);
-        const Image disp = toDisplay(r.radiance, 0.0);
-        auto idAt = [&](int x, int y) { return int(r.ids.at(x, y, 0)); };
-        const auto all = maskedSaturation(disp, [&](int x, int y) { return patch_of.count(idAt(x, y)) > 0; });
-        if (all.pixels == 0) throw Error(scene0.source, "the camera does not see the target");
-        res.points.push_back(toPoint(rho, all));
-        for (const auto& [name, ids] : ids_by_patch) {
-            const auto s = maskedSaturation(disp, [&](int x, int y) {
-                return std::find(ids.begin(), ids.end(), idAt(x, y)) != ids.end();
-            });
-            if (s.pixels > 0) res.patches[name].push_back(toPoint(rho, s));
-        }
+        const TargetSaturation m = measureTargetSaturation(scene, surfaces, rc, cfg.target_prefix);
+        res.points.push_back(toPoint(rho, m.all));
+        for (const auto& [name, s] : m.patches) res.patches[name].push_back(toPoint(rho, s));
         if (progress) progress(k + 1, n);
     }
     res.fit = fitSaturationCurve(res.points, cfg.fit);

@@ -54,22 +54,43 @@ double SaturationPredictor::column(const SmokeField& field) const
     return s.column_regional + s.column_local;
 }
 
-SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor, const SaturationSimConfig& cfg)
+SaturationSeries simulateSaturation(const SaturationFrameFn& frame, const SaturationSimConfig& cfg)
 {
     if (!(cfg.rate_hz > 0) || !std::isfinite(cfg.rate_hz)) throw Error("--saturation-rate", "must be finite and > 0");
     if (!(cfg.sigma >= 0)) throw Error("--saturation-sigma", "must be >= 0");
     if (!(cfg.to_s >= cfg.from_s)) throw Error("--to", "must not precede --from");
-    SaturationSeries s;
     const long long n = (long long)std::floor((cfg.to_s - cfg.from_s) * cfg.rate_hz + 1e-9);
     if (n > 10'000'000) throw Error("--saturation-rate", "more than ten million frames requested");
+    SaturationSeries s;
+    // Noise for column c of frame k depends on (seed, c, k) only; column 0 is the whole target.
+    auto noisy = [&](double S, uint64_t column, long long k) {
+        if (cfg.sigma > 0) S += cfg.sigma * KeyedRng(cfg.seed, 0x5A7u + column, uint64_t(k)).normal();
+        return std::clamp(S, 0.0, 1.0);
+    };
     for (long long k = 0; k <= n; ++k) {
         const double t = cfg.from_s + double(k) / cfg.rate_hz;
-        double S = predictor.saturation(SmokeField::at(scene.volumes, t));
-        if (cfg.sigma > 0) S += cfg.sigma * KeyedRng(cfg.seed, 0x5A7u, uint64_t(k)).normal();
+        const SaturationFrame f = frame(t, uint64_t(k));
+        if (k == 0)
+            for (const auto& [name, v] : f.patches) {
+                s.patch_names.push_back(name);
+                s.patch.emplace_back();
+            }
         s.time_s.push_back(t + cfg.clock_offset_s);
-        s.saturation.push_back(std::clamp(S, 0.0, 1.0));
+        s.saturation.push_back(noisy(f.saturation, 0, k));
+        for (size_t p = 0; p < s.patch_names.size(); ++p) {
+            const auto it = f.patches.find(s.patch_names[p]);
+            if (it == f.patches.end())
+                throw Error("saturation", "frame at t = " + std::to_string(t) + " s does not show patch '" + s.patch_names[p] + "'");
+            s.patch[p].push_back(noisy(it->second, 1 + p, k));
+        }
     }
     return s;
+}
+
+SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor, const SaturationSimConfig& cfg)
+{
+    return simulateSaturation(
+        [&](double t, uint64_t) { return SaturationFrame{predictor.saturation(SmokeField::at(scene.volumes, t)), {}}; }, cfg);
 }
 
 }  // namespace smokescan

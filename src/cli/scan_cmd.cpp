@@ -3,10 +3,12 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <unistd.h>
 
 #include "commands.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
+#include "smokescan/calib/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/laser_log.hpp"
 #include "smokescan/render/image.hpp"
@@ -20,6 +22,8 @@ struct ScanArgs {
     std::string scene = "bocas", out, tau_csv, image, target = "target";
     std::string saturation_out, calibration = "bocas", camera;
     SaturationSimConfig sat;
+    bool saturation_render = false;
+    SaturationRenderConfig render;
     double image_range_m = 0;
     ScanConfig cfg;
     double from = NAN, to = NAN, bin_s = 0;
@@ -98,11 +102,20 @@ int runScan(const ScanArgs& a0)
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
     if (!std::isnan(a.to)) a.cfg.to_s = a.to;
     const Scanner sc(scene, surfaces, a.cfg);
+    const auto times = sc.times();
     // The camera's stream, checked before the scans are made.
     std::unique_ptr<SaturationPredictor> predictor;
-    if (!a.saturation_out.empty())
+    std::unique_ptr<SaturationRenderer> renderer;
+    if (a.saturation_render && a.saturation_out.empty()) throw Error("--saturation-render", "needs --saturation-out");
+    if (!a.saturation_out.empty() && a.saturation_render) {
+        SaturationRenderConfig rc = a.render;
+        rc.camera = a.camera;
+        rc.target_prefix = a.target + "_";
+        rc.seed = a.cfg.seed;
+        renderer = std::make_unique<SaturationRenderer>(scene, surfaces, rc, times.empty() ? 0.0 : times.front());
+    } else if (!a.saturation_out.empty()) {
         predictor = std::make_unique<SaturationPredictor>(scene, surfaces, readCalibrationJson(a.calibration).curve, a.camera, a.target + "_");
-    const auto times = sc.times();
+    }
     std::vector<Scan> scans;
     scans.reserve(times.size());
     for (size_t k = 0; k < times.size(); ++k) scans.push_back(sc.scanAt(times[k], k));
@@ -117,16 +130,36 @@ int runScan(const ScanArgs& a0)
             std::string(sc.spec().type == "urg04lx" ? "values below 20 (0 = no return)" : "values >= 8183 (8183 = no echo within range)")};
     writeLaserLog(a.out, header, scans, sc.spec());
     if (!a.tau_csv.empty()) writeBeamCsv(a.tau_csv, scans, scene);
-    if (predictor) {
+    if (!a.saturation_out.empty()) {
         SaturationSimConfig ss = a.sat;
         ss.from_s = times.front();
         ss.to_s = times.back();
         ss.seed = a.cfg.seed;
-        char h[256];
-        std::snprintf(h, sizeof h, "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
-                      a.camera.empty() ? "(first)" : a.camera.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(),
-                      ss.sigma, ss.clock_offset_s);
-        writeSaturationCsv(a.saturation_out, simulateSaturation(scene, *predictor, ss), {"smokescan scan " + scene.source + ": predicted target saturation", h});
+        const std::string cam = a.camera.empty() ? "(first)" : a.camera;
+        char h[320];
+        SaturationSeries series;
+        if (renderer) {
+            std::snprintf(h, sizeof h, "camera %s, target '%s*': rendered frames %dx%d, %d spp, auto exposure; noise sigma %g; camera clock = scene clock + %g s",
+                          cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.spp, ss.sigma, ss.clock_offset_s);
+            const bool tty = ::isatty(2);
+            const long long total = (long long)std::floor((ss.to_s - ss.from_s) * ss.rate_hz + 1e-9) + 1;
+            series = simulateSaturation(
+                [&](double t, uint64_t k) {
+                    const TargetSaturation m = renderer->measure(t, k);
+                    if (tty) std::fprintf(stderr, "\rrendering camera frames %llu/%lld ", (unsigned long long)k + 1, total);
+                    SaturationFrame f{m.all.mean, {}};
+                    for (const auto& [name, p] : m.patches) f.patches[name] = p.mean;
+                    return f;
+                },
+                ss);
+            if (tty) std::fprintf(stderr, "\n");
+        } else {
+            std::snprintf(h, sizeof h, "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
+                          cam.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(), ss.sigma, ss.clock_offset_s);
+            series = simulateSaturation(scene, *predictor, ss);
+        }
+        writeSaturationCsv(a.saturation_out, series,
+                           {"smokescan scan " + scene.source + (renderer ? ": rendered" : ": predicted") + " target saturation", h});
     }
     if (!a.image.empty())
         writeScanImage(a.image, scans, sc.spec(), a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
@@ -160,7 +193,11 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--bin", a->bin_s, "Summary time bin [s] (default: automatic)");
     c->add_flag("--quiet", a->quiet, "No summary");
     c->add_option("--saturation-out", a->saturation_out, "Also write the camera's target saturation over time (CSV), predicted from the smoke on its line of sight");
-    c->add_option("--calibration", a->calibration, "Density-saturation calibration for --saturation-out (JSON or built-in name)")->capture_default_str();
+    c->add_flag("--saturation-render", a->saturation_render, "Measure --saturation-out in rendered camera frames instead (slow: about 3 s per frame)");
+    c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")->capture_default_str();
+    c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")->capture_default_str();
+    c->add_option("--saturation-height", a->render.height, "Height of those frames [px]")->capture_default_str();
+    c->add_option("--calibration", a->calibration, "Density-saturation calibration for the predicted --saturation-out (JSON or built-in name)")->capture_default_str();
     c->add_option("--camera", a->camera, "Scene camera for --saturation-out (default: the first)");
     c->add_option("--saturation-rate", a->sat.rate_hz, "Camera frames per second for --saturation-out [Hz]")->capture_default_str();
     c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")->capture_default_str();

@@ -3,8 +3,10 @@
 /// @brief The target saturation a camera would measure, predicted cheaply from the smoke along its
 /// line of sight through the calibration curve: the column C = ∫ρ ds from the camera to the target
 /// over the distance L is read as the homogeneous density C/L the curve was calibrated with.
-/// (Rendering frames and measuring them, `smokescan render` + `smokescan saturation`, is the
-/// expensive alternative.)
+/// (Rendering frames and measuring them, SaturationRenderer, is the expensive alternative.)
+#include <cstdint>
+#include <functional>
+#include <map>
 #include <string>
 
 #include "smokescan/calib/saturation_curve.hpp"
@@ -48,8 +50,20 @@ struct SaturationSimConfig {
     uint64_t seed = 1;
 };
 
-/// @brief The camera's stream of a simulated run: predicted saturation per frame, plus noise,
-/// clamped to [0, 1], on the camera's clock.
+/// One camera frame's target saturation, and its patches' where the source knows them.
+struct SaturationFrame {
+    double saturation = 0;
+    std::map<std::string, double> patches;
+};
+/// Measures frame k at scene time t [s].
+using SaturationFrameFn = std::function<SaturationFrame(double time_s, uint64_t frame)>;
+
+/// @brief The camera's stream of a simulated run: `frame` at each frame time, plus noise, clamped
+/// to [0, 1], on the camera's clock. Patch columns are those of the first frame.
+/// @throw Error for a bad configuration, or a frame without a patch the first one had.
+SaturationSeries simulateSaturation(const SaturationFrameFn& frame, const SaturationSimConfig& cfg);
+
+/// @brief simulateSaturation with the predictor's saturation of the scene's smoke at each time.
 SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor, const SaturationSimConfig& cfg);
 
 }  // namespace smokescan

@@ -1,0 +1,131 @@
+// The camera's stream of a simulated run: target saturation predicted through the calibration curve
+// or measured in rendered frames. Rendered frames of the BOCAS run must measure what the calibration
+// measured at the same density; the stream's noise, patches and clock are checked statistically.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "smokescan/calib/calibration.hpp"
+#include "smokescan/calib/saturation_predict.hpp"
+#include "smokescan/calib/saturation_render.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+using namespace smokescan;
+
+// BOCAS's room smoke is one homogeneous box, so a frame at scene time t shows the target through
+// homogeneous smoke of density ρ(t) = column / path; calibrate() renders the room filled with
+// exactly that density. Same frame size and spp, different seeds: the two measurements must agree
+// within their Monte Carlo errors. The prediction through the fitted curve must agree within the
+// curve's own lack of fit (its largest residual in the built-in calibration is 0.015).
+TEST(SaturationStream, RenderedFramesMeasureWhatTheCalibrationMeasured)
+{
+    const Scene scene = loadScene("bocas");
+    const SurfaceSet surfaces(scene);
+    const SaturationPredictor predictor(scene, surfaces, readCalibrationJson("bocas").curve);
+    SaturationRenderConfig rc;
+    rc.width = 160;
+    rc.height = 120;
+    rc.seed = 11;
+    const SaturationRenderer renderer(scene, surfaces, rc);
+    const std::vector<double> times = {10.0, 40.0, 300.0, 130.0};  // clear, thin, at the threshold, densest
+    CalibrateConfig cc;
+    cc.width = rc.width;
+    cc.height = rc.height;
+    cc.seed = 3;
+    cc.densities.clear();
+    for (double t : times) cc.densities.push_back(predictor.column(SmokeField::at(scene.volumes, t)) / predictor.path_m());
+    EXPECT_EQ(cc.densities[0], 0.0);
+    for (size_t k = 1; k < times.size(); ++k) ASSERT_GT(cc.densities[k], cc.densities[k - 1]);
+    const CalibrationResult cal = calibrate(scene, cc);
+    double prev = 1;
+    for (size_t k = 0; k < times.size(); ++k) {
+        const TargetSaturation m = renderer.measure(times[k], k);
+        const SaturationPoint& c = cal.points[k];
+        const double se_r = m.all.stddev / std::sqrt(double(m.all.pixels));
+        const double tol = 4 * std::hypot(se_r, c.sigma);
+        std::printf("t = %5.0f s  rho = %.5f  rendered %.4f ± %.4f  calibration %.4f ± %.4f  predicted %.4f\n", times[k],
+                    c.density, m.all.mean, se_r, c.saturation, c.sigma, predictor.saturation(SmokeField::at(scene.volumes, times[k])));
+        EXPECT_NEAR(m.all.mean, c.saturation, tol) << "t = " << times[k];
+        EXPECT_NEAR(m.all.mean, predictor.saturation(SmokeField::at(scene.volumes, times[k])), 0.015 + tol);
+        EXPECT_LT(m.all.mean, prev) << "saturation must fall as the smoke thickens";
+        prev = m.all.mean;
+        EXPECT_EQ(m.patches.size(), 3u);  // blue, gold, yellow
+        EXPECT_GT(m.exposure, 0);
+    }
+}
+
+// The stream around any frame source: frame times on the scene clock, written on the camera's;
+// Gaussian noise of the configured σ per column (mean within 3σ/√N, sample σ within 3 of its
+// standard errors), independent between columns; clamped to [0, 1]; a pure function of the seed.
+TEST(SaturationStream, NoisePatchesAndClockPerColumn)
+{
+    int calls = 0;
+    const SaturationFrameFn frame = [&](double t, uint64_t k) {
+        ++calls;
+        EXPECT_NEAR(t, 5.0 + 0.5 * double(k), 1e-9);
+        return SaturationFrame{0.5, {{"blue", 0.3}, {"black", 0.0}}};
+    };
+    SaturationSimConfig cfg;
+    cfg.from_s = 5;
+    cfg.to_s = 5 + 0.5 * 3999;
+    cfg.rate_hz = 2;
+    cfg.sigma = 0.02;
+    cfg.clock_offset_s = -1.5;
+    cfg.seed = 9;
+    const SaturationSeries s = simulateSaturation(frame, cfg);
+    ASSERT_EQ(s.time_s.size(), 4000u);
+    EXPECT_EQ(calls, 4000);
+    EXPECT_NEAR(s.time_s.front(), 3.5, 1e-12);
+    ASSERT_EQ(s.patch_names, (std::vector<std::string>{"black", "blue"}));
+    const double n = double(s.time_s.size());
+    auto moments = [&](const std::vector<double>& v, double mu0) {
+        double m = 0, q = 0;
+        for (double x : v) m += x;
+        m /= n;
+        for (double x : v) q += (x - m) * (x - m);
+        const double sd = std::sqrt(q / (n - 1));
+        EXPECT_NEAR(m, mu0, 3 * cfg.sigma / std::sqrt(n));
+        EXPECT_NEAR(sd, cfg.sigma, 3 * cfg.sigma / std::sqrt(2 * (n - 1)));
+    };
+    moments(s.saturation, 0.5);
+    moments(s.patch[1], 0.3);
+    double r = 0;  // correlation of the two unclamped columns' noise
+    for (size_t k = 0; k < s.saturation.size(); ++k) r += (s.saturation[k] - 0.5) * (s.patch[1][k] - 0.3);
+    EXPECT_LT(std::abs(r / (n * cfg.sigma * cfg.sigma)), 4 / std::sqrt(n));
+    int at_zero = 0;  // the black patch: noise about 0, clamped
+    for (double x : s.patch[0]) {
+        EXPECT_GE(x, 0.0);
+        at_zero += x == 0.0;
+    }
+    EXPECT_NEAR(at_zero / n, 0.5, 3 * 0.5 / std::sqrt(n));
+    EXPECT_EQ(simulateSaturation(frame, cfg).saturation, s.saturation);
+
+    // A frame that lost a patch the first one had is an error, not a ragged table.
+    const SaturationFrameFn losing = [](double, uint64_t k) {
+        SaturationFrame f{0.5, {{"blue", 0.3}}};
+        if (k == 2) f.patches.clear();
+        return f;
+    };
+    EXPECT_THROW(simulateSaturation(losing, cfg), Error);
+    cfg.rate_hz = 0;
+    EXPECT_THROW(simulateSaturation(frame, cfg), Error);
+}
+
+// A camera that does not see the target fails when the renderer is made, not after the scans.
+TEST(SaturationStream, RendererRefusesACameraThatMissesTheTarget)
+{
+    Scene scene = loadScene("bocas");
+    const SurfaceSet surfaces(scene);
+    SaturationRenderConfig small;
+    small.width = 80;
+    small.height = 60;
+    EXPECT_NO_THROW(SaturationRenderer(scene, surfaces, small));
+    scene.cameras[0].pose.R = scene.cameras[0].pose.R * Pose::fromRpyDeg(Vec3::Zero(), Vec3(0, 0, 180)).R;  // facing away
+    EXPECT_THROW(SaturationRenderer(scene, surfaces, small), Error);
+    small.spp = 0;
+    EXPECT_THROW(SaturationRenderer(scene, surfaces, small), Error);
+    small = {};
+    small.camera = "nobody";
+    EXPECT_THROW(SaturationRenderer(scene, surfaces, small), Error);
+}
