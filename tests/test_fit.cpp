@@ -181,7 +181,8 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
 // (the calibration curve's share of the error is systematic: the simulation used the same curve).
 // The physical model's error probability has a long two-wave tail, so the probit's P lies below
 // the model's own 50 % column; the noise floor fit uses the model's probability and is unbiased.
-// Fisher scoring of the probit may cycle on some runs; such a run must say so, not fit.
+// Every seed must fit (seed 4, with a sparse error tail on the yellow strip, once sent Fisher
+// scoring into a two-cycle; the threshold fit now minimises the deviance itself).
 TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
 {
     const double nf_true = 1.6 * 1.675e-4, offset = -2.5;
@@ -195,10 +196,7 @@ TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
         const SimRun r = simulate(seed, 0, offset, 0.01, 0, 360, "physical", 2, 10, nf_true);
         const SensorFitResult f = fitSensor(r.log, r.sat, groups, urg04lx(), &b.calib);
         const ThresholdFit& th = f.thresholds[blue];
-        if (!th.fitted) {
-            EXPECT_NE(th.diagnosis.find("did not converge"), std::string::npos) << th.diagnosis;
-            continue;
-        }
+        ASSERT_TRUE(th.fitted) << "seed " << seed << ": " << th.diagnosis;
         EXPECT_LT(std::abs(f.offset.offset_s.value - offset), 3.5 * f.offset.offset_s.se);
         const UrgNoiseFloorResult nf = fitUrgNoiseFloor(b.scene, b.surfaces, mount, f, blue, b.calib);
         ASSERT_TRUE(nf.ok) << nf.diagnosis;
@@ -209,7 +207,7 @@ TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
         // The model's own onset column lies above the probit's P (the two-wave tail).
         EXPECT_GT(nf.onset_column.value, th.penetration_power.value) << "seed " << seed;
     }
-    ASSERT_GE(pulls_nf.size(), 4u);
+    ASSERT_EQ(pulls_nf.size(), 5u);
     double m, sd;
     SCOPED_TRACE(pulls(pulls_nf, &m, &sd));
     EXPECT_LT(std::abs(m), 1.5);

@@ -1,6 +1,9 @@
-// Fisher scoring for the binomial threshold model with Ceres: each solve is Gauss–Newton on Pearson
-// residuals (e − n·p(θ))/√(n·p₀(1−p₀)) with the weights p₀ frozen at the previous solution; at the
-// fixed point the score equations hold (maximum likelihood) and JᵀJ is the Fisher information.
+// Maximum likelihood for the binomial threshold model with Ceres: Levenberg–Marquardt on signed
+// deviance residuals sign(e − n·p)·√d, whose squares sum to the deviance, so the minimum is the
+// likelihood's maximum. (Fisher scoring — Gauss–Newton on Pearson residuals with frozen weights —
+// could fall into a two-cycle on a run with a sparse error tail; a direct objective cannot.) The
+// covariance uses Pearson residuals with the weights at the solution: their JᵀJ is the Fisher
+// information, their score sums the cluster-robust middle.
 #include "threshold_fit.hpp"
 
 #include <ceres/ceres.h>
@@ -21,6 +24,46 @@ T probability(const T& S, const T& S_star, const T& w, bool logistic)
     if (logistic) return T(1) / (T(1) + exp(-z));
     return T(0.5) * erfc(-z / T(M_SQRT2));
 }
+
+/// P(error) and P(no error), each computed as its own tail (1 − p loses every digit where p → 1).
+template <class T>
+void tails(const T& z, bool logistic, T& p, T& q)
+{
+    if (logistic) {
+        p = T(1) / (T(1) + exp(-z));
+        q = T(1) / (T(1) + exp(z));
+    } else {
+        p = T(0.5) * erfc(-z / T(M_SQRT2));
+        q = T(0.5) * erfc(z / T(M_SQRT2));
+    }
+    const double tiny = 1e-300;  // a tail that underflowed: finite deviance, no gradient there
+    if (!(scalar(p) > tiny)) p = T(tiny);
+    if (!(scalar(q) > tiny)) q = T(tiny);
+}
+
+/// sign(e − n·p)·√d, d = 2[e·ln(e/(n·p)) + (n − e)·ln((n − e)/(n·q))] the scan's deviance.
+struct DevianceResidual {
+    const SaturationSeries* sat;
+    double t, n, e, sigma_S;
+    bool logistic;
+    template <class T>
+    bool operator()(const T* offset, const T* sw, T* r) const
+    {
+        const T S = interpolate(*sat, T(t) + offset[0]);
+        const T w = sqrt(sw[1] * sw[1] + T(sigma_S * sigma_S));
+        T p, q;
+        tails((sw[0] - S) / w, logistic, p, q);
+        T d(0);
+        if (e > 0) d += T(e) * (std::log(e / n) - log(p));
+        if (e < n) d += T(n - e) * (std::log((n - e) / n) - log(q));
+        d *= T(2);
+        // Where the model meets the count (d → 0) √d has no derivative; its first-order twin, the
+        // Pearson residual, has the same value and slope there.
+        if (!(scalar(d) > 1e-20)) r[0] = (T(e) - T(n) * p) / sqrt(T(n) * p * q);
+        else r[0] = e > n * scalar(p) ? sqrt(d) : -sqrt(d);
+        return true;
+    }
+};
 
 struct PearsonResidual {
     const SaturationSeries* sat;
@@ -60,12 +103,9 @@ ThresholdSolution solveThresholds(const ThresholdProblem& p)
     auto pAt = [&](size_t g, size_t k, double off, const std::array<double, 2>& x) {
         return errorProbability(interpolate(*p.sat, p.groups[g].t[k] + off), x[0], std::hypot(x[1], p.sigma_S), p.logistic);
     };
-    ceres::Solver::Summary summary;
-    bool converged = false;
-    double prev_change = 1e300;
-    for (int outer = 0; outer < 40 && !converged; ++outer) {
-        ceres::Problem::Options po;
-        ceres::Problem problem(po);
+    // One problem over all groups and the shared offset; `pearson` builds the covariance's
+    // residuals (weights at the current solution), else the deviance's.
+    auto build = [&](ceres::Problem& problem, bool pearson) {
         problem.AddParameterBlock(&offset, 1);
         if (!p.fit_offset) problem.SetParameterBlockConstant(&offset);
         bool any = false;
@@ -73,38 +113,37 @@ ThresholdSolution solveThresholds(const ThresholdProblem& p)
             problem.AddParameterBlock(sw[g].data(), 2);
             problem.SetParameterLowerBound(sw[g].data(), 1, p.sigma_S > 0 ? 0.0 : kMinWidth);
             for (size_t k = 0; k < p.groups[g].t.size(); ++k) {
-                const double n = p.groups[g].n[k], p0 = clampP(pAt(g, k, offset, sw[g]));
-                auto* cost = new ceres::AutoDiffCostFunction<PearsonResidual, 1, 1, 2>(
-                    new PearsonResidual{p.sat, p.groups[g].t[k], n, double(p.groups[g].e[k]), 1.0 / std::sqrt(n * p0 * (1 - p0)), p.sigma_S, p.logistic});
+                const double n = p.groups[g].n[k], e = p.groups[g].e[k];
+                ceres::CostFunction* cost;
+                if (pearson) {
+                    const double p0 = clampP(pAt(g, k, offset, sw[g]));
+                    cost = new ceres::AutoDiffCostFunction<PearsonResidual, 1, 1, 2>(
+                        new PearsonResidual{p.sat, p.groups[g].t[k], n, e, 1.0 / std::sqrt(n * p0 * (1 - p0)), p.sigma_S, p.logistic});
+                } else {
+                    cost = new ceres::AutoDiffCostFunction<DevianceResidual, 1, 1, 2>(
+                        new DevianceResidual{p.sat, p.groups[g].t[k], n, e, p.sigma_S, p.logistic});
+                }
                 problem.AddResidualBlock(cost, nullptr, &offset, sw[g].data());
                 any = true;
             }
         }
-        if (!any) break;
-        const double off_before = offset;
-        const auto sw_before = sw;
-        ceres::Solver::Options opt;
-        opt.max_num_iterations = 100;
-        opt.linear_solver_type = ceres::DENSE_QR;
-        opt.function_tolerance = 1e-12;
-        opt.parameter_tolerance = 1e-12;
-        ceres::Solve(opt, &problem, &summary);
-        double change = std::abs(offset - off_before);
-        for (size_t g = 0; g < G; ++g) change = std::max({change, std::abs(sw[g][0] - sw_before[g][0]), std::abs(sw[g][1] - sw_before[g][1])});
-        // Fixed point reached; after many rounds, a change far below any standard error will do
-        // (the interpolated saturation's kinks can make the weights flicker in the last digits).
-        // Fisher scoring can fall into a two-cycle (the weights of one solution pull to the
-        // other): when a round does not shrink the change, step only halfway.
-        if (outer >= 3 && change > 0.7 * prev_change) {
-            offset = 0.5 * (offset + off_before);
-            for (size_t g = 0; g < G; ++g)
-                for (int i = 0; i < 2; ++i) sw[g][size_t(i)] = 0.5 * (sw[g][size_t(i)] + sw_before[g][size_t(i)]);
-            change *= 0.5;
-        }
-        prev_change = change;
-        converged = summary.IsSolutionUsable() && (change < 1e-8 || (outer >= 10 && change < 1e-5));
-        if (!converged && outer < 39) continue;
-        // Covariance at the fixed point, cluster-robust: A⁻¹·B·A⁻¹ with A = JᵀJ (the Fisher
+        return any;
+    };
+    ceres::Problem ml;
+    if (!build(ml, false)) return sol;
+    ceres::Solver::Options opt;
+    opt.max_num_iterations = 500;
+    opt.linear_solver_type = ceres::DENSE_QR;
+    opt.function_tolerance = 1e-14;
+    opt.gradient_tolerance = 1e-14;
+    opt.parameter_tolerance = 1e-12;
+    ceres::Solver::Summary summary;
+    ceres::Solve(opt, &ml, &summary);
+    const bool converged = summary.IsSolutionUsable() && summary.termination_type == ceres::CONVERGENCE;
+    {
+        ceres::Problem problem;
+        build(problem, true);
+        // Covariance at the solution, cluster-robust: A⁻¹·B·A⁻¹ with A = JᵀJ (the Fisher
         // information: the weights are those of the solution) and B the sum over clusters of
         // their score outer products. Model-based A⁻¹ alone would treat the beams of one scan, which
         // share their smoke, and scans within one camera frame, which share its noise, as
@@ -160,7 +199,6 @@ ThresholdSolution solveThresholds(const ThresholdProblem& p)
         if (p.fit_offset) sol.offset_se = std::sqrt(std::max(0.0, corr * C(0, 0)));
         sol.converged = converged;
         sol.message = summary.BriefReport();
-        break;
     }
     return sol;
 }

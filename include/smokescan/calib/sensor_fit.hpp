@@ -7,8 +7,8 @@
 ///
 /// Threshold: P(error | S) = F((S* − S)/w), F the normal CDF (probit) or the logistic; a sharp step
 /// is the limit w → 0. Per scan, a surface's n beams give e errors (binomial); the fit is maximum
-/// likelihood by Fisher scoring (Gauss–Newton on Pearson residuals with weights refreshed between
-/// Ceres solves), so JᵀJ from Ceres is the Fisher information. Beams of one scan share their smoke
+/// likelihood (Ceres minimises the deviance through signed deviance residuals), and JᵀJ of the
+/// Pearson residuals at the solution is the Fisher information. Beams of one scan share their smoke
 /// and scans within a camera frame share its noise, so the covariance is cluster-robust (sandwich)
 /// over blocks of two camera frames.
 /// The clock offset δ (camera time = laser time + δ) is a parameter of the same fit, started from
