@@ -106,9 +106,15 @@ TEST(Cli, ScanPhysicalModelAndSensorFiles)
     CliRun r = cli("scan bocas --from 0 --to 2 --rate 1 --sensor-file " + sf + " --out " + log);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("model physical"), std::string::npos) << r.out;
-    EXPECT_NE(slurp(log).find("model=physical"), std::string::npos);
+    EXPECT_NE(slurp(log).find("model=physical noise_floor=0.0001675 "), std::string::npos) << slurp(log).substr(0, 300);
     r = cli("scan bocas --from 0 --to 2 --rate 1 --model physical --out " + log);
     ASSERT_EQ(r.status, 0) << r.err;
+    // In the densest smoke the --tau table names each error's cause and the received power.
+    r = cli("scan bocas --from 125 --to 126 --rate 1 --model physical --quiet --out " + log + " --tau " + file("phys_tau.csv"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string tau = slurp(file("phys_tau.csv"));
+    EXPECT_EQ(tau.substr(0, tau.find('\n')), "time_s,beam,angle_rad,value,error,cause,surface,hit_m,column_regional,column_local,tau,power");
+    EXPECT_NE(tau.find(",1,low_intensity,target_blue,"), std::string::npos);
     expectBad("scan bocas --from 0 --to 1 --model magic --out " + file("m.log"), "unknown sensor model", file("m.log"));
     const std::string bad = file("bad_sensor.toml", "type = \"urg04lx\"\n[physical]\nnoise_floor = \"loud\"\n");
     expectBad("scan bocas --from 0 --to 1 --sensor-file " + bad + " --out " + file("b.log"), "bad_sensor.toml:3", file("b.log"));

@@ -119,11 +119,16 @@ int runScan(const ScanArgs& a0)
     std::vector<Scan> scans;
     scans.reserve(times.size());
     for (size_t k = 0; k < times.size(); ++k) scans.push_back(sc.scanAt(times[k], k));
+    // The model's own smoke parameter: the paper's penetration power, or the receiver's noise floor.
+    char model_param[64];
+    if (sc.mount().model == "physical")
+        std::snprintf(model_param, sizeof model_param, "noise_floor=%g", sc.mount().physical.noise_floor);
+    else
+        std::snprintf(model_param, sizeof model_param, "penetration_power=%g",
+                      a.cfg.penetration_power > 0 ? a.cfg.penetration_power : sc.mount().penetration_power);
     char buf[256];
-    std::snprintf(buf, sizeof buf, "sensor=%s type=%s model=%s penetration_power=%g rate_hz=%g seed=%llu",
-                  sc.mount().name.c_str(), sc.spec().type.c_str(), sc.mount().model.c_str(),
-                  a.cfg.penetration_power > 0 ? a.cfg.penetration_power : sc.mount().penetration_power,
-                  a.cfg.rate_hz, (unsigned long long)a.cfg.seed);
+    std::snprintf(buf, sizeof buf, "sensor=%s type=%s model=%s %s rate_hz=%g seed=%llu", sc.mount().name.c_str(),
+                  sc.spec().type.c_str(), sc.mount().model.c_str(), model_param, a.cfg.rate_hz, (unsigned long long)a.cfg.seed);
     const std::vector<std::string> header = {
         "smokescan scan " + scene.source, buf,
         "format: time_s then pairs of (angle_rad, range_mm); error codes: " +

@@ -37,15 +37,15 @@ void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const
 {
     AtomicFile f(path);
     std::ostream& o = f.stream();
-    o << "time_s,beam,angle_rad,value,error,surface,hit_m,column_regional,column_local,tau\n";
+    o << "time_s,beam,angle_rad,value,error,cause,surface,hit_m,column_regional,column_local,tau,power\n";
     o << std::setprecision(9);
     for (const Scan& s : scans)
         for (size_t i = 0; i < s.beams.size(); ++i) {
             const BeamResult& b = s.beams[i];
             o << s.time_s << ',' << i << ',' << s.angle_rad[i] << ',' << s.value[i] << ',' << (b.error ? 1 : 0) << ','
-              << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none")) << ','
+              << b.cause << ',' << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none")) << ','
               << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local
-              << ',' << b.smoke.tau << '\n';
+              << ',' << b.smoke.tau << ',' << b.power << '\n';
         }
     f.commit();
 }
