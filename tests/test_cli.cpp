@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -262,24 +263,47 @@ TEST(Cli, FitPlumeReportsTheSickPenetration)
 }
 
 // `scan --saturation-out --saturation-render`: the camera's stream measured in rendered frames,
-// with the target's patches as extra columns, close to the cheap prediction; asking for frames
-// without a stream, or from a camera the scene lacks, is a one-line error with no log.
+// with the target's patches as extra columns, close to the cheap prediction; the kept frames
+// re-measured by `smokescan saturation` give the same stream; asking for frames without a stream,
+// or from a camera the scene lacks, is a one-line error with no log.
 TEST(Cli, ScanSaturationFromRenderedFrames)
 {
     const std::string rs = file("rendered_sat.csv"), ps = file("predicted_sat.csv");
     const std::string common = "scan bocas --from 98 --to 102 --rate 1 --quiet --saturation-rate 0.5 ";
+    const std::string frames = file("rendered_frames");
     CliRun r = cli(common + "--out " + file("rs.log") + " --saturation-out " + rs +
-                   " --saturation-render --saturation-width 120 --saturation-height 90 --saturation-spp 4");
+                   " --saturation-render --saturation-width 120 --saturation-height 90 --saturation-spp 4 --camera-offset 0.5"
+                   " --saturation-frames " + frames);
     ASSERT_EQ(r.status, 0) << r.err;
     r = cli(common + "--out " + file("ps.log") + " --saturation-out " + ps);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(slurp(rs).find("rendered target saturation"), std::string::npos);
     const smokescan::SaturationSeries R = smokescan::readSaturationCsv(rs), P = smokescan::readSaturationCsv(ps);
-    ASSERT_EQ(R.time_s, (std::vector<double>{98, 100, 102}));
-    ASSERT_EQ(P.time_s, R.time_s);
+    ASSERT_EQ(R.time_s, (std::vector<double>{98.5, 100.5, 102.5}));
+    ASSERT_EQ(P.time_s, (std::vector<double>{98, 100, 102}));
     EXPECT_EQ(R.patch_names, (std::vector<std::string>{"blue", "gold", "yellow"}));
     for (size_t k = 0; k < R.time_s.size(); ++k) EXPECT_NEAR(R.saturation[k], P.saturation[k], 0.03) << R.time_s[k];
     EXPECT_GT(R.saturation.front(), R.saturation.back());  // the 40 s run thickens the smoke
+
+    // The kept frames, measured by `smokescan saturation` as a user's recorded frames would be,
+    // give the same stream: same 8-bit pixels, same id mask, same camera-clock times.
+    ASSERT_TRUE(fs::exists(frames + "/frame_000002.png"));
+    r = cli("saturation " + frames + " --ids " + frames + "/ids --scene bocas --timestamps " + frames +
+            "/timestamps.csv --out " + file("remeasured.csv"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const smokescan::SaturationSeries M = smokescan::readSaturationCsv(file("remeasured.csv"));
+    ASSERT_EQ(M.time_s, R.time_s);
+    ASSERT_EQ(M.patch_names.size(), R.patch_names.size());
+    for (size_t k = 0; k < R.time_s.size(); ++k) EXPECT_NEAR(M.saturation[k], R.saturation[k], 1e-6);
+    for (size_t p = 0; p < R.patch.size(); ++p) {  // columns by name (`saturation` keeps the scene's order)
+        const size_t q = size_t(std::find(M.patch_names.begin(), M.patch_names.end(), R.patch_names[p]) - M.patch_names.begin());
+        ASSERT_LT(q, M.patch_names.size()) << R.patch_names[p];
+        for (size_t k = 0; k < R.time_s.size(); ++k) EXPECT_NEAR(M.patch[q][k], R.patch[p][k], 1e-6) << R.patch_names[p];
+    }
+    expectBad(common + "--out " + file("h.log") + " --saturation-out " + file("h.csv") + " --saturation-render --saturation-frames " + frames,
+              "not an empty folder", file("h.log"));
+    expectBad(common + "--out " + file("h.log") + " --saturation-out " + file("h.csv") + " --saturation-frames " + file("new_frames"),
+              "needs --saturation-render", file("h.log"));
 
     expectBad("scan bocas --from 0 --to 1 --out " + file("g.log") + " --saturation-render", "needs --saturation-out", file("g.log"));
     expectBad("scan bocas --from 0 --to 1 --out " + file("g.log") + " --saturation-out " + file("g.csv") +

@@ -9,7 +9,7 @@
 namespace smokescan {
 
 TargetSaturation measureTargetSaturation(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& rc,
-                                         const std::string& target_prefix)
+                                         const std::string& target_prefix, Image* display, Image* ids)
 {
     // Surface index → patch number (−1: not the target).
     std::vector<int> patch_of(scene.surfaces.size(), -1);
@@ -36,6 +36,8 @@ TargetSaturation measureTargetSaturation(const Scene& scene, const SurfaceSet& s
         const auto s = maskedSaturation(disp, [&](int x, int y) { return patchAt(x, y) == int(p); });
         if (s.pixels > 0) out.patches[names[p]] = s;
     }
+    if (display) *display = disp;
+    if (ids) *ids = r.ids;
     return out;
 }
 
@@ -64,10 +66,10 @@ SaturationRenderer::SaturationRenderer(const Scene& scene, const SurfaceSet& sur
     measureTargetSaturation(scene, surfaces, renderConfigOf(cfg, t_check_s, cfg.seed, 1), cfg.target_prefix);
 }
 
-TargetSaturation SaturationRenderer::measure(double time_s, uint64_t frame) const
+TargetSaturation SaturationRenderer::measure(double time_s, uint64_t frame, Image* display, Image* ids) const
 {
     return measureTargetSaturation(scene_, surfaces_, renderConfigOf(cfg_, time_s, cfg_.seed + frame, cfg_.spp),
-                                   cfg_.target_prefix);
+                                   cfg_.target_prefix, display, ids);
 }
 
 }  // namespace smokescan

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <filesystem>
 #include <memory>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/calib/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/laser_log.hpp"
 #include "smokescan/render/image.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -20,7 +22,7 @@ namespace {
 
 struct ScanArgs {
     std::string scene = "bocas", out, tau_csv, image, target = "target";
-    std::string saturation_out, calibration = "bocas", camera;
+    std::string saturation_out, calibration = "bocas", camera, frames_dir;
     SaturationSimConfig sat;
     bool saturation_render = false;
     SaturationRenderConfig render;
@@ -28,6 +30,57 @@ struct ScanArgs {
     ScanConfig cfg;
     double from = NAN, to = NAN, bin_s = 0;
     bool quiet = false;
+};
+
+/// The rendered camera frames of --saturation-frames: FOLDER/frame_NNNNNN.png (what the camera
+/// delivers), FOLDER/ids/frame_NNNNNN.exr (object, material, depth) and FOLDER/timestamps.csv
+/// (file, camera-clock time), the input `smokescan saturation --ids --timestamps` reads. Written into
+/// a temporary folder that replaces FOLDER only when the run succeeds.
+class FrameFolder {
+public:
+    explicit FrameFolder(std::string dir) : dir_(std::move(dir)), tmp_(dir_ + ".tmp." + std::to_string(::getpid()))
+    {
+        namespace fs = std::filesystem;
+        requireOutputFolder(dir_);
+        if (fs::exists(dir_) && !(fs::is_directory(dir_) && fs::is_empty(dir_)))
+            throw Error(dir_, "exists and is not an empty folder (--saturation-frames writes a new one)");
+        std::error_code ec;
+        fs::create_directories(fs::path(tmp_) / "ids", ec);
+        if (ec) throw Error(dir_, "cannot create the frames folder: " + ec.message());
+    }
+    ~FrameFolder()
+    {
+        std::error_code ec;
+        if (!done_) std::filesystem::remove_all(tmp_, ec);
+    }
+    FrameFolder(const FrameFolder&) = delete;
+    FrameFolder& operator=(const FrameFolder&) = delete;
+
+    void add(uint64_t k, double camera_time_s, const Image& display, const Image& ids)
+    {
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%06llu", (unsigned long long)k);
+        writeImage(tmp_ + "/" + name + ".png", display);
+        writeImage(tmp_ + "/ids/" + name + ".exr", ids);
+        char line[96];
+        std::snprintf(line, sizeof line, "%s.png,%.9g\n", name, camera_time_s);
+        times_ += line;
+    }
+    void commit()
+    {
+        AtomicFile f(tmp_ + "/timestamps.csv");
+        f.stream() << "file,time_s\n" << times_;
+        f.commit();
+        std::error_code ec;
+        std::filesystem::remove(dir_, ec);  // an empty folder given as the target
+        std::filesystem::rename(tmp_, dir_, ec);
+        if (ec) throw Error(dir_, "cannot move the frames into place: " + ec.message());
+        done_ = true;
+    }
+
+private:
+    std::string dir_, tmp_, times_;
+    bool done_ = false;
 };
 
 /// Error fraction on the beams that hit the target (surfaces whose name starts with `prefix`)
@@ -107,6 +160,9 @@ int runScan(const ScanArgs& a0)
     std::unique_ptr<SaturationPredictor> predictor;
     std::unique_ptr<SaturationRenderer> renderer;
     if (a.saturation_render && a.saturation_out.empty()) throw Error("--saturation-render", "needs --saturation-out");
+    if (!a.frames_dir.empty() && !a.saturation_render) throw Error("--saturation-frames", "needs --saturation-render");
+    std::unique_ptr<FrameFolder> frames;
+    if (!a.frames_dir.empty()) frames = std::make_unique<FrameFolder>(a.frames_dir);
     if (!a.saturation_out.empty() && a.saturation_render) {
         SaturationRenderConfig rc = a.render;
         rc.camera = a.camera;
@@ -150,7 +206,9 @@ int runScan(const ScanArgs& a0)
             const long long total = (long long)std::floor((ss.to_s - ss.from_s) * ss.rate_hz + 1e-9) + 1;
             series = simulateSaturation(
                 [&](double t, uint64_t k) {
-                    const TargetSaturation m = renderer->measure(t, k);
+                    Image display, ids;
+                    const TargetSaturation m = renderer->measure(t, k, frames ? &display : nullptr, frames ? &ids : nullptr);
+                    if (frames) frames->add(k, t + ss.clock_offset_s, display, ids);
                     if (tty) std::fprintf(stderr, "\rrendering camera frames %llu/%lld ", (unsigned long long)k + 1, total);
                     SaturationFrame f{m.all.mean, {}};
                     for (const auto& [name, p] : m.patches) f.patches[name] = p.mean;
@@ -165,6 +223,7 @@ int runScan(const ScanArgs& a0)
         }
         writeSaturationCsv(a.saturation_out, series,
                            {"smokescan scan " + scene.source + (renderer ? ": rendered" : ": predicted") + " target saturation", h});
+        if (frames) frames->commit();
     }
     if (!a.image.empty())
         writeScanImage(a.image, scans, sc.spec(), a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
@@ -202,6 +261,7 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")->capture_default_str();
     c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")->capture_default_str();
     c->add_option("--saturation-height", a->render.height, "Height of those frames [px]")->capture_default_str();
+    c->add_option("--saturation-frames", a->frames_dir, "Also keep those frames: a new folder of PNG frames, id AOVs (EXR) and timestamps.csv for `smokescan saturation`");
     c->add_option("--calibration", a->calibration, "Density-saturation calibration for the predicted --saturation-out (JSON or built-in name)")->capture_default_str();
     c->add_option("--camera", a->camera, "Scene camera for --saturation-out (default: the first)");
     c->add_option("--saturation-rate", a->sat.rate_hz, "Camera frames per second for --saturation-out [Hz]")->capture_default_str();

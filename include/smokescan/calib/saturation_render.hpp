@@ -34,9 +34,11 @@ struct TargetSaturation {
 
 /// @brief Renders `rc` and measures the saturation of the pixels whose first surface is a target
 /// surface (name starting with `target_prefix`).
+/// @param display receives the frame as the camera delivers it (sRGB, auto exposure), if given.
+/// @param ids receives the object id, material id and depth channels, if given.
 /// @throw Error when the scene has no target surfaces, or the frame shows none of them.
 TargetSaturation measureTargetSaturation(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& rc,
-                                         const std::string& target_prefix);
+                                         const std::string& target_prefix, Image* display = nullptr, Image* ids = nullptr);
 
 struct SaturationRenderConfig {
     int spp = 4;
@@ -54,7 +56,8 @@ public:
     SaturationRenderer(const Scene& scene, const SurfaceSet& surfaces, const SaturationRenderConfig& cfg,
                        double t_check_s = 0);
     /// @param frame index k: the frame renders with seed cfg.seed + k.
-    TargetSaturation measure(double time_s, uint64_t frame) const;
+    /// @param display, ids receive the frame and its id channels, if given.
+    TargetSaturation measure(double time_s, uint64_t frame, Image* display = nullptr, Image* ids = nullptr) const;
 
 private:
     const Scene& scene_;
