@@ -142,6 +142,50 @@ void printSummary(const Scene& scene, const Scanner& sc, const std::vector<Scan>
     std::printf("\n");
 }
 
+struct CameraStream {
+    SaturationSeries series;
+    std::vector<std::string> header;
+};
+
+/// The camera's saturation over the scan times: predicted, or measured in rendered frames (kept in
+/// `frames` when given), on the camera's clock.
+CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vector<double>& times,
+                          const SaturationPredictor* predictor, const SaturationRenderer* renderer, FrameFolder* frames)
+{
+    if (times.empty()) throw Error("--saturation-out", "no scan times to cover");
+    SaturationSimConfig ss = a.sat;
+    ss.from_s = times.front();
+    ss.to_s = times.back();
+    ss.seed = a.cfg.seed;
+    const std::string cam = a.camera.empty() ? "(first)" : a.camera;
+    char h[320];
+    CameraStream out;
+    if (renderer) {
+        std::snprintf(h, sizeof h, "camera %s, target '%s*': rendered frames %dx%d, %d spp, auto exposure; noise sigma %g; camera clock = scene clock + %g s",
+                      cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.spp, ss.sigma, ss.clock_offset_s);
+        const bool tty = ::isatty(2);
+        const long long total = (long long)std::floor((ss.to_s - ss.from_s) * ss.rate_hz + 1e-9) + 1;
+        out.series = simulateSaturation(
+            [&](double t, uint64_t k) {
+                Image display, ids;
+                const TargetSaturation m = renderer->measure(t, k, frames ? &display : nullptr, frames ? &ids : nullptr);
+                if (frames) frames->add(k, t + ss.clock_offset_s, display, ids);
+                if (tty) std::fprintf(stderr, "\rrendering camera frames %llu/%lld ", (unsigned long long)k + 1, total);
+                SaturationFrame f{m.all.mean, {}};
+                for (const auto& [name, p] : m.patches) f.patches[name] = p.mean;
+                return f;
+            },
+            ss);
+        if (tty) std::fprintf(stderr, "\n");
+    } else {
+        std::snprintf(h, sizeof h, "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
+                      cam.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(), ss.sigma, ss.clock_offset_s);
+        out.series = simulateSaturation(scene, *predictor, ss);
+    }
+    out.header = {"smokescan scan " + scene.source + (renderer ? ": rendered" : ": predicted") + " target saturation", h};
+    return out;
+}
+
 int runScan(const ScanArgs& a0)
 {
     ScanArgs a = a0;
@@ -189,40 +233,12 @@ int runScan(const ScanArgs& a0)
         "smokescan scan " + scene.source, buf,
         "format: time_s then pairs of (angle_rad, range_mm); error codes: " +
             std::string(sc.spec().type == "urg04lx" ? "values below 20 (0 = no return)" : "values >= 8183 (8183 = no echo within range)")};
+    // The camera's stream (rendering may take minutes and may fail): made before anything is written.
+    const CameraStream stream = a.saturation_out.empty() ? CameraStream{} : cameraStream(scene, a, times, predictor.get(), renderer.get(), frames.get());
     writeLaserLog(a.out, header, scans, sc.spec());
     if (!a.tau_csv.empty()) writeBeamCsv(a.tau_csv, scans, scene);
     if (!a.saturation_out.empty()) {
-        SaturationSimConfig ss = a.sat;
-        ss.from_s = times.front();
-        ss.to_s = times.back();
-        ss.seed = a.cfg.seed;
-        const std::string cam = a.camera.empty() ? "(first)" : a.camera;
-        char h[320];
-        SaturationSeries series;
-        if (renderer) {
-            std::snprintf(h, sizeof h, "camera %s, target '%s*': rendered frames %dx%d, %d spp, auto exposure; noise sigma %g; camera clock = scene clock + %g s",
-                          cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.spp, ss.sigma, ss.clock_offset_s);
-            const bool tty = ::isatty(2);
-            const long long total = (long long)std::floor((ss.to_s - ss.from_s) * ss.rate_hz + 1e-9) + 1;
-            series = simulateSaturation(
-                [&](double t, uint64_t k) {
-                    Image display, ids;
-                    const TargetSaturation m = renderer->measure(t, k, frames ? &display : nullptr, frames ? &ids : nullptr);
-                    if (frames) frames->add(k, t + ss.clock_offset_s, display, ids);
-                    if (tty) std::fprintf(stderr, "\rrendering camera frames %llu/%lld ", (unsigned long long)k + 1, total);
-                    SaturationFrame f{m.all.mean, {}};
-                    for (const auto& [name, p] : m.patches) f.patches[name] = p.mean;
-                    return f;
-                },
-                ss);
-            if (tty) std::fprintf(stderr, "\n");
-        } else {
-            std::snprintf(h, sizeof h, "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
-                          cam.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(), ss.sigma, ss.clock_offset_s);
-            series = simulateSaturation(scene, *predictor, ss);
-        }
-        writeSaturationCsv(a.saturation_out, series,
-                           {"smokescan scan " + scene.source + (renderer ? ": rendered" : ": predicted") + " target saturation", h});
+        writeSaturationCsv(a.saturation_out, stream.series, stream.header);
         if (frames) frames->commit();
     }
     if (!a.image.empty())
