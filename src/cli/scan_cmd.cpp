@@ -273,7 +273,7 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--bin", a->bin_s, "Summary time bin [s] (default: automatic)");
     c->add_flag("--quiet", a->quiet, "No summary");
     c->add_option("--saturation-out", a->saturation_out, "Also write the camera's target saturation over time (CSV), predicted from the smoke on its line of sight");
-    c->add_flag("--saturation-render", a->saturation_render, "Measure --saturation-out in rendered camera frames instead (slow: about 3 s per frame)");
+    c->add_flag("--saturation-render", a->saturation_render, "Measure --saturation-out in rendered camera frames instead (slow: 2–3 s per 320x240 frame)");
     c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")->capture_default_str();
     c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")->capture_default_str();
     c->add_option("--saturation-height", a->render.height, "Height of those frames [px]")->capture_default_str();

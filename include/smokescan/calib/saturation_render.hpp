@@ -48,7 +48,8 @@ struct SaturationRenderConfig {
     uint64_t seed = 1;
 };
 
-/// @brief Frames of one scene camera at scene times, measured.
+/// @brief Frames of one scene camera at scene times, measured. Keeps references to the scene and
+/// its surfaces: both must outlive it.
 class SaturationRenderer {
 public:
     /// @throw Error for a bad configuration, no such camera, or a camera that does not see the
