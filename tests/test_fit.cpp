@@ -34,6 +34,23 @@ Bocas& bocas()
     return b;
 }
 
+/// The scanner's run as a recorded log: every scan time, values in the sensor's unit as `scan`
+/// writes them (mm for the URG and the Sick's mm mode).
+RecordedLog logOf(const Scanner& scanner)
+{
+    RecordedLog log;
+    const auto times = scanner.times();
+    for (size_t k = 0; k < times.size(); ++k) {
+        const Scan s = scanner.scanAt(times[k], k);
+        LaserLogScan l;
+        l.time_s = s.time_s;
+        l.angle_rad = s.angle_rad;
+        for (long long v : s.value) l.range.push_back(double(v));
+        log.scans.push_back(std::move(l));
+    }
+    return log;
+}
+
 /// A recorded run made by smokescan itself: the scanner's log (mm, as `scan` writes it) on the
 /// laser clock, and the predicted target saturation + N(0, sigma_S) on the camera clock, which
 /// runs `offset_s` ahead. The scene's smoke timeline is squeezed by `time_scale` when given.
@@ -59,15 +76,7 @@ SimRun simulate(uint64_t seed, double P, double offset_s, double sigma_S, double
     sc.keep_beams = false;
     const Scanner scanner(scene, b.surfaces, sc);
     SimRun r;
-    const auto times = scanner.times();
-    for (size_t k = 0; k < times.size(); ++k) {
-        const Scan s = scanner.scanAt(times[k], k);
-        LaserLogScan l;
-        l.time_s = s.time_s;
-        l.angle_rad = s.angle_rad;
-        for (long long v : s.value) l.range.push_back(double(v));  // URG unit is mm
-        r.log.scans.push_back(std::move(l));
-    }
+    r.log = logOf(scanner);
     SaturationSimConfig ss;
     ss.from_s = from_s;
     ss.to_s = to_s;
@@ -301,17 +310,7 @@ RecordedLog sickInPlumes(double nf_scale, uint64_t seed)
     sc.seed = seed;
     sc.keep_beams = false;
     const Scanner scanner(scene, surfaces, sc);
-    RecordedLog log;
-    const auto times = scanner.times();
-    for (size_t k = 0; k < times.size(); ++k) {
-        const Scan s = scanner.scanAt(times[k], k);
-        LaserLogScan l;
-        l.time_s = s.time_s;
-        l.angle_rad = s.angle_rad;
-        for (long long v : s.value) l.range.push_back(double(v));  // mm mode
-        log.scans.push_back(std::move(l));
-    }
-    return log;
+    return logOf(scanner);
 }
 }  // namespace
 
