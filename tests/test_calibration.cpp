@@ -12,6 +12,8 @@
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/error.hpp"
 
+#include "scratch.hpp"
+
 using namespace smokescan;
 namespace fs = std::filesystem;
 
@@ -139,7 +141,7 @@ struct Out {
 };
 Out run(const std::string& args)
 {
-    const fs::path e = fs::temp_directory_path() / ("smokescan_calib_err_" + std::to_string(::getpid()));
+    const fs::path e = smokescan::test::scratch("calib_err") / "stderr";
     const int rc = std::system((std::string(SMOKESCAN_CLI) + " " + args + " >/dev/null 2>" + e.string()).c_str());
     std::ifstream in(e);
     std::stringstream ss;
@@ -150,7 +152,7 @@ Out run(const std::string& args)
 
 TEST(SaturationCli, FramesFolderWithRectsAndFileNameTimes)
 {
-    const fs::path dir = fs::temp_directory_path() / ("smokescan_sat_" + std::to_string(::getpid()));
+    const fs::path dir = smokescan::test::scratch("sat");
     fs::create_directories(dir / "frames");
     // Three frames whose 4×4 patch fades from saturated blue towards grey.
     for (int k = 0; k < 3; ++k) {
@@ -192,8 +194,7 @@ TEST(SaturationCli, FramesFolderWithRectsAndFileNameTimes)
 
 TEST(CalibrateCli, WritesJsonAndPlotAndRefusesDegenerateSweeps)
 {
-    const fs::path dir = fs::temp_directory_path() / ("smokescan_cal_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const fs::path dir = smokescan::test::scratch("cal");
     const std::string json = (dir / "c.json").string(), png = (dir / "c.png").string();
     const Out r = run("calibrate bocas --densities 0,0.001,0.002,0.004,0.008,0.012 --spp 1 --width 64 --height 48 --out " +
                       json + " --plot " + png);
@@ -218,7 +219,7 @@ TEST(CalibrateCli, WritesJsonAndPlotAndRefusesDegenerateSweeps)
 TEST(SaturationCli, RenderedFramesWithIdMasks)
 {
     // A rendered BOCAS frame and its id AOV: the patches are named by the scene's target surfaces.
-    const fs::path dir = fs::temp_directory_path() / ("smokescan_satids_" + std::to_string(::getpid()));
+    const fs::path dir = smokescan::test::scratch("satids");
     fs::create_directories(dir / "f");
     fs::create_directories(dir / "i");
     const Out r = run("render bocas --time 0 --spp 2 --width 64 --height 48 --out " + (dir / "f" / "t_12.5.png").string() +

@@ -10,6 +10,8 @@
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/render/image.hpp"
 
+#include "scratch.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -20,11 +22,7 @@ struct CliRun {
 
 fs::path dir()
 {
-    static const fs::path d = [] {
-        fs::path p = fs::temp_directory_path() / ("smokescan_cli_" + std::to_string(::getpid()));
-        fs::create_directories(p);
-        return p;
-    }();
+    static const fs::path d = smokescan::test::scratch("cli");
     return d;
 }
 

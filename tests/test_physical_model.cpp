@@ -18,6 +18,8 @@
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
+#include "scratch.hpp"
+
 using namespace smokescan;
 
 namespace {
@@ -353,8 +355,7 @@ TEST(PhysicalModel, MirrorPathOfASpecularTargetLiesBeyondIt)
 TEST(SensorFile, RoundTripAndStrictErrors)
 {
     namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / "smokescan_sensor_file";
-    fs::create_directories(dir);
+    const fs::path dir = smokescan::test::scratch("sensor_file");
     SensorMount m;
     m.type = "urg04lx";
     m.model = "physical";

@@ -13,6 +13,8 @@
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
+#include "scratch.hpp"
+
 using namespace smokescan;
 
 namespace {
@@ -205,8 +207,7 @@ TEST(LaserLog, RoundTripAndStrictReading)
     for (double t : sc.times()) scans.push_back(sc.scanAt(t, scans.size()));
     ASSERT_EQ(scans.size(), 5u);
     namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / ("smokescan_log_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const fs::path dir = smokescan::test::scratch("log");
     const std::string p = (dir / "a.log").string();
     writeLaserLog(p, {"test"}, scans, sc.spec());
     const auto back = readLaserLog(p);

@@ -9,6 +9,8 @@
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/scene/surfaces.hpp"
 
+#include "scratch.hpp"
+
 using namespace smokescan;
 
 namespace {
@@ -97,8 +99,7 @@ height = 1.0
 TEST(Scene, ObjMeshSurfaceAndSmokeArea)
 {
     namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / ("smokescan_obj_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const fs::path dir = smokescan::test::scratch("obj");
     {
         std::ofstream o(dir / "cube.obj");
         o << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"

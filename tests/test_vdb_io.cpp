@@ -12,6 +12,8 @@
 #include "../src/media/vdb_grid.hpp"
 #include "smokescan/core/error.hpp"
 
+#include "scratch.hpp"
+
 using namespace smokescan;
 namespace fs = std::filesystem;
 
@@ -20,9 +22,7 @@ const std::string kShared = std::string(SMOKESCAN_SOURCE_DIR) + "/../shared/data
 
 fs::path tmpDir()
 {
-    fs::path d = fs::temp_directory_path() / ("smokescan_test_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
+    return smokescan::test::scratch("vdb_io");
 }
 
 std::string writeGrid(const std::string& name, openvdb::GridBase::Ptr g)
