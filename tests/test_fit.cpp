@@ -335,6 +335,19 @@ TEST(PlumeFit, SickPenetrationFallsWithDensityAndFindsAPlantedDepthBias)
         }
     ASSERT_TRUE(thin && dense && thin != dense);
     EXPECT_LT(dense->mean_depth_m + 3 * dense->se_depth_m, thin->mean_depth_m - 3 * thin->se_depth_m);
+    // The share of beams that echo from the plume grows with its density (thin smoke is seen
+    // through or gives errors, cores read as obstacles); the maximum-likelihood logistic follows
+    // every well-filled bin within its binomial error (inflated by the bins' over-dispersion).
+    ASSERT_TRUE(std::isfinite(a.rho_50.value) && a.rho_50.se > 0);
+    EXPECT_GT(a.slope.value, 3 * a.slope.se);
+    const double inflation = std::max(1.0, a.share_chi2 / a.share_dof);
+    for (const auto& bin : a.bins) {
+        if (bin.n < 30) continue;
+        const double x = 0.5 * (std::log(bin.rho_lo) + std::log(bin.rho_hi));
+        const double p = 1 / (1 + std::exp(-a.slope.value * (x - std::log(a.rho_50.value))));
+        EXPECT_NEAR(double(bin.echo) / bin.n, p, 4 * std::sqrt(inflation * p * (1 - p) / bin.n) + 1e-3)
+            << "bin " << bin.rho_lo << "-" << bin.rho_hi << " n " << bin.n;
+    }
     // Planted in the data: every smoke echo read 0.1 m long (a later trigger in smoke). The fitted
     // depth at the same density grows by about that, beyond both errors; the surfaces are untouched.
     RecordedLog planted = sickInPlumes(1.0, 3);

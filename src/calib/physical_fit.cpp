@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <ceres/ceres.h>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/sensors/physical_model.hpp"
+#include "binomial_deviance.hpp"
 
 namespace smokescan {
 namespace {
@@ -61,12 +63,25 @@ double interpolateTable(const AmplitudeTable& tab, const std::vector<double>& P,
     return P[size_t(j)] + (x - j) * (P[size_t(j) + 1] - P[size_t(j)]);
 }
 
-/// Pearson residuals (e_k − n_k·p_k(θ))/sd_k of all scans, their variances frozen at the last
-/// iterate (Fisher scoring); the derivative in θ by central differences of the probability table.
-class PearsonResiduals : public ceres::CostFunction {
+/// Error probability of each observation for noise floor exp(θ).
+std::vector<double> observationProbabilities(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs,
+                                             double theta)
+{
+    const std::vector<double> P = probabilityTable(tab, p, theta);
+    std::vector<double> out(obs.size());
+    for (size_t k = 0; k < obs.size(); ++k) out[k] = interpolateTable(tab, P, obs[k].rho);
+    return out;
+}
+
+/// Residuals r_k(θ) of all scans in θ = ln σ, from each scan's error probability; the Jacobian by
+/// central differences of the whole residual (the probability table is not differentiable
+/// symbolically).
+class ScanResiduals : public ceres::CostFunction {
 public:
-    PearsonResiduals(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs, std::vector<double> sd)
-        : tab_(tab), p_(p), obs_(obs), sd_(std::move(sd))
+    /// residual(k, p) for observation k at error probability p
+    using Residual = std::function<double(size_t, double)>;
+    ScanResiduals(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs, Residual res)
+        : tab_(tab), p_(p), obs_(obs), res_(std::move(res))
     {
         set_num_residuals(int(obs.size()));
         mutable_parameter_block_sizes()->push_back(1);
@@ -74,17 +89,12 @@ public:
     bool Evaluate(double const* const* x, double* r, double** J) const override
     {
         const double theta = x[0][0], h = 1e-4;
-        const std::vector<double> P = probabilityTable(tab_, p_, theta);
-        std::vector<double> Pa, Pb;
+        const std::vector<double> P = observationProbabilities(tab_, p_, obs_, theta);
+        for (size_t k = 0; k < obs_.size(); ++k) r[k] = res_(k, P[k]);
         if (J && J[0]) {
-            Pa = probabilityTable(tab_, p_, theta + h);
-            Pb = probabilityTable(tab_, p_, theta - h);
-        }
-        for (size_t k = 0; k < obs_.size(); ++k) {
-            const Obs& o = obs_[k];
-            r[k] = (o.e - o.n * interpolateTable(tab_, P, o.rho)) / sd_[k];
-            if (J && J[0])
-                J[0][k] = -o.n * (interpolateTable(tab_, Pa, o.rho) - interpolateTable(tab_, Pb, o.rho)) / (2 * h) / sd_[k];
+            const std::vector<double> Pa = observationProbabilities(tab_, p_, obs_, theta + h);
+            const std::vector<double> Pb = observationProbabilities(tab_, p_, obs_, theta - h);
+            for (size_t k = 0; k < obs_.size(); ++k) J[0][k] = (res_(k, Pa[k]) - res_(k, Pb[k])) / (2 * h);
         }
         return true;
     }
@@ -93,7 +103,7 @@ private:
     const AmplitudeTable& tab_;
     const PhysicalParams& p_;
     const std::vector<Obs>& obs_;
-    std::vector<double> sd_;
+    Residual res_;
 };
 
 struct ThetaFit {
@@ -101,6 +111,9 @@ struct ThetaFit {
     bool ok = false;
 };
 
+/// Maximum likelihood for θ: Levenberg–Marquardt on the scans' signed deviance residuals. The
+/// covariance comes from Pearson residuals with their variances at the solution (their JᵀJ is the
+/// Fisher information), cluster-robust over the observations' blocks.
 ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs, int iterations)
 {
     ThetaFit out;
@@ -108,9 +121,9 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
     double E = 0;
     for (const Obs& o : obs) E += o.e;
     auto expected = [&](double th) {
-        const std::vector<double> P = probabilityTable(tab, p, th);
         double s = 0;
-        for (const Obs& o : obs) s += o.n * interpolateTable(tab, P, o.rho);
+        const std::vector<double> P = observationProbabilities(tab, p, obs, th);
+        for (size_t k = 0; k < obs.size(); ++k) s += obs[k].n * P[k];
         return s;
     };
     double lo = std::log(1e-9), hi = std::log(1e2);
@@ -119,49 +132,58 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
         (expected(mid) < E ? lo : hi) = mid;
     }
     double theta = 0.5 * (lo + hi);
-    for (int it = 0; it < iterations; ++it) {
-        const std::vector<double> P = probabilityTable(tab, p, theta);
-        std::vector<double> sd(obs.size());
-        for (size_t k = 0; k < obs.size(); ++k) {
-            const double pk = std::clamp(interpolateTable(tab, P, obs[k].rho), 1e-4, 1 - 1e-4);
-            sd[k] = std::sqrt(obs[k].n * pk * (1 - pk));
-        }
-        ceres::Problem problem;
-        problem.AddResidualBlock(new PearsonResiduals(tab, p, obs, sd), nullptr, &theta);
-        const double before = theta;
-        ceres::Solver::Options opt;
-        opt.linear_solver_type = ceres::DENSE_QR;
-        opt.max_num_iterations = 50;
-        ceres::Solver::Summary summary;
-        ceres::Solve(opt, &problem, &summary);
-        out.chi2 = 2 * summary.final_cost;
-        if (std::abs(theta - before) < 1e-6 || it + 1 == iterations) {
-            // Information from Ceres; scores per block for the sandwich.
-            ceres::Covariance::Options co;
-            ceres::Covariance cov(co);
-            std::vector<std::pair<const double*, const double*>> blocks{{&theta, &theta}};
-            if (!cov.Compute(blocks, &problem)) return out;
-            cov.GetCovarianceBlock(&theta, &theta, &out.var_model);
-            ceres::CRSMatrix J;
-            std::vector<double> r;
-            problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, &r, nullptr, &J);
-            std::vector<double> U(size_t(obs.back().block + 1), 0.0);
-            for (size_t k = 0; k < obs.size(); ++k)
-                for (int q = J.rows[k]; q < J.rows[k + 1]; ++q) U[size_t(obs[k].block)] += J.values[size_t(q)] * r[k];
-            double meat = 0;
-            int clusters = 0;
-            for (double u : U)
-                if (u != 0) {
-                    meat += u * u;
-                    ++clusters;
-                }
-            const double corr = clusters > 1 ? clusters / (clusters - 1.0) : 1.0;
-            out.var_robust = corr * out.var_model * meat * out.var_model;
-            out.theta = theta;
-            out.ok = std::isfinite(theta) && out.var_model > 0 && std::abs(theta - before) < 1e-3;
-            return out;
-        }
+    auto clampP = [](double q) { return std::clamp(q, 1e-12, 1 - 1e-12); };
+    ceres::Problem ml;
+    ml.AddResidualBlock(new ScanResiduals(tab, p, obs,
+                                          [&obs, clampP](size_t k, double pk) {
+                                              const double q = clampP(pk);
+                                              return detail::signedDeviance(double(obs[k].n), double(obs[k].e), q, 1 - q);
+                                          }),
+                        nullptr, &theta);
+    ceres::Solver::Options opt;
+    opt.linear_solver_type = ceres::DENSE_QR;
+    opt.max_num_iterations = iterations;
+    opt.function_tolerance = 1e-12;
+    opt.parameter_tolerance = 1e-10;
+    ceres::Solver::Summary summary;
+    ceres::Solve(opt, &ml, &summary);
+    if (!summary.IsSolutionUsable() || summary.termination_type != ceres::CONVERGENCE) return out;
+
+    const std::vector<double> P = observationProbabilities(tab, p, obs, theta);
+    std::vector<double> inv_sd(obs.size());
+    for (size_t k = 0; k < obs.size(); ++k) {
+        const double pk = std::clamp(P[k], 1e-4, 1 - 1e-4);
+        inv_sd[k] = 1 / std::sqrt(obs[k].n * pk * (1 - pk));
     }
+    ceres::Problem problem;
+    problem.AddResidualBlock(new ScanResiduals(tab, p, obs,
+                                               [&obs, inv_sd](size_t k, double pk) { return (obs[k].e - obs[k].n * pk) * inv_sd[k]; }),
+                             nullptr, &theta);
+    // Information from Ceres; scores per block for the sandwich.
+    ceres::Covariance::Options co;
+    ceres::Covariance cov(co);
+    std::vector<std::pair<const double*, const double*>> blocks{{&theta, &theta}};
+    if (!cov.Compute(blocks, &problem)) return out;
+    cov.GetCovarianceBlock(&theta, &theta, &out.var_model);
+    ceres::CRSMatrix J;
+    std::vector<double> r;
+    double cost = 0;
+    problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, &r, nullptr, &J);
+    out.chi2 = 2 * cost;
+    std::vector<double> U(size_t(obs.back().block + 1), 0.0);
+    for (size_t k = 0; k < obs.size(); ++k)
+        for (int q = J.rows[k]; q < J.rows[k + 1]; ++q) U[size_t(obs[k].block)] += J.values[size_t(q)] * r[k];
+    double meat = 0;
+    int clusters = 0;
+    for (double u : U)
+        if (u != 0) {
+            meat += u * u;
+            ++clusters;
+        }
+    const double corr = clusters > 1 ? clusters / (clusters - 1.0) : 1.0;
+    out.var_robust = corr * out.var_model * meat * out.var_model;
+    out.theta = theta;
+    out.ok = std::isfinite(theta) && out.var_model > 0;
     return out;
 }
 

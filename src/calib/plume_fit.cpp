@@ -6,6 +6,7 @@
 #include <ceres/ceres.h>
 
 #include "smokescan/core/error.hpp"
+#include "binomial_deviance.hpp"
 
 namespace smokescan {
 namespace {
@@ -21,14 +22,20 @@ struct DepthResidual {
     }
 };
 
-/// (share − p)/√(p̃(1 − p̃)/n), p = 1/(1 + e^{−s·(x − x50)}), x = ln ρ; p̃ frozen.
+/// The bin's echo share as a binomial count: p = 1/(1 + e^{−s·(x − x50)}), x = ln ρ. Signed
+/// deviance residual (pearson = false), or the Pearson residual (share − p)/√(p̃(1 − p̃)/n) with p̃
+/// fixed at the solution, for the covariance.
 struct ShareResidual {
-    double x, share, inv_sd;
+    double x, n, echo;
+    bool pearson;
+    double inv_sd;  ///< 1/√(p̃(1 − p̃)/n) (Pearson only)
     template <typename T>
     bool operator()(const T* x50_s, T* r) const
     {
-        const T p = T(1) / (T(1) + exp(-x50_s[1] * (T(x) - x50_s[0])));
-        r[0] = (T(share) - p) * T(inv_sd);
+        const T z = x50_s[1] * (T(x) - x50_s[0]);
+        const T p = T(1) / (T(1) + exp(-z)), q = T(1) / (T(1) + exp(z));
+        if (pearson) r[0] = (T(echo / n) - p) * T(inv_sd);
+        else r[0] = detail::signedDeviance(n, echo, p, q);
         return true;
     }
 };
@@ -164,41 +171,48 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
             res.diagnoses.push_back("the depth fit's covariance could not be computed");
         }
     }
-    // Share of beams that echo from the plume against ln ρ (Fisher scoring on the bins).
+    // Share of beams that echo from the plume against ln ρ: maximum likelihood over the bins.
     std::vector<const PlumeFitResult::Bin*> used;
     for (const auto& b : res.bins)
         if (b.n > 0) used.push_back(&b);
     if (used.size() >= 3) {
         double xs[2] = {std::log(res.rho_ref), 2.0};
-        for (int it = 0; it < 20; ++it) {
-            ceres::Problem problem;
-            for (const auto* b : used) {
-                const double x = 0.5 * (std::log(b->rho_lo) + std::log(b->rho_hi));
-                const double p0 = std::clamp(1.0 / (1.0 + std::exp(-xs[1] * (x - xs[0]))), 0.02, 0.98);
-                problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(new ShareResidual{
-                                             x, double(b->echo) / b->n, 1.0 / std::sqrt(p0 * (1 - p0) / b->n)}),
-                                         nullptr, xs);
-            }
-            const double before[2] = {xs[0], xs[1]};
-            ceres::Solver::Options opt;
-            opt.linear_solver_type = ceres::DENSE_QR;
-            ceres::Solver::Summary sum;
-            ceres::Solve(opt, &problem, &sum);
-            res.share_chi2 = 2 * sum.final_cost;
-            const bool done = std::abs(xs[0] - before[0]) < 1e-8 && std::abs(xs[1] - before[1]) < 1e-8;
-            if (!done && it < 19) continue;
-            res.share_dof = int(used.size()) - 2;
-            ceres::Covariance cov({});
-            double C[4];
-            if (cov.Compute(std::vector<const double*>{xs}, &problem) && cov.GetCovarianceMatrix(std::vector<const double*>{xs}, C)) {
-                const double infl = std::max(1.0, res.share_dof > 0 ? res.share_chi2 / res.share_dof : 1.0);
-                const double r50 = std::exp(xs[0]);
-                res.rho_50 = {r50, r50 * std::sqrt(C[0] * infl)};
-                res.slope = {xs[1], std::sqrt(C[3] * infl)};
-            }
-            if (!done) res.diagnoses.push_back("the echo share fit did not settle");
-            break;
+        auto xOf = [](const PlumeFitResult::Bin* b) { return 0.5 * (std::log(b->rho_lo) + std::log(b->rho_hi)); };
+        ceres::Problem ml;
+        for (const auto* b : used)
+            ml.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(
+                                    new ShareResidual{xOf(b), double(b->n), double(b->echo), false, 0.0}),
+                                nullptr, xs);
+        ceres::Solver::Options opt;
+        opt.linear_solver_type = ceres::DENSE_QR;
+        opt.max_num_iterations = 200;
+        ceres::Solver::Summary sum;
+        ceres::Solve(opt, &ml, &sum);
+        const bool settled = sum.IsSolutionUsable() && sum.termination_type == ceres::CONVERGENCE;
+        // Covariance from the Fisher information at the solution (Pearson residuals, variances at
+        // the fitted shares), inflated by the bins' over-dispersion.
+        ceres::Problem problem;
+        for (const auto* b : used) {
+            const double x = xOf(b);
+            const double p0 = std::clamp(1.0 / (1.0 + std::exp(-xs[1] * (x - xs[0]))), 0.02, 0.98);
+            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(new ShareResidual{
+                                         x, double(b->n), double(b->echo), true, 1.0 / std::sqrt(p0 * (1 - p0) / b->n)}),
+                                     nullptr, xs);
         }
+        double cost = 0;
+        problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+        res.share_chi2 = 2 * cost;
+        res.share_dof = int(used.size()) - 2;
+        ceres::Covariance cov({});
+        double C[4];
+        if (settled && cov.Compute(std::vector<const double*>{xs}, &problem) &&
+            cov.GetCovarianceMatrix(std::vector<const double*>{xs}, C)) {
+            const double infl = std::max(1.0, res.share_dof > 0 ? res.share_chi2 / res.share_dof : 1.0);
+            const double r50 = std::exp(xs[0]);
+            res.rho_50 = {r50, r50 * std::sqrt(C[0] * infl)};
+            res.slope = {xs[1], std::sqrt(C[3] * infl)};
+        }
+        if (!settled) res.diagnoses.push_back("the echo share fit did not settle");
     }
     return res;
 }

@@ -41,7 +41,7 @@ void tails(const T& z, bool logistic, T& p, T& q)
     if (!(scalar(q) > tiny)) q = T(tiny);
 }
 
-/// sign(e − n·p)·√d, d = 2[e·ln(e/(n·p)) + (n − e)·ln((n − e)/(n·q))] the scan's deviance.
+/// The scan's signed deviance residual (binomial_deviance.hpp).
 struct DevianceResidual {
     const SaturationSeries* sat;
     double t, n, e, sigma_S;
@@ -53,14 +53,7 @@ struct DevianceResidual {
         const T w = sqrt(sw[1] * sw[1] + T(sigma_S * sigma_S));
         T p, q;
         tails((sw[0] - S) / w, logistic, p, q);
-        T d(0);
-        if (e > 0) d += T(e) * (std::log(e / n) - log(p));
-        if (e < n) d += T(n - e) * (std::log((n - e) / n) - log(q));
-        d *= T(2);
-        // Where the model meets the count (d → 0) √d has no derivative; its first-order twin, the
-        // Pearson residual, has the same value and slope there.
-        if (!(scalar(d) > 1e-20)) r[0] = (T(e) - T(n) * p) / sqrt(T(n) * p * q);
-        else r[0] = e > n * scalar(p) ? sqrt(d) : -sqrt(d);
+        r[0] = signedDeviance(n, e, p, q);
         return true;
     }
 };

@@ -1,6 +1,6 @@
 #pragma once
 // The binomial threshold fit behind fitSensor (internal): per group of beams, errors e of n per
-// scan against the saturation at scan time + δ, by Fisher scoring with Ceres.
+// scan against the saturation at scan time + δ, by maximum likelihood (signed deviance residuals) with Ceres.
 #include <algorithm>
 #include <array>
 #include <string>
@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "smokescan/io/recorded.hpp"
+#include "binomial_deviance.hpp"
 
 namespace smokescan::detail {
 
@@ -43,10 +44,6 @@ struct ThresholdSolution {
     bool converged = false;
     std::string message;
 };
-
-inline double scalar(double x) { return x; }
-template <class J>
-double scalar(const J& j) { return j.a; }
 
 /// Saturation at time t, linear between samples, held at the ends; T a double or a Ceres Jet
 /// (the fit differentiates it in the clock offset).

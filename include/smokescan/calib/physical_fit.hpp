@@ -10,7 +10,8 @@
 /// probability. Per scan k, the saturation gives the density ρ_k through the calibration curve;
 /// the scene's regional smoke, scaled to ρ_k, gives each beam's noise-free amplitudes (tabulated
 /// over ρ once); amcwErrorProbability turns them into p_k(σ). The e_k errors of n_k beams are
-/// binomial; the fit is Fisher scoring on Pearson residuals in θ = ln σ with Ceres, the covariance
+/// binomial; the fit is maximum likelihood in θ = ln σ (Levenberg–Marquardt on signed deviance
+/// residuals, with Ceres), the covariance from the Fisher information at the solution, made
 /// cluster-robust over blocks of block_s, plus the calibration curve's error (the fit repeated
 /// with the densities moved by the curve's standard error at S*). The clock offset is the
 /// threshold fit's, held.
@@ -20,7 +21,7 @@
 /// | grid         | 161     | –    | densities tabulated between 0 and the largest observed   |
 /// | time_step_s  | 1       | s    | scene times searched for the densest smoke state (its shape is kept) |
 /// | block_s      | 2       | s    | scans within a block share saturation noise (robust covariance) |
-/// | iterations   | 12      | –    | Fisher scoring rounds at most                            |
+/// | iterations   | 50      | –    | Levenberg–Marquardt iterations at most                   |
 #include <string>
 
 #include "smokescan/calib/beam_groups.hpp"
@@ -35,7 +36,7 @@ struct UrgNoiseFloorConfig {
     int grid = 161;
     double time_step_s = 1.0;
     double block_s = 2.0;
-    int iterations = 12;
+    int iterations = 50;
 };
 
 struct UrgNoiseFloorResult {
