@@ -1,6 +1,7 @@
 #pragma once
 // The binomial threshold fit behind fitSensor (internal): per group of beams, errors e of n per
-// scan against the saturation at scan time + δ, by maximum likelihood (signed deviance residuals) with Ceres.
+// scan against the saturation at scan time + δ, by maximum likelihood (signed deviance residuals)
+// with Ceres.
 #include <algorithm>
 #include <array>
 #include <string>
