@@ -6,10 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <map>
 #include <memory>
-#include <sstream>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
@@ -18,17 +16,13 @@
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
+#include "scene_text.hpp"
 #include "scratch.hpp"
 
 using namespace smokescan;
 
 namespace {
-std::string num(double v)
-{
-    std::ostringstream o;
-    o << std::setprecision(17) << v;
-    return o.str();
-}
+using smokescan::test::tomlNumber;
 
 /// A target quad 2.5 m ahead (turned by yaw_deg about z), homogeneous smoke of `density`
 /// filling a 12 m box around everything, a URG-04LX and an LMS200 at the origin looking at it.
@@ -62,8 +56,8 @@ nir_905 = 0.6
 name = "target"
 material = ")" + material + R"("
 type = "quad"
-corner = [)" + num(2.5 + 0.5 * s) + ", " + num(-0.5 * c) + R"(, -0.5]
-u = [)" + num(-s) + ", " + num(c) + R"(, 0.0]
+corner = [)" + tomlNumber(2.5 + 0.5 * s) + ", " + tomlNumber(-0.5 * c) + R"(, -0.5]
+u = [)" + tomlNumber(-s) + ", " + tomlNumber(c) + R"(, 0.0]
 v = [0.0, 0.0, 1.0]
 [[surfaces]]
 name = "room"
@@ -86,7 +80,7 @@ type = "box"
 min = [-5.9, -5.9, -2.9]
 max = [5.9, 5.9, 2.9]
 voxel = 0.1
-density = )" + num(density) + "\n";
+density = )" + tomlNumber(density) + "\n";
 }
 
 struct Rig {

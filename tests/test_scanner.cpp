@@ -5,25 +5,19 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
-#include <sstream>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/laser_log.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
+#include "scene_text.hpp"
 #include "scratch.hpp"
 
 using namespace smokescan;
 
 namespace {
-std::string precise(double v)
-{
-    std::ostringstream o;
-    o << std::setprecision(17) << v;
-    return o.str();
-}
+using smokescan::test::tomlNumber;
 
 /// A wall 2.5 m ahead of both sensors, homogeneous smoke from 0.5 m to 2.0 m in front of them
 /// (1.5 m of smoke on the straight-ahead beam; box faces on 0.05 m voxel faces).
@@ -52,7 +46,7 @@ type = "box"
 min = [0.475, -0.525, -0.525]
 max = [2.025, 0.525, 0.525]
 voxel = 0.05
-density = )" + precise(density) + "\n" + extra;
+density = )" + tomlNumber(density) + "\n" + extra;
 }
 
 struct Rig {
