@@ -106,15 +106,16 @@ Case& getCase(const std::string& name)
         c.grid = std::make_shared<DensityGrid>(
             DensityGrid::loadVdb(std::string(SMOKESCAN_SOURCE_DIR) + "/../shared/data/vdb/teapot_cloud.vdb"));
         c.beams = randomBeams(*c.grid, 2000);
-    } else {  // dense_256: random values in every voxel of a 256³ block
+    } else {  // dense_N: random values in every voxel of an N³ block (256³: 64 MB, 64³: 1 MB, in cache)
+        const int N = std::stoi(name.substr(6));
         auto g = openvdb::FloatGrid::create(0.0f);
         g->setTransform(openvdb::math::Transform::createLinearTransform(0.01));
         auto acc = g->getAccessor();
         std::mt19937 rng(5);
         std::uniform_real_distribution<float> U(0.f, 1.f);
-        for (int i = 0; i < 256; ++i)
-            for (int j = 0; j < 256; ++j)
-                for (int k = 0; k < 256; ++k) acc.setValueOn(openvdb::Coord(i, j, k), U(rng));
+        for (int i = 0; i < N; ++i)
+            for (int j = 0; j < N; ++j)
+                for (int k = 0; k < N; ++k) acc.setValueOn(openvdb::Coord(i, j, k), U(rng));
         c.grid = std::make_shared<DensityGrid>(wrapFloatGrid(g));
         c.beams = randomBeams(*c.grid, 1000);
     }
@@ -175,7 +176,7 @@ void BM_FullScanOneCore(benchmark::State& st, const std::string& model, const st
 int main(int argc, char** argv)
 {
     tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-    for (const std::string n : {"empty_room", "smoke_area", "teapot_cloud", "dense_256"}) {
+    for (const std::string n : {"empty_room", "smoke_area", "teapot_cloud", "dense_256", "dense_64"}) {
         benchmark::RegisterBenchmark(("optical_depth/" + n + "/hierarchical").c_str(), BM_Hierarchical, n)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("optical_depth/" + n + "/naive_dda").c_str(), BM_Naive, n)->Unit(benchmark::kMillisecond);
     }

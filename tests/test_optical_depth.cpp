@@ -42,7 +42,12 @@ double chord(const Aabb& b, const Ray& r, double t0, double t1)
     return b.clip(r, t0, t1) ? t1 - t0 : 0.0;
 }
 
-double reference(const openvdb::FloatGrid& g, const Ray& r, double t0, double t1)
+struct RefPiece {
+    double ta, tb, v;
+};
+
+/// The ray's pieces of constant value on [t0, t1], in order.
+std::vector<RefPiece> referencePieces(const openvdb::FloatGrid& g, const Ray& r, double t0, double t1)
 {
     const auto& xf = g.transform();
     auto toIdx = [&](double t) {
@@ -59,14 +64,21 @@ double reference(const openvdb::FloatGrid& g, const Ray& r, double t0, double t1
     }
     std::sort(ts.begin(), ts.end());
     auto acc = g.getConstAccessor();
-    double sum = 0;
+    std::vector<RefPiece> out;
     for (size_t i = 0; i + 1 < ts.size(); ++i) {
         const double h = ts[i + 1] - ts[i];
         if (h <= 0) continue;
         const openvdb::Vec3d m = toIdx(0.5 * (ts[i] + ts[i + 1]));
         const openvdb::Coord c(int(std::floor(m[0] + 0.5)), int(std::floor(m[1] + 0.5)), int(std::floor(m[2] + 0.5)));
-        sum += h * acc.getValue(c);
+        out.push_back({ts[i], ts[i + 1], double(acc.getValue(c))});
     }
+    return out;
+}
+
+double reference(const openvdb::FloatGrid& g, const Ray& r, double t0, double t1)
+{
+    double sum = 0;
+    for (const RefPiece& p : referencePieces(g, r, t0, t1)) sum += p.v * (p.tb - p.ta);
     return sum;
 }
 
@@ -270,4 +282,63 @@ TEST(OpticalDepth, FirstAboveFindsTheEdge)
     EXPECT_NEAR(dg.firstAbove(r, 0, 10, 0.4), 0.95, 1e-9);
     EXPECT_EQ(dg.firstAbove(r, 0, 10, 0.6), kInf);
     EXPECT_EQ(dg.firstAbove(r, 0, 0.9, 0.4), kInf);
+}
+
+TEST(OpticalDepth, LongRaysThroughADenseBlock)
+{
+    // A 64³ block of random values: chords cross up to ~190 voxels, several of the walker's
+    // chunks. The grid's leaves fill their bounding box, so the walker finds them by its leaf
+    // table; the same block plus one far-away voxel has a box too sparse for a table, and the
+    // walker asks the tree instead. Both must match the reference, profile and first-above too.
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<double> U(0, 1);
+    auto g = makeGrid(0.05, {0.02, -0.31, 0.17});
+    {
+        auto acc = g->getAccessor();
+        for (int i = 0; i < 64; ++i)
+            for (int j = 0; j < 64; ++j)
+                for (int k = 0; k < 64; ++k) acc.setValueOn(openvdb::Coord(i - 20, j + 3, k - 40), float(U(rng)));
+    }
+    auto sparse = g->deepCopy();
+    sparse->tree().setValueOn(openvdb::Coord(3000, -2000, 1500), 0.5f);
+    const DensityGrid dense_dg = wrapFloatGrid(g), sparse_dg = wrapFloatGrid(sparse);
+    ASSERT_FALSE(dense_dg.impl().leaves.values.empty());
+    ASSERT_TRUE(sparse_dg.impl().leaves.values.empty());
+
+    const Aabb b = dense_dg.worldBounds();
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    const double threshold = 0.997;
+    int above = 0;
+    for (int n = 0; n < 60; ++n) {
+        const Vec3 d = Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5).normalized();
+        const Vec3 o = c - 6.0 * d + 0.8 * Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5);
+        const Ray r = ray(o, d);
+        const double t0 = 2.0 * U(rng), t1 = 12.0;
+        const auto pieces = referencePieces(*g, r, t0, t1);
+        double want = 0, first = kInf;
+        for (const RefPiece& p : pieces) {
+            want += p.v * (p.tb - p.ta);
+            if (first == kInf && p.v >= threshold) first = p.ta;
+        }
+        above += first < kInf;
+        for (const DensityGrid* dg : {&dense_dg, &sparse_dg}) {
+            std::vector<ProfileSegment> prof;
+            expectRel(dg->integrate(r, t0, t1, Reconstruction::Box, &prof), want, "long ray");
+            double from_prof = 0, last = t0;
+            for (const auto& s : prof) {
+                EXPECT_GE(s.t0_m, last - 1e-12);  // ascending, not overlapping
+                EXPECT_GT(s.t1_m, s.t0_m);
+                last = s.t1_m;
+                from_prof += s.density * (s.t1_m - s.t0_m);
+            }
+            EXPECT_LE(last, t1 + 1e-12);
+            expectRel(from_prof, want, "profile of a long ray");
+            const double hit = dg->firstAbove(r, t0, t1, threshold);
+            if (first == kInf)
+                EXPECT_EQ(hit, kInf);
+            else
+                EXPECT_NEAR(hit, first, 1e-9);
+        }
+    }
+    EXPECT_GT(above, 10);  // the threshold is met on many rays, often chunks into the walk
 }

@@ -21,6 +21,31 @@ void ensureOpenVdb()
     std::call_once(once, [] { openvdb::initialize(); });
 }
 
+namespace {
+
+void buildLeafTable(DensityGrid::Impl& impl)
+{
+    const auto& tree = impl.grid->tree();
+    const long long leaves = (long long)tree.leafCount();
+    if (leaves == 0) return;
+    constexpr int kLog2 = openvdb::FloatTree::LeafNodeType::LOG2DIM;
+    openvdb::CoordBBox box;  // in blocks
+    for (auto it = tree.cbeginLeaf(); it; ++it) box.expand(it->origin() >> kLog2);
+    const openvdb::Coord n = box.dim();
+    const long long blocks = (long long)n[0] * n[1] * n[2];
+    auto& t = impl.leaves;
+    if (blocks > DensityGrid::Impl::LeafTable::kMaxBlocksPerLeaf * leaves + 4096) return;
+    t.lo = box.min();
+    for (int a = 0; a < 3; ++a) t.n[a] = n[a];
+    t.values.assign(size_t(blocks), nullptr);
+    for (auto it = tree.cbeginLeaf(); it; ++it) {
+        const openvdb::Coord b = (it->origin() >> kLog2) - t.lo;
+        t.values[(size_t(b[0]) * n[1] + b[1]) * n[2] + b[2]] = it->buffer().data();
+    }
+}
+
+}  // namespace
+
 DensityGrid::DensityGrid(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
 DensityGrid::~DensityGrid() = default;
 
@@ -79,6 +104,7 @@ std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::P
     }
     impl->min_value = lo;
     impl->max_value = hi;
+    buildLeafTable(*impl);
     if (any) {
         // World bounds of the support's outer voxel faces.
         const openvdb::Vec3d a = impl->support.min().asVec3d() - 0.5,

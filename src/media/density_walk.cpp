@@ -10,8 +10,13 @@
 // cell (between voxel centres), so 2-point Gauss–Legendre per cell is exact.
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <cmath>
 
 #include "vdb_grid.hpp"
@@ -94,7 +99,64 @@ inline int argmin3(const double t[3])
     return t[2] < t[a] ? 2 : a;
 }
 
-/// Hierarchical walk with box-filtered voxels. visit(t0, t1, value) returns true to stop.
+// The voxel DDA's branch-free axis choice: a time held in a register and a mask (all ones or all
+// zeros) from comparing two times. SSE2 scalar instructions on x86-64; elsewhere the same
+// operations on the bits (build with -DSMOKESCAN_PORTABLE_DDA to test that path on x86).
+#if defined(__SSE2__) && !defined(SMOKESCAN_PORTABLE_DDA)
+struct Lane {
+    __m128d v;
+};
+inline Lane lane(double x) { return {_mm_set_sd(x)}; }
+inline double value(Lane a) { return _mm_cvtsd_f64(a.v); }
+inline Lane le(Lane a, Lane b) { return {_mm_cmple_sd(a.v, b.v)}; }
+inline Lane operator&(Lane a, Lane b) { return {_mm_and_pd(a.v, b.v)}; }
+inline Lane operator|(Lane a, Lane b) { return {_mm_or_pd(a.v, b.v)}; }
+inline Lane andNot(Lane a, Lane b) { return {_mm_andnot_pd(a.v, b.v)}; }  ///< ~a & b
+inline Lane operator+(Lane a, Lane b) { return {_mm_add_sd(a.v, b.v)}; }
+inline int bit(Lane m) { return _mm_movemask_pd(m.v) & 1; }
+#else
+struct Lane {
+    uint64_t u;
+};
+inline Lane lane(double x)
+{
+    Lane l;
+    std::memcpy(&l.u, &x, sizeof x);
+    return l;
+}
+inline double value(Lane a)
+{
+    double x;
+    std::memcpy(&x, &a.u, sizeof x);
+    return x;
+}
+inline Lane le(Lane a, Lane b) { return {-uint64_t(value(a) <= value(b))}; }
+inline Lane operator&(Lane a, Lane b) { return {a.u & b.u}; }
+inline Lane operator|(Lane a, Lane b) { return {a.u | b.u}; }
+inline Lane andNot(Lane a, Lane b) { return {~a.u & b.u}; }
+inline Lane operator+(Lane a, Lane b) { return lane(value(a) + value(b)); }
+inline int bit(Lane m) { return int(m.u & 1); }
+#endif
+
+/// Consecutive pieces of the line, structure of arrays: piece k covers [tb[k−1], tb[k]) (the
+/// first starts at ta0) with the value *p[k] (a voxel, or a tile's value kept in `tile`).
+template <int N>
+struct Pieces {
+    double ta0 = 0;
+    double tb[N];
+    const float* p[N];
+    float tile[N];
+    int n = 0;
+};
+
+/// Hierarchical walk with box-filtered voxels. visit(t0, t1, value) is called for each piece of
+/// non-zero density, in order, and returns true to stop.
+///
+/// The walk is memory-bound on large grids (a leaf's voxels are a separate heap block), so it runs
+/// one chunk ahead of the visits: the DDA, on registers and a cached table alone, writes the pieces
+/// of chunk k+1 and prefetches their voxels while chunk k — whose loads were issued a chunk
+/// earlier — is read and visited. The misses of many leaves then overlap instead of stalling one
+/// by one.
 template <class Visit>
 void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, Visit&& visit)
 {
@@ -105,70 +167,137 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
                 Eigen::Vector3d(smax[0] + 1.0, smax[1] + 1.0, smax[2] + 1.0), t0, t1))
         return;
     Acc acc(g.grid->tree());
+    const auto& table = g.leaves;
+    // Byte offsets, in the table, of the next leaf along each axis in the direction of travel.
+    const intptr_t table_step[3] = {
+        intptr_t(r.step[0]) * table.n[1] * table.n[2] * intptr_t(sizeof(const float*)),
+        intptr_t(r.step[1]) * table.n[2] * intptr_t(sizeof(const float*)),
+        intptr_t(r.step[2]) * intptr_t(sizeof(const float*))};
+    // The values of the leaf holding cell c, or nullptr when c is not in a leaf.
+    auto leafValues = [&](const Coord& c) -> const float* {
+        if (table.values.empty()) {
+            const LeafT* leaf = acc.probeConstLeaf(c);
+            return leaf ? leaf->buffer().data() : nullptr;
+        }
+        int b[3];
+        for (int a = 0; a < 3; ++a) {
+            b[a] = (c[a] >> LeafT::LOG2DIM) - table.lo[a];
+            if (unsigned(b[a]) >= unsigned(table.n[a])) return nullptr;
+        }
+        const size_t i = (size_t(b[0]) * table.n[1] + b[1]) * table.n[2] + b[2];
+        // The line leaves through one of three faces: fetch those neighbours' entries now, so
+        // the next lookup does not wait for the table (which the voxel stream evicts from cache).
+        const uintptr_t base = uintptr_t(table.values.data() + i);
+        for (int a = 0; a < 3; ++a) __builtin_prefetch((const void*)(base + table_step[a]));
+        return table.values[i];
+    };
+
+    double t = t0;  // where the walk is: the end of the last piece written
+    // A line crosses at most 3·8 − 2 voxels of a leaf, so a chunk closed after kChunk pieces fits.
+    constexpr int kChunk = 96, kCap = kChunk + 3 * kLeafDim;
+    Pieces<kCap> buf[2];
+    int cur = 0;
+    buf[cur].ta0 = t0;
+    // Visits the previous chunk and starts a new one; true when visit stopped. Rounding may leave a
+    // piece of zero or (by an ulp) negative length: it is skipped, so the pieces visited ascend.
+    auto flush = [&]() {
+        Pieces<kCap>& q = buf[cur ^ 1];
+        double ta = q.ta0;
+        for (int k = 0; k < q.n; ++k) {
+            const double tb = q.tb[k];
+            if (!(tb > ta)) continue;
+            const float v = *q.p[k];
+            if (v != 0.0f && visit(ta, tb, double(v))) return true;
+            ta = tb;
+        }
+        q.n = 0;
+        q.ta0 = t;
+        cur ^= 1;
+        return false;
+    };
+
+    // Per-axis constants of the voxel DDA: time per voxel, offset per step inside a leaf.
+    static constexpr int kStride[3] = {kLeafDim * kLeafDim, kLeafDim, 1};
+    const Lane dx = lane(r.still[0] ? 0.0 : std::abs(r.inv[0])),
+               dy = lane(r.still[1] ? 0.0 : std::abs(r.inv[1])),
+               dz = lane(r.still[2] ? 0.0 : std::abs(r.inv[2]));
+    int doff[3];
+    for (int a = 0; a < 3; ++a) doff[a] = r.step[a] * kStride[a];
+
     Coord c;
     for (int a = 0; a < 3; ++a)
         c[a] = std::clamp(cellOf(r.o[a] + r.d[a] * t0, r.d[a]), smin[a], smax[a]);
-    double t = t0;
     while (t < t1 && g.support.isInside(c)) {
-        // One query per region: where does the value of cell c live?
-        const int depth = acc.getValueDepth(c);
-        if (depth == int(TreeT::DEPTH) - 1) {
-            // Inside a leaf. The walk is memory-bound (a leaf's voxels are a separate heap block),
-            // so first run the DDA on integers alone — offsets and lengths, prefetching each voxel
-            // — then gather: the loads are independent and their cache misses overlap.
-            const LeafT* leaf = acc.probeConstLeaf(c);
-            const float* data = leaf->buffer().data();
-            int lc[3], doff[3];
+        Pieces<kCap>& out = buf[cur];
+        int n = out.n;
+        if (const float* data = leafValues(c)) {
+            // Inside a leaf: Amanatides–Woo, one piece per voxel. Boundary times are computed from
+            // integers on entry and advanced by dt inside the leaf (≤ 8 additions per axis). They
+            // live in vector registers and the axis is chosen by bit masks, so the loop has no
+            // data-dependent branch to mispredict.
+            int off = 0, left[3];  // steps left before leaving the leaf along each axis
             double tn[3];
-            static constexpr int kStride[3] = {kLeafDim * kLeafDim, kLeafDim, 1};
-            int off = 0;
             for (int a = 0; a < 3; ++a) {
-                lc[a] = c[a] & (kLeafDim - 1);
-                off += lc[a] * kStride[a];
-                doff[a] = r.step[a] * kStride[a];
+                const int l = c[a] & (kLeafDim - 1);
+                off += l * kStride[a];
+                left[a] = r.still[a] ? kLeafDim : (r.step[a] > 0 ? kLeafDim - 1 - l : l);
                 tn[a] = r.boundaryT(a, c[a], 1);
             }
-            struct Piece { int off; double ta, tb; };
-            Piece pieces[3 * kLeafDim];  // a line crosses at most 3·8 − 2 voxels of a leaf
-            int n = 0;
-            bool end = false;
+            Lane tx = lane(tn[0]), ty = lane(tn[1]), tz = lane(tn[2]);
+            int lx = left[0], ly = left[1], lz = left[2];
+            double te;
             for (;;) {
-                const int a = argmin3(tn);
-                const double te = std::min(tn[a], t1);
-                if (te > t) {
-                    __builtin_prefetch(data + off);
-                    pieces[n++] = {off, t, te};
-                }
-                t = std::max(t, te);
-                if (t >= t1) {
-                    end = true;
-                    break;
-                }
-                c[a] += r.step[a];
-                lc[a] += r.step[a];
-                if (unsigned(lc[a]) >= unsigned(kLeafDim)) break;  // left the leaf
-                off += doff[a];
-                tn[a] = r.boundaryT(a, c[a], 1);
+                // The nearest boundary; ties go to the lowest axis.
+                const Lane mx = le(tx, ty) & le(tx, tz);
+                const Lane my = andNot(mx, le(ty, tz));
+                te = std::min(std::min(std::min(value(tx), value(ty)), value(tz)), t1);
+                out.tb[n] = te;
+                out.p[n] = data + off;
+                __builtin_prefetch(data + off);
+                ++n;
+                if (te >= t1) break;
+                const int sx = bit(mx), sy = bit(my), sz = 1 - sx - sy;
+                const int axis = 2 - 2 * sx - sy;
+                lx -= sx;
+                ly -= sy;
+                lz -= sz;
+                if ((lx | ly | lz) < 0) break;  // left the leaf
+                off += doff[axis];
+                tx = tx + (mx & dx);
+                ty = ty + (my & dy);
+                tz = tz + andNot(mx | my, dz);
             }
-            for (int k = 0; k < n; ++k)
-                if (visit(pieces[k].ta, pieces[k].tb, double(data[pieces[k].off]))) return;
-            if (end) return;
+            out.n = n;
+            t = std::max(t, te);
+            if (te >= t1) break;
+            // The cell entered: every axis moved by the steps it took in the leaf; the exit axis
+            // by one more, out of the leaf.
+            const int now[3] = {lx, ly, lz};
+            for (int a = 0; a < 3; ++a) c[a] += r.step[a] * (left[a] - now[a]);
         } else {
-            const double v = depth < 0 ? 0.0 : double(acc.getValue(c));
+            // Background or a constant tile: the whole cube in one step.
+            const int depth = acc.getValueDepth(c);
+            const float v = depth < 0 ? 0.0f : acc.getValue(c);
             const int S = regionSize(depth);
             const Coord lo(c[0] & ~(S - 1), c[1] & ~(S - 1), c[2] & ~(S - 1));
             double tn[3];
             for (int a = 0; a < 3; ++a) tn[a] = r.boundaryT(a, lo[a], S);
             const int a = argmin3(tn);
             const double te = std::min(tn[a], t1);
-            if (te > t && v != 0.0 && visit(t, te, v)) return;
+            out.tb[n] = te;
+            out.tile[n] = v;
+            out.p[n] = &out.tile[n];
+            out.n = n + 1;
             t = std::max(t, te);
-            if (t >= t1) return;
-            for (int b = 0; b < 3; ++b)
-                if (b != a) c[b] = std::clamp(cellOf(r.o[b] + r.d[b] * t, r.d[b]), lo[b], lo[b] + S - 1);
-            c[a] = r.step[a] > 0 ? lo[a] + S : lo[a] - 1;
+            if (t < t1) {
+                for (int b = 0; b < 3; ++b)
+                    if (b != a) c[b] = std::clamp(cellOf(r.o[b] + r.d[b] * t, r.d[b]), lo[b], lo[b] + S - 1);
+                c[a] = r.step[a] > 0 ? lo[a] + S : lo[a] - 1;
+            }
         }
+        if (buf[cur].n >= kChunk && flush()) return;
     }
+    if (!flush()) flush();
 }
 
 /// Per dual cell walk with trilinear reconstruction; visit(t0, t1, mean density on the piece).

@@ -18,6 +18,17 @@ struct DensityGrid::Impl {
     Aabb world_bounds;
     double min_value = 0, max_value = 0;
 
+    /// Where each leaf's values are, by 8³ block over the leaves' bounding box: the box walker finds
+    /// a leaf with one load from this small array (it stays in cache) instead of descending the
+    /// tree, whose node loads miss cache on a large grid and stall the walk. Empty (the walker then
+    /// asks the tree) when the box would hold more than kMaxBlocksPerLeaf blocks per leaf.
+    struct LeafTable {
+        static constexpr long long kMaxBlocksPerLeaf = 8;  ///< ≤ 64 B of table per 2 KB leaf
+        openvdb::Coord lo;                                  ///< lowest block (leaf origin / 8)
+        int n[3] = {0, 0, 0};                               ///< blocks along x, y, z
+        std::vector<const float*> values;                   ///< x-major; nullptr: no leaf there
+    } leaves;
+
     /// Validates `grid` (finite, non-negative values, zero background, uniform non-singular
     /// linear transform) and caches what the walkers need. `where` names the source for errors.
     static std::shared_ptr<Impl> make(openvdb::FloatGrid::Ptr grid, const std::string& where,
