@@ -185,11 +185,14 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
             if (unsigned(b[a]) >= unsigned(table.n[a])) return nullptr;
         }
         const size_t i = (size_t(b[0]) * table.n[1] + b[1]) * table.n[2] + b[2];
-        // The line leaves through one of three faces: fetch those neighbours' entries now, so
-        // the next lookup does not wait for the table (which the voxel stream evicts from cache).
-        const uintptr_t base = uintptr_t(table.values.data() + i);
-        for (int a = 0; a < 3; ++a) __builtin_prefetch((const void*)(base + table_step[a]));
-        return table.values[i];
+        const float* values = table.values[i];
+        if (values) {
+            // The line leaves through one of three faces: fetch those neighbours' entries now, so
+            // the next lookup does not wait for the table (which the voxel stream evicts from cache).
+            const uintptr_t base = uintptr_t(table.values.data() + i);
+            for (int a = 0; a < 3; ++a) __builtin_prefetch((const void*)(base + table_step[a]));
+        }
+        return values;
     };
 
     double t = t0;  // where the walk is: the end of the last piece written
