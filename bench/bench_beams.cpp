@@ -7,6 +7,7 @@
 #include <openvdb/openvdb.h>
 #include <tbb/global_control.h>
 
+#include <chrono>
 #include <random>
 
 #include "../src/media/vdb_grid.hpp"
@@ -153,6 +154,42 @@ void BM_Naive(benchmark::State& st, const std::string& name)
     report(st, c);
 }
 
+/// Both walks over the same beams in alternating order within each iteration, so that the
+/// machine's slow spells (it is shared) fall on both: speed-up = naive time / smokescan time.
+void BM_SpeedUp(benchmark::State& st, const std::string& name)
+{
+    using Clock = std::chrono::steady_clock;
+    const Case& c = getCase(name);
+    double t_hier = 0, t_naive = 0;
+    auto hier = [&] {
+        const auto a = Clock::now();
+        double s = 0;
+        for (const Beam& b : c.beams) s += c.grid->integrate(b.ray, b.t0, b.t1);
+        benchmark::DoNotOptimize(s);
+        t_hier += std::chrono::duration<double>(Clock::now() - a).count();
+    };
+    auto naive = [&] {
+        const auto a = Clock::now();
+        double s = 0;
+        long long v = 0;
+        for (const Beam& b : c.beams) s += naiveWalk(*c.grid, b, v);
+        benchmark::DoNotOptimize(s);
+        t_naive += std::chrono::duration<double>(Clock::now() - a).count();
+    };
+    bool hier_first = true;
+    for (auto _ : st) {
+        if (hier_first) {
+            hier();
+            naive();
+        } else {
+            naive();
+            hier();
+        }
+        hier_first = !hier_first;
+    }
+    st.counters["speed-up"] = t_naive / t_hier;
+}
+
 /// A full scan of the bocas room in smoke (t = 150 s) on one core: URG-04LX with the paper or the
 /// physical model, and the LMS200 (physical) of the plume scene at t = 60 s.
 void BM_FullScanOneCore(benchmark::State& st, const std::string& model, const std::string& scene_name)
@@ -179,6 +216,7 @@ int main(int argc, char** argv)
     for (const std::string n : {"empty_room", "smoke_area", "teapot_cloud", "dense_256", "dense_64"}) {
         benchmark::RegisterBenchmark(("optical_depth/" + n + "/hierarchical").c_str(), BM_Hierarchical, n)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("optical_depth/" + n + "/naive_dda").c_str(), BM_Naive, n)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("optical_depth/" + n + "/speed-up").c_str(), BM_SpeedUp, n)->Unit(benchmark::kMillisecond);
     }
     benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/paper", BM_FullScanOneCore, "paper", "bocas")->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/physical", BM_FullScanOneCore, "physical", "bocas")->Unit(benchmark::kMicrosecond);

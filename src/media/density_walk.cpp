@@ -226,6 +226,17 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
                dz = lane(r.still[2] ? 0.0 : std::abs(r.inv[2]));
     int doff[3];
     for (int a = 0; a < 3; ++a) doff[a] = r.step[a] * kStride[a];
+    // Leaf entry without branches: steps left in the leaf = left0 + left_per_l·(cell & 7), and the
+    // next boundary time = (cell + up − o)·inv + never (never = ∞ on an axis without motion).
+    int left0[3], left_per_l[3], up[3];
+    double inv[3], never[3];
+    for (int a = 0; a < 3; ++a) {
+        left0[a] = r.still[a] ? kLeafDim : (r.step[a] > 0 ? kLeafDim - 1 : 0);
+        left_per_l[a] = r.still[a] ? 0 : -r.step[a];
+        up[a] = r.step[a] > 0 ? 1 : 0;
+        inv[a] = r.still[a] ? 0.0 : r.inv[a];
+        never[a] = r.still[a] ? kInf : 0.0;
+    }
 
     Coord c;
     for (int a = 0; a < 3; ++a)
@@ -243,8 +254,8 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
             for (int a = 0; a < 3; ++a) {
                 const int l = c[a] & (kLeafDim - 1);
                 off += l * kStride[a];
-                left[a] = r.still[a] ? kLeafDim : (r.step[a] > 0 ? kLeafDim - 1 - l : l);
-                tn[a] = r.boundaryT(a, c[a], 1);
+                left[a] = left0[a] + left_per_l[a] * l;
+                tn[a] = (double(c[a] + up[a]) - r.o[a]) * inv[a] + never[a];  // = r.boundaryT(a, c[a], 1)
             }
             Lane tx = lane(tn[0]), ty = lane(tn[1]), tz = lane(tn[2]);
             int lx = left[0], ly = left[1], lz = left[2];
