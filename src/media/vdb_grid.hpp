@@ -38,7 +38,8 @@ struct DensityGrid::Impl {
 /// Calls openvdb::initialize() once.
 void ensureOpenVdb();
 
-/// Wraps a FloatGrid already in memory (tests and builders).
+/// Wraps a FloatGrid already in memory (tests and builders). The grid must not change afterwards:
+/// the wrapper caches its support, value range and the addresses of its leaves' values.
 DensityGrid wrapFloatGrid(openvdb::FloatGrid::Ptr grid, const std::string& where = "grid");
 
 }  // namespace smokescan
