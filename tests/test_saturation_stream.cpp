@@ -129,3 +129,27 @@ TEST(SaturationStream, RendererRefusesACameraThatMissesTheTarget)
     small.camera = "nobody";
     EXPECT_THROW(SaturationRenderer(scene, surfaces, small), Error);
 }
+
+// The target's patches, as both the renderer and `saturation --ids` find them from object ids.
+TEST(SaturationStream, TargetPatchesComeFromSurfaceNames)
+{
+    const Scene scene = loadScene("bocas");
+    const TargetPatches t = targetPatches(scene, "target_");
+    EXPECT_EQ(t.names, (std::vector<std::string>{"blue", "yellow", "gold"}));
+    ASSERT_EQ(t.patch_of.size(), scene.surfaces.size());
+    for (size_t i = 0; i < scene.surfaces.size(); ++i) {
+        const std::string& n = scene.surfaces[i].name;
+        if (n.rfind("target_", 0) == 0)
+            EXPECT_EQ("target_" + t.names.at(size_t(t.of(int(i)))), n);
+        else
+            EXPECT_EQ(t.of(int(i)), -1) << n;
+    }
+    EXPECT_EQ(t.of(-1), -1);  // background pixels
+    EXPECT_EQ(t.of(int(scene.surfaces.size())), -1);
+    try {
+        targetPatches(scene, "poster_");
+        FAIL() << "a prefix no surface has must be refused";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("poster_*"), std::string::npos) << e.what();
+    }
+}

@@ -8,33 +8,35 @@
 
 namespace smokescan {
 
+TargetPatches targetPatches(const Scene& scene, const std::string& prefix)
+{
+    TargetPatches t;
+    t.patch_of.assign(scene.surfaces.size(), -1);
+    for (size_t i = 0; i < scene.surfaces.size(); ++i) {
+        const std::string& n = scene.surfaces[i].name;
+        if (n.rfind(prefix, 0) != 0) continue;
+        const std::string p = n.substr(prefix.size());
+        const auto it = std::find(t.names.begin(), t.names.end(), p);
+        t.patch_of[i] = int(it - t.names.begin());
+        if (it == t.names.end()) t.names.push_back(p);
+    }
+    if (t.names.empty()) throw Error(scene.source, "has no target surfaces named '" + prefix + "*'");
+    return t;
+}
+
 TargetSaturation measureTargetSaturation(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& rc,
                                          const std::string& target_prefix, Image* display, Image* ids)
 {
-    // Surface index → patch number (−1: not the target).
-    std::vector<int> patch_of(scene.surfaces.size(), -1);
-    std::vector<std::string> names;
-    for (size_t i = 0; i < scene.surfaces.size(); ++i) {
-        const std::string& n = scene.surfaces[i].name;
-        if (n.rfind(target_prefix, 0) != 0) continue;
-        const std::string p = n.substr(target_prefix.size());
-        const auto it = std::find(names.begin(), names.end(), p);
-        patch_of[i] = int(it - names.begin());
-        if (it == names.end()) names.push_back(p);
-    }
-    if (names.empty()) throw Error(scene.source, "no target surfaces (names starting with '" + target_prefix + "')");
+    const TargetPatches target = targetPatches(scene, target_prefix);
     const RenderResult r = render(scene, surfaces, rc);
     TargetSaturation out;
     const Image disp = toDisplay(r.radiance, 0.0, &out.exposure);
-    auto patchAt = [&](int x, int y) {
-        const int id = int(r.ids.at(x, y, 0));
-        return id >= 0 && size_t(id) < patch_of.size() ? patch_of[size_t(id)] : -1;
-    };
+    auto patchAt = [&](int x, int y) { return target.of(int(r.ids.at(x, y, 0))); };
     out.all = maskedSaturation(disp, [&](int x, int y) { return patchAt(x, y) >= 0; });
     if (out.all.pixels == 0) throw Error(scene.source, "the camera does not see the target '" + target_prefix + "*'");
-    for (size_t p = 0; p < names.size(); ++p) {
+    for (size_t p = 0; p < target.names.size(); ++p) {
         const auto s = maskedSaturation(disp, [&](int x, int y) { return patchAt(x, y) == int(p); });
-        if (s.pixels > 0) out.patches[names[p]] = s;
+        if (s.pixels > 0) out.patches[target.names[p]] = s;
     }
     if (display) *display = disp;
     if (ids) *ids = r.ids;

@@ -14,6 +14,7 @@
 
 #include "commands.hpp"
 #include "smokescan/calib/calibration.hpp"
+#include "smokescan/calib/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -187,20 +188,17 @@ int runSaturation(const SatArgs& a)
     if (!a.ids.empty() && a.scene.empty()) throw Error("--ids", "needs --scene to name the objects");
     const auto frames = framesOf(a.inputs);
     std::vector<std::string> id_frames;
-    std::map<int, std::string> patch_of;
+    TargetPatches target;  // from the object ids, with --ids
     if (!a.ids.empty()) {
         id_frames = framesOf({a.ids});
         if (id_frames.size() != frames.size())
             throw Error(a.ids, "holds " + std::to_string(id_frames.size()) + " id images for " + std::to_string(frames.size()) + " frames");
-        const Scene scene = loadScene(a.scene);
-        for (size_t i = 0; i < scene.surfaces.size(); ++i)
-            if (scene.surfaces[i].name.rfind(a.prefix, 0) == 0) patch_of[int(i)] = scene.surfaces[i].name.substr(a.prefix.size());
-        if (patch_of.empty()) throw Error(a.scene, "has no surfaces named '" + a.prefix + "*'");
+        target = targetPatches(loadScene(a.scene), a.prefix);
     }
     const auto times = a.timestamps.empty() ? std::vector<double>{} : readTimestamps(a.timestamps, frames);
     std::vector<std::string> names;
     for (const auto& p : patches) names.push_back(p.name);
-    for (const auto& [id, n] : patch_of)
+    for (const auto& n : target.names)
         if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
     AtomicFile f(a.out);
     std::ostream& o = f.stream();
@@ -232,8 +230,8 @@ int runSaturation(const SatArgs& a)
                         break;
                     }
                 if (n.empty() && !id_frames.empty()) {
-                    const auto it = patch_of.find(int(ids.at(x, y, object_ch)));
-                    if (it != patch_of.end()) n = it->second;
+                    const int p = target.of(int(ids.at(x, y, object_ch)));
+                    if (p >= 0) n = target.names[size_t(p)];
                 }
                 if (!n.empty()) label[size_t(y) * img.width + x] = int(std::find(names.begin(), names.end(), n) - names.begin());
             }
