@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/order_stats.hpp"
 
 namespace smokescan {
 namespace {
@@ -125,10 +126,7 @@ std::vector<BeamGroup> beamGroupsFromScene(const Scene& scene, const SurfaceSet&
         else g.intervals_rad.emplace_back(a - h, a + h);
         ranges[s].push_back(range[size_t(i)]);
     }
-    for (auto& [s, r] : ranges) {
-        std::nth_element(r.begin(), r.begin() + long(r.size() / 2), r.end());
-        out[index[s]].range_m = r[r.size() / 2];
-    }
+    for (auto& [s, r] : ranges) out[index[s]].range_m = median(std::move(r));
     return out;
 }
 

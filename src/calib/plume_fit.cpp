@@ -6,6 +6,7 @@
 #include <ceres/ceres.h>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/order_stats.hpp"
 #include "binomial_deviance.hpp"
 
 namespace smokescan {
@@ -42,13 +43,6 @@ struct ShareResidual {
         return true;
     }
 };
-
-double median(std::vector<double> v)
-{
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 }  // namespace
 

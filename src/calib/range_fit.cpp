@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "smokescan/calib/sensor_fit.hpp"
+#include "smokescan/core/order_stats.hpp"
 
 namespace smokescan {
 namespace {
@@ -50,13 +51,6 @@ Line fitLine(const std::vector<double>& x, const std::vector<double>& y, const s
     l.b = {p[1], std::sqrt(c[3] * scale)};
     l.ok = true;
     return l;
-}
-
-double median(std::vector<double> v)
-{
-    if (v.empty()) return NAN;
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "smokescan/calib/saturation.hpp"
+#include "smokescan/core/order_stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,10 +24,7 @@ SaturationStats saturationStats(std::vector<double> v)
     }
     s.mean = sum / v.size();
     s.stddev = std::sqrt(std::max(0.0, sum2 / v.size() - s.mean * s.mean));
-    const size_t mid = v.size() / 2;
-    std::nth_element(v.begin(), v.begin() + mid, v.end());
-    s.median = v[mid];
-    if (v.size() % 2 == 0) s.median = 0.5 * (s.median + *std::max_element(v.begin(), v.begin() + mid));
+    s.median = median(std::move(v));
     return s;
 }
 

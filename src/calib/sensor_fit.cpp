@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/order_stats.hpp"
 #include "threshold_fit.hpp"
 
 namespace smokescan {
@@ -22,13 +23,6 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 
     char buf[256];
     std::snprintf(buf, sizeof buf, f, a, b, c, d);
     return buf;
-}
-
-double quantile(std::vector<double> v, double q)
-{
-    if (v.empty()) return NAN;
-    std::sort(v.begin(), v.end());
-    return v[size_t(std::clamp(q, 0.0, 1.0) * double(v.size() - 1))];
 }
 
 /// The series averaged over a centred window of 2h + 1 samples (shrunk at the ends). The fit needs

@@ -5,6 +5,7 @@
 // covariance uses Pearson residuals with the weights at the solution: their JᵀJ is the Fisher
 // information, their score sums the cluster-robust middle.
 #include "threshold_fit.hpp"
+#include "smokescan/core/order_stats.hpp"
 
 #include <ceres/ceres.h>
 
@@ -83,8 +84,7 @@ double noiseOfSeries(const std::vector<double>& y)
     if (y.size() < 5) return 0;
     std::vector<double> d;
     for (size_t i = 1; i + 1 < y.size(); ++i) d.push_back(std::abs(y[i - 1] - 2 * y[i] + y[i + 1]));
-    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
-    return d[d.size() / 2] / 0.6745 / std::sqrt(6.0);
+    return median(std::move(d)) / 0.6745 / std::sqrt(6.0);
 }
 
 ThresholdSolution solveThresholds(const ThresholdProblem& p)
