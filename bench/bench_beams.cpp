@@ -131,26 +131,33 @@ void report(benchmark::State& st, const Case& c)
         benchmark::Counter(double(c.voxels_per_pass), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+/// One pass of each walk over the case's beams.
+void hierarchicalPass(const Case& c)
+{
+    double s = 0;
+    for (const Beam& b : c.beams) s += c.grid->integrate(b.ray, b.t0, b.t1);
+    benchmark::DoNotOptimize(s);
+}
+
+void naivePass(const Case& c)
+{
+    double s = 0;
+    long long v = 0;
+    for (const Beam& b : c.beams) s += naiveWalk(*c.grid, b, v);
+    benchmark::DoNotOptimize(s);
+}
+
 void BM_Hierarchical(benchmark::State& st, const std::string& name)
 {
     const Case& c = getCase(name);
-    for (auto _ : st) {
-        double s = 0;
-        for (const Beam& b : c.beams) s += c.grid->integrate(b.ray, b.t0, b.t1);
-        benchmark::DoNotOptimize(s);
-    }
+    for (auto _ : st) hierarchicalPass(c);
     report(st, c);
 }
 
 void BM_Naive(benchmark::State& st, const std::string& name)
 {
     const Case& c = getCase(name);
-    for (auto _ : st) {
-        double s = 0;
-        long long v = 0;
-        for (const Beam& b : c.beams) s += naiveWalk(*c.grid, b, v);
-        benchmark::DoNotOptimize(s);
-    }
+    for (auto _ : st) naivePass(c);
     report(st, c);
 }
 
@@ -161,30 +168,16 @@ void BM_SpeedUp(benchmark::State& st, const std::string& name)
     using Clock = std::chrono::steady_clock;
     const Case& c = getCase(name);
     double t_hier = 0, t_naive = 0;
-    auto hier = [&] {
+    auto timed = [&](void (*pass)(const Case&), double& total) {
         const auto a = Clock::now();
-        double s = 0;
-        for (const Beam& b : c.beams) s += c.grid->integrate(b.ray, b.t0, b.t1);
-        benchmark::DoNotOptimize(s);
-        t_hier += std::chrono::duration<double>(Clock::now() - a).count();
-    };
-    auto naive = [&] {
-        const auto a = Clock::now();
-        double s = 0;
-        long long v = 0;
-        for (const Beam& b : c.beams) s += naiveWalk(*c.grid, b, v);
-        benchmark::DoNotOptimize(s);
-        t_naive += std::chrono::duration<double>(Clock::now() - a).count();
+        pass(c);
+        total += std::chrono::duration<double>(Clock::now() - a).count();
     };
     bool hier_first = true;
     for (auto _ : st) {
-        if (hier_first) {
-            hier();
-            naive();
-        } else {
-            naive();
-            hier();
-        }
+        if (hier_first) timed(hierarchicalPass, t_hier);
+        timed(naivePass, t_naive);
+        if (!hier_first) timed(hierarchicalPass, t_hier);
         hier_first = !hier_first;
     }
     st.counters["speed-up"] = t_naive / t_hier;

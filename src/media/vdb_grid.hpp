@@ -19,9 +19,10 @@ struct DensityGrid::Impl {
     double min_value = 0, max_value = 0;
 
     /// Where each leaf's values are, by 8³ block over the leaves' bounding box: the box walker finds
-    /// a leaf with one load from this small array (it stays in cache) instead of descending the
-    /// tree, whose node loads miss cache on a large grid and stall the walk. Empty (the walker then
-    /// asks the tree) when the box would hold more than kMaxBlocksPerLeaf blocks per leaf.
+    /// a leaf with one load from this small array, which it can prefetch ahead, instead of
+    /// descending the tree, whose dependent node loads miss cache on a large grid and stall the
+    /// walk. Empty (the walker then asks the tree) when the box would hold more than
+    /// kMaxBlocksPerLeaf blocks per leaf.
     struct LeafTable {
         static constexpr long long kMaxBlocksPerLeaf = 8;  ///< ≤ 64 B of table per 2 KB leaf
         openvdb::Coord lo;                                  ///< lowest block (leaf origin / 8)
