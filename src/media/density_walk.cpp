@@ -1,10 +1,11 @@
 // Exact line integrals through an OpenVDB density grid.
 //
 // Box reconstruction: a hierarchical DDA. In "cell space" (index + ½) voxel c covers [c, c+1)³, so
-// every node and tile is an aligned power-of-two cube. At each cell the walker asks the tree where
-// the value lives: inside a leaf it steps voxel by voxel (Amanatides–Woo, boundaries recomputed
-// from integers so nothing drifts); anywhere else (background, constant tile) it crosses the whole
-// constant cube in one step. Each step contributes value × length exactly.
+// every node and tile is an aligned power-of-two cube. At each cell the walker finds where the
+// value lives (the grid's leaf table, else the tree): inside a leaf it steps voxel by voxel
+// (Amanatides–Woo, boundaries recomputed from integers on entering the leaf); anywhere else
+// (background, constant tile) it crosses the whole constant cube in one step. Each step
+// contributes value × length exactly.
 //
 // Trilinear reconstruction: the interpolant is a cubic polynomial along the ray inside each dual
 // cell (between voxel centres), so 2-point Gauss–Legendre per cell is exact.
