@@ -15,6 +15,26 @@ double scalar(const J& j)
     return j.a;
 }
 
+/// @brief The two tails of a probit (normal CDF) or logistic link at z: p = F(z) and q = F(−z),
+/// each computed as its own tail (1 − p loses every digit where p → 1). A tail that underflowed
+/// (a trial step far out) is held at 1e-300: the deviance stays finite, with no gradient there.
+template <class T>
+void tails(const T& z, bool logistic, T& p, T& q)
+{
+    using std::erfc;
+    using std::exp;
+    if (logistic) {
+        p = T(1) / (T(1) + exp(-z));
+        q = T(1) / (T(1) + exp(z));
+    } else {
+        p = T(0.5) * erfc(-z / T(M_SQRT2));
+        q = T(0.5) * erfc(z / T(M_SQRT2));
+    }
+    const double tiny = 1e-300;
+    if (!(scalar(p) > tiny)) p = T(tiny);
+    if (!(scalar(q) > tiny)) q = T(tiny);
+}
+
 /// @brief sign(e − n·p)·√d with d = 2[e·ln(e/(n·p)) + (n − e)·ln((n − e)/(n·q))].
 /// @param p, q the event's probability and its complement, each computed as its own tail by the
 ///        caller (1 − p loses every digit where p → 1); both must be > 0

@@ -34,10 +34,8 @@ struct ShareResidual {
     bool operator()(const T* x50_s, T* r) const
     {
         const T z = x50_s[1] * (T(x) - x50_s[0]);
-        T p = T(1) / (T(1) + exp(-z)), q = T(1) / (T(1) + exp(z));
-        // a tail that underflowed (a trial step far out): finite deviance, no gradient there
-        if (!(detail::scalar(p) > 1e-300)) p = T(1e-300);
-        if (!(detail::scalar(q) > 1e-300)) q = T(1e-300);
+        T p, q;
+        detail::tails(z, /*logistic=*/true, p, q);
         if (pearson) r[0] = (T(echo / n) - p) * T(inv_sd);
         else r[0] = detail::signedDeviance(n, echo, p, q);
         return true;

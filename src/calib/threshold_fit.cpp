@@ -26,22 +26,6 @@ T probability(const T& S, const T& S_star, const T& w, bool logistic)
     return T(0.5) * erfc(-z / T(M_SQRT2));
 }
 
-/// P(error) and P(no error), each computed as its own tail (1 − p loses every digit where p → 1).
-template <class T>
-void tails(const T& z, bool logistic, T& p, T& q)
-{
-    if (logistic) {
-        p = T(1) / (T(1) + exp(-z));
-        q = T(1) / (T(1) + exp(z));
-    } else {
-        p = T(0.5) * erfc(-z / T(M_SQRT2));
-        q = T(0.5) * erfc(z / T(M_SQRT2));
-    }
-    const double tiny = 1e-300;  // a tail that underflowed: finite deviance, no gradient there
-    if (!(scalar(p) > tiny)) p = T(tiny);
-    if (!(scalar(q) > tiny)) q = T(tiny);
-}
-
 /// The scan's signed deviance residual (binomial_deviance.hpp).
 struct DevianceResidual {
     const SaturationSeries* sat;
