@@ -117,7 +117,7 @@ TEST(Cli, ScanPhysicalModelAndSensorFiles)
     expectBad("scan bocas --from 0 --to 1 --model magic --out " + file("m.log"), "unknown sensor model", file("m.log"));
     const std::string bad = file("bad_sensor.toml", "type = \"urg04lx\"\n[physical]\nnoise_floor = \"loud\"\n");
     expectBad("scan bocas --from 0 --to 1 --sensor-file " + bad + " --out " + file("b.log"), "bad_sensor.toml:3", file("b.log"));
-    expectBad("scan bocas --from 0 --to 1 --sensor-file " + file("none.toml") + " --out " + file("n.log"), "cannot open sensor file",
+    expectBad("scan bocas --from 0 --to 1 --sensor-file " + file("none.toml") + " --out " + file("n.log"), "no such sensor file",
               file("n.log"));
 }
 
@@ -171,7 +171,7 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput)
     expectBad("render " + no_cam + " --out " + png, "has no camera", png);
     const std::string zero = file("zero.toml", "[[cameras]]\nname = \"c\"\nwidth = 0\n");
     expectBad("render " + zero + " --out " + png, zero + ":3: cameras[0].width and height must be > 0", png);
-    expectBad("render bocas --width 0 --out " + png, "--width: resolution must be > 0", png);
+    expectBad("render bocas --width 0 --out " + png, "--width: '0' is outside", png);
     const std::string nan_pose = file("nan.toml", "[[cameras]]\nname = \"c\"\nposition = [nan, 0.0, 0.0]\n");
     expectBad("render " + nan_pose + " --out " + png, "cameras[0].position must be an array of 3 finite numbers", png);
     expectBad("render bocas --spp 1 --width 8 --height 6 --out /nonexistent/dir/f.png", "/nonexistent/dir/f.png: cannot write",
@@ -182,7 +182,7 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput)
     const std::string vdb_out = file("never.vdb");
     expectBad("volume info ../shared/data/vdb/teapot_cloud.vdb --grid smoke", "no grid named 'smoke'", vdb_out);
     expectBad("volume export nothere.vdb --out " + vdb_out, "nothere.vdb: no such file", vdb_out);
-    expectBad("volume export ../shared/data/vdb/teapot_cloud.vdb --scale -1 --out " + vdb_out, "scale must be", vdb_out);
+    expectBad("volume export ../shared/data/vdb/teapot_cloud.vdb --scale -1 --out " + vdb_out, "--scale: '-1' must be > 0", vdb_out);
 }
 
 // A simulated recorded run (the laser's log and the camera's saturation 3 s ahead) goes through

@@ -8,6 +8,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
+#include "smokescan/io/text_input.hpp"
 
 namespace smokescan {
 namespace {
@@ -63,8 +64,7 @@ BeamGroup parseBeamGroup(const std::string& spec, const std::string& what)
 
 std::vector<BeamGroup> readBeamGroupFile(const std::string& path)
 {
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot read");
+    std::istringstream in(readTextInput(path, "beam groups file"));
     std::vector<BeamGroup> out;
     std::map<std::string, size_t> index;
     std::string line;

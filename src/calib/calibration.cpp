@@ -1,5 +1,7 @@
 #include "smokescan/calib/calibration.hpp"
 
+#include <sys/stat.h>
+
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -11,6 +13,7 @@
 #include "smokescan/calib/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/text_input.hpp"
 #include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/mesh.hpp"
 #include "smokescan/scene/surfaces.hpp"
@@ -137,7 +140,7 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
                    {"camera", cfg.camera},  {"target_prefix", cfg.target_prefix},
                    {"exposure", "auto (average metering)"}, {"seconds", r.seconds}};
     AtomicFile f(path);
-    f.stream() << std::setw(2) << j << '\n';
+    f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     f.commit();
 }
 
@@ -152,11 +155,9 @@ CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::s
             where = "builtin:" + name;
         }
     if (text.empty()) {
-        std::ifstream in(path_or_name);
-        if (!in) throw Error(path_or_name, "no such file or built-in calibration");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        text = ss.str();
+        struct stat st {};
+        if (::stat(path_or_name.c_str(), &st) != 0) throw Error(path_or_name, "no such file or built-in calibration");
+        text = readTextInput(path_or_name, "calibration file");
     }
     nlohmann::json j;
     try {

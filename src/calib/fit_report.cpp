@@ -124,7 +124,7 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
                    {"offset_window_s", cfg.offset_window_s}, {"smooth_s", cfg.smooth_s}, {"clear_quantile", cfg.clear_quantile},
                    {"sigma_t_per_density", cfg.sigma_t_per_density}};
     AtomicFile f(path);
-    f.stream() << std::setw(2) << j << '\n';
+    f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     f.commit();
 }
 
@@ -266,7 +266,7 @@ void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const P
                         {"se_depth_m", std::isfinite(b.se_depth_m) ? nlohmann::json(b.se_depth_m) : nlohmann::json(nullptr)}});
     j["bins"] = bins;
     AtomicFile f(path);
-    f.stream() << std::setw(2) << j << '\n';
+    f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     f.commit();
 }
 

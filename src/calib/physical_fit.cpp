@@ -9,6 +9,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "binomial_deviance.hpp"
+#include "ceres_quiet.hpp"
 
 namespace smokescan {
 namespace {
@@ -140,6 +141,7 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
                                               return detail::signedDeviance(double(obs[k].n), double(obs[k].e), q, 1 - q);
                                           }),
                         nullptr, &theta);
+    detail::quietCeres();
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
     opt.max_num_iterations = iterations;

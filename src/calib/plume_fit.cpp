@@ -8,6 +8,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "binomial_deviance.hpp"
+#include "ceres_quiet.hpp"
 
 namespace smokescan {
 namespace {
@@ -146,6 +147,7 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
                 problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DepthResidual, 1, 2>(new DepthResidual{
                                              std::log(o.peak_density / res.rho_ref), std::log(std::max(cfg.min_depth_m, o.range_m - o.entry_m))}),
                                          nullptr, lnD_k);
+        detail::quietCeres();
         ceres::Solver::Options opt;
         opt.linear_solver_type = ceres::DENSE_QR;
         ceres::Solver::Summary sum;
@@ -178,6 +180,7 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
             ml.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(
                                     new ShareResidual{xOf(b), double(b->n), double(b->echo), false, 0.0}),
                                 nullptr, xs);
+        detail::quietCeres();
         ceres::Solver::Options opt;
         opt.linear_solver_type = ceres::DENSE_QR;
         opt.max_num_iterations = 200;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ceres_quiet.hpp"
 #include "smokescan/calib/sensor_fit.hpp"
 #include "smokescan/core/order_stats.hpp"
 
@@ -34,6 +35,7 @@ Line fitLine(const std::vector<double>& x, const std::vector<double>& y, const s
     ceres::Problem problem;
     for (size_t i = 0; i < x.size(); ++i)
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{x[i], y[i], se[i]}), nullptr, p);
+    detail::quietCeres();
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
     ceres::Solver::Summary sum;

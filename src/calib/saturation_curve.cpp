@@ -9,6 +9,7 @@
 #include <set>
 
 #include "smokescan/core/error.hpp"
+#include "ceres_quiet.hpp"
 
 namespace smokescan {
 namespace {
@@ -42,12 +43,6 @@ T inverseValue(double S, const T& S0, const T& a, const T& b, double gamma)
     using std::pow;
     const T s_lin = T(1.0) - pow(T(1.0 - S), T(1.0 / gamma));
     return log(T(1.0) + (S0 / s_lin - T(1.0)) / a) / b;
-}
-
-void initGlog()
-{
-    static std::once_flag once;
-    std::call_once(once, [] { google::InitGoogleLogging("smokescan"); });
 }
 
 }  // namespace
@@ -94,8 +89,7 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     if (distinct.size() < 4)
         throw Error("calibration", "needs at least 4 distinct densities to fit 3 parameters, got " + std::to_string(distinct.size()));
     if (!(smax - smin > 1e-6)) throw Error("calibration", "saturation does not change with density: nothing to fit");
-    initGlog();
-
+    
     // Start: S0 from the clearest point, b from where the saturation halves, a = 1.
     std::vector<SaturationPoint> sorted = pts;
     std::sort(sorted.begin(), sorted.end(), [](auto& x, auto& y) { return x.density < y.density; });
@@ -122,6 +116,7 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     problem.SetParameterUpperBound(p, 0, 1.0);
     problem.SetParameterLowerBound(p, 1, 1e-9);
     problem.SetParameterLowerBound(p, 2, 1e-9);
+    detail::quietCeres();
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
     opt.max_num_iterations = 200;

@@ -134,7 +134,10 @@ SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, c
     std::vector<double> dt;
     for (size_t i = 1; i < raw.time_s.size(); ++i) dt.push_back(raw.time_s[i] - raw.time_s[i - 1]);
     const double frame_s = std::max(quantile(dt, 0.5), 1e-6);
-    const int h = int(std::floor(0.5 * cfg.smooth_s / frame_s + 1e-9));
+    const double span_s = raw.time_s.empty() ? 0.0 : raw.time_s.back() - raw.time_s.front();
+    if (cfg.smooth_s > span_s)
+        throw Error("--smooth", "a window of " + fmt("%g", cfg.smooth_s) + " s is longer than the saturation series (" + fmt("%g", span_s) + " s)");
+    const int h = int(std::min(std::floor(0.5 * cfg.smooth_s / frame_s + 1e-9), double(raw.time_s.size())));
     const SaturationSeries sat = movingAverage(raw, h);
     res.saturation_noise = detail::noiseOfSeries(raw.saturation);
     res.smoothing_samples = 2 * h + 1;

@@ -5,6 +5,7 @@
 // covariance uses Pearson residuals with the weights at the solution: their JᵀJ is the Fisher
 // information, their score sums the cluster-robust middle.
 #include "threshold_fit.hpp"
+#include "ceres_quiet.hpp"
 #include "smokescan/core/order_stats.hpp"
 
 #include <ceres/ceres.h>
@@ -108,6 +109,7 @@ ThresholdSolution solveThresholds(const ThresholdProblem& p)
     };
     ceres::Problem ml;
     if (!build(ml, false)) return sol;
+    detail::quietCeres();
     ceres::Solver::Options opt;
     opt.max_num_iterations = 500;
     opt.linear_solver_type = ceres::DENSE_QR;

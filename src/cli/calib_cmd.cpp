@@ -16,8 +16,11 @@
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/run_files.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/io/text_input.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -46,10 +49,18 @@ int runCalibrate(const CalibArgs& a)
 {
     CalibrateConfig cfg = a.cfg;
     if (!a.densities.empty()) cfg.densities = parseList(a.densities, "--densities");
-    if (cfg.spp < 1) throw Error("--spp", "must be >= 1");
-    if (cfg.width <= 0 || cfg.height <= 0) throw Error("--width", "resolution must be > 0");
-    requireOutputFolder(a.out);
-    requireOutputFolder(a.plot);
+    if (cfg.densities.size() > size_t(limits::kCalibrationDensities))
+        throw Error("--densities", "at most " + std::to_string(limits::kCalibrationDensities) + " densities");
+    for (double d : cfg.densities)
+        if (d < 0 || d > limits::kCalibrationDensityMax)
+            throw Error("--densities", "density " + std::to_string(d) + " is outside [0, " + std::to_string(limits::kCalibrationDensityMax) +
+                                           "] (the calibration's range; 0.0028 is the paper's threshold)");
+    if (double(cfg.width) * cfg.height * cfg.spp > double(limits::kFrameSamples))
+        throw Error("--spp", "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
+    RunFiles files;
+    files.input(a.scene, "the scene");
+    files.output(a.out, "--out");
+    files.output(a.plot, "--plot");
     if (!a.plot.empty() && !isImageExtension(a.plot)) throw Error(a.plot, "unknown image format (png, exr, jpg, tif)");
     const Scene scene = loadScene(a.scene);
     const bool tty = ::isatty(2);
@@ -62,8 +73,9 @@ int runCalibrate(const CalibArgs& a)
                      "==============================", w - k, "", done, total, el, el * (total - done) / done);
         if (done == total) std::fprintf(stderr, "\n");
     });
-    writeCalibrationJson(a.out, r, cfg, scene.source);
-    if (!a.plot.empty()) writeCalibrationPlot(a.plot, r, cfg);
+    writeCalibrationJson(files.stage(a.out), r, cfg, scene.source);
+    if (!a.plot.empty()) writeCalibrationPlot(files.stage(a.plot), r, cfg);
+    files.commit();
     const auto& f = r.fit;
     std::printf("fit: S0 = %.4f ± %.4f, a = %.4f ± %.4f, b = %.1f ± %.1f /density; chi2/dof = %.2f, R² = %.5f%s\n",
                 f.curve.S0, f.std_error[0], f.curve.a, f.std_error[1], f.curve.b, f.std_error[2],
@@ -145,8 +157,7 @@ double timeFromName(const std::string& path, double fps)
 
 std::vector<double> readTimestamps(const std::string& path, const std::vector<std::string>& frames)
 {
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot read");
+    std::istringstream in(readTextInput(path, "timestamps file"));
     std::map<std::string, double> by_name;
     std::vector<double> in_order;
     std::string line;
@@ -184,9 +195,19 @@ int runSaturation(const SatArgs& a)
     std::vector<Patch> patches;
     for (const auto& r : a.rects) patches.push_back(parsePatch(r, true));
     for (const auto& p : a.polygons) patches.push_back(parsePatch(p, false));
+    for (size_t i = 0; i < patches.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (patches[i].name == patches[j].name) throw Error("--rect/--polygon", "patch '" + patches[i].name + "' is named twice");
     if (patches.empty() && a.ids.empty()) throw Error("saturation", "give the target region: --rect/--polygon, or --ids with --scene");
     if (!a.ids.empty() && a.scene.empty()) throw Error("--ids", "needs --scene to name the objects");
     const auto frames = framesOf(a.inputs);
+    RunFiles files;
+    for (const auto& f : frames) files.input(f, "the frames");
+    if (!a.ids.empty())
+        for (const auto& f : framesOf({a.ids})) files.input(f, "--ids");
+    files.input(a.scene, "--scene");
+    files.input(a.timestamps, "--timestamps");
+    files.output(a.out, "--out");
     std::vector<std::string> id_frames;
     TargetPatches target;  // from the object ids, with --ids
     if (!a.ids.empty()) {
@@ -200,7 +221,7 @@ int runSaturation(const SatArgs& a)
     for (const auto& p : patches) names.push_back(p.name);
     for (const auto& n : target.names)
         if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
-    AtomicFile f(a.out);
+    AtomicFile f(files.stage(a.out));
     std::ostream& o = f.stream();
     o << "time_s,saturation,saturation_median,saturation_sd,pixels";
     for (const auto& n : names) o << ',' << n << ',' << n << "_median," << n << "_sd";
@@ -248,6 +269,7 @@ int runSaturation(const SatArgs& a)
         o << '\n';
     }
     f.commit();
+    files.commit();
     std::printf("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), frames.size(), names.size());
     return 0;
 }
@@ -260,9 +282,9 @@ void addCalibration(CLI::App& app, Runner& run)
     auto* c = app.add_subcommand("calibrate", "Density ↔ saturation calibration (the paper's Fig. 7) from rendered frames, fitted with Ceres");
     c->add_option("scene", a->scene, "Built-in scene name or scene file")->capture_default_str();
     c->add_option("--densities", a->densities, "Comma-separated densities (default: 14 from 0 to 0.012)");
-    c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str();
-    c->add_option("--width", a->cfg.width, "Frame width [px]")->capture_default_str();
-    c->add_option("--height", a->cfg.height, "Frame height [px]")->capture_default_str();
+    c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
+    c->add_option("--width", a->cfg.width, "Frame width [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
+    c->add_option("--height", a->cfg.height, "Frame height [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
     c->add_option("--seed", a->cfg.seed, "Render seed")->capture_default_str();
     c->add_option("--camera", a->cfg.camera, "Scene camera (default: the first)");
     c->add_option("--target-prefix", a->cfg.target_prefix, "Surface-name prefix of the target's patches")->capture_default_str();
@@ -281,7 +303,7 @@ void addCalibration(CLI::App& app, Runner& run)
     t->add_option("--scene", s->scene, "Scene whose surfaces the ids name");
     t->add_option("--target-prefix", s->prefix, "Surface-name prefix of the target's patches")->capture_default_str();
     t->add_option("--timestamps", s->timestamps, "Times: lines 'file,time_s' or one time per frame in name order");
-    t->add_option("--fps", s->fps, "Frame rate: the number in a file name is a frame index");
+    t->add_option("--fps", s->fps, "Frame rate: the number in a file name is a frame index")->check(positive());
     t->callback([s, &run] { run = [s] { return runSaturation(*s); }; });
 }
 

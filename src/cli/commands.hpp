@@ -2,7 +2,6 @@
 // The CLI's subcommands: each registers its options on the app and runs when chosen.
 #include <CLI/CLI.hpp>
 
-#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -12,13 +11,15 @@ namespace smokescan::cli {
 
 using Runner = std::function<int()>;
 
-/// Fails before any work when an output's folder does not exist (writes would fail at the end).
-inline void requireOutputFolder(const std::string& path)
-{
-    if (path.empty()) return;
-    const auto dir = std::filesystem::path(path).parent_path();
-    if (!dir.empty() && !std::filesystem::is_directory(dir)) throw Error(path, "cannot write (no such directory)");
-}
+/// Option checks: each names the rule it enforces; nan and inf fail every one of them.
+/// A number of any sign, finite.
+const CLI::Validator& finite();
+/// A finite number > 0.
+const CLI::Validator& positive();
+/// A finite number >= 0.
+const CLI::Validator& nonnegative();
+/// An integer in [lo, hi].
+CLI::Validator intRange(long long lo, long long hi);
 
 void addScan(CLI::App& app, Runner& run);
 void addVolume(CLI::App& app, Runner& run);

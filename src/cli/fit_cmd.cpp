@@ -11,6 +11,8 @@
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/fit_report.hpp"
 #include "smokescan/calib/plume_fit.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/io/run_files.hpp"
 #include "smokescan/io/sensor_file.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -39,7 +41,18 @@ int runFit(const FitArgs& a0)
     FitArgs a = a0;
     if (a.report.empty()) a.report = beside(a.out, "_report.json");
     if (a.plots.empty()) a.plots = beside(a.out, "");
-    for (const auto& p : {a.out, a.report, a.plots + "_fig5.png", a.aligned, a.covariates}) requireOutputFolder(p);
+    RunFiles files;
+    files.input(a.laser, "--laser");
+    files.input(a.saturation, "--saturation");
+    files.input(a.scene, "--scene");
+    files.input(a.surfaces_file, "--surfaces");
+    files.input(a.calibration, "--calibration");
+    files.output(a.out, "--out");
+    files.output(a.report, "--report");
+    files.output(a.plots + "_fig5.png", "--plots");
+    files.output(a.plots + "_fig9.png", "--plots");
+    files.output(a.aligned, "--aligned");
+    files.output(a.covariates, "--covariates");
     if (!a.covariates.empty() && a.scene.empty()) throw Error("--covariates", "needs --scene (the simulation's side of the table)");
     if (a.model != "paper" && a.model != "physical") throw Error("--model", "unknown model '" + a.model + "' (paper, physical)");
     if (a.model == "physical" && a.scene.empty()) throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
@@ -108,12 +121,16 @@ int runFit(const FitArgs& a0)
     std::unique_ptr<UrgNoiseFloorResult> phys;
     if (a.model == "physical" && r.ok())
         phys = std::make_unique<UrgNoiseFloorResult>(fitUrgNoiseFloor(*scene, *surfaces, mount, r, size_t(r.reference), calib));
-    writeFitReportJson(a.report, r, a.cfg, src, phys.get());
-    if (!a.aligned.empty()) writeAlignedCsv(a.aligned, r);
-    if (!a.covariates.empty()) writeCovariates(a.covariates, log, r, *scene, *surfaces, mount, spec, a.covariates_all);
-    if (!r.aligned.empty()) {
-        writeFitTimePlot(a.plots + "_fig5.png", r, std::max(0, r.reference));
-        writeFitSaturationPlot(a.plots + "_fig9.png", r, a.cfg);
+    // A failed fit writes its report alone (it holds the diagnosis); a fitted one writes everything.
+    writeFitReportJson(files.stage(a.report), r, a.cfg, src, phys.get());
+    const bool failed = !r.ok() || (phys && !phys->ok);
+    if (failed) files.commit();
+    if (!failed && !a.aligned.empty()) writeAlignedCsv(files.stage(a.aligned), r);
+    if (!failed && !a.covariates.empty())
+        writeCovariates(files.stage(a.covariates), log, r, *scene, *surfaces, mount, spec, a.covariates_all);
+    if (!failed && !r.aligned.empty()) {
+        writeFitTimePlot(files.stage(a.plots + "_fig5.png"), r, std::max(0, r.reference));
+        writeFitSaturationPlot(files.stage(a.plots + "_fig9.png"), r, a.cfg);
     }
     // Summary.
     if (!src.skipped.empty()) std::printf("skipped %zu bad lines (--lenient; listed in the report)\n", src.skipped.size());
@@ -155,7 +172,8 @@ int runFit(const FitArgs& a0)
         n = std::clamp(n, 0, int(sizeof comment) - 1);
     }
     std::snprintf(comment + n, sizeof comment - size_t(n), " (report: %s)", a.report.c_str());
-    writeSensorFile(a.out, mount, comment);
+    writeSensorFile(files.stage(a.out), mount, comment);
+    files.commit();
     std::printf("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), a.model.c_str(), ref.group.c_str(),
                 a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ", a.aligned.c_str(),
                 a.covariates.empty() ? "" : ", ", a.covariates.c_str());
@@ -170,7 +188,10 @@ struct PlumeArgs {
 
 int runFitPlume(const PlumeArgs& a)
 {
-    requireOutputFolder(a.out);
+    RunFiles files;
+    files.input(a.laser, "--laser");
+    files.input(a.scene, "--scene");
+    files.output(a.out, "--out");
     ReadOptions ro;
     ro.unit_m = parseRangeUnit(a.unit);
     ro.lenient = a.lenient;
@@ -179,8 +200,13 @@ int runFitPlume(const PlumeArgs& a)
     const SurfaceSet surfaces(scene);
     const int si = scene.findSensor(a.sensor.empty() ? "lms200" : a.sensor);
     if (si < 0) throw Error(scene.source, "no sensor '" + (a.sensor.empty() ? std::string("lms200") : a.sensor) + "'");
-    const PlumeFitResult r = fitSickPlume(log, scene, surfaces, scene.sensors[size_t(si)], a.cfg);
-    writePlumeFitJson(a.out, r, a.cfg, a.laser, a.scene);
+    const SensorMount& mount = scene.sensors[size_t(si)];
+    const size_t beams = log.scans.front().range.size(), expected = size_t(specFor(mount).n_beams);
+    if (mount.type == "lms200" && beams != expected)
+        throw Error(a.laser, "has " + std::to_string(beams) + " beams a scan; the scene's sensor '" + mount.name + "' (" + mount.type +
+                                 ") has " + std::to_string(expected) + " (a log of another sensor?)");
+    const PlumeFitResult r = fitSickPlume(log, scene, surfaces, mount, a.cfg);
+    writePlumeFitJson(files.stage(a.out), r, a.cfg, a.laser, a.scene);
     std::printf("%zu beams crossed a plume (%zu bad lines skipped)\n", r.obs.size(), log.skipped.size());
     std::printf("%-22s %6s %6s %6s %6s %12s\n", "peak density", "beams", "echo", "wall", "error", "depth [m]");
     for (const auto& b : r.bins)
@@ -193,6 +219,7 @@ int runFitPlume(const PlumeArgs& a)
     if (std::isfinite(r.rho_50.value))
         std::printf("half the beams echo from the plume at peak density %.5f +/- %.5f (slope %.2f +/- %.2f)\n", r.rho_50.value, r.rho_50.se,
                     r.slope.value, r.slope.se);
+    files.commit();
     std::printf("wrote %s\n", a.out.c_str());
     return 0;
 }
@@ -209,8 +236,8 @@ void addFitPlume(CLI::App& app, Runner& run)
     c->add_option("--sensor", a->sensor, "Sensor in the scene (default: the first lms200)");
     c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
     c->add_flag("--lenient", a->lenient, "Skip bad lines instead of failing");
-    c->add_option("--time-offset", a->cfg.time_offset_s, "Scene time - log time [s]")->capture_default_str();
-    c->add_option("--bins", a->cfg.bins, "Density bins")->capture_default_str();
+    c->add_option("--time-offset", a->cfg.time_offset_s, "Scene time - log time [s]")->capture_default_str()->check(finite());
+    c->add_option("--bins", a->cfg.bins, "Density bins")->capture_default_str()->check(intRange(1, limits::kPlumeBins));
     c->callback([a, &run] { run = [a] { return runFitPlume(*a); }; });
 }
 
@@ -231,11 +258,11 @@ void addFit(CLI::App& app, Runner& run)
     c->add_flag("--lenient", a->lenient, "Skip bad lines (counted and listed in the report) instead of failing");
     c->add_option("--calibration", a->calibration, "Density-saturation calibration JSON, or a built-in name")->capture_default_str();
     c->add_option("--patch", a->patch, "Use this patch's saturation column and calibration curve");
-    c->add_option("--offset", a->offset, "Clock offset camera - laser [s]: the search centre, or the value with --fixed-offset")->capture_default_str();
+    c->add_option("--offset", a->offset, "Clock offset camera - laser [s]: the search centre, or the value with --fixed-offset")->capture_default_str()->check(finite());
     c->add_flag("--fixed-offset", a->fixed_offset, "Do not estimate the offset");
-    c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")->capture_default_str();
+    c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")->capture_default_str()->check(nonnegative());
     c->add_option("--link", a->cfg.link, "Threshold link: probit or logistic")->capture_default_str();
-    c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")->capture_default_str();
+    c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")->capture_default_str()->check(nonnegative());
     c->add_option("--model", a->model, "Sensor file model: paper (penetration power) or physical (URG noise floor solved in --scene)")
         ->capture_default_str();
     c->add_option("--reference", a->cfg.reference, "Group whose penetration power goes into the sensor file (default: most beams)");

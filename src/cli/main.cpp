@@ -1,5 +1,6 @@
 // smokescan: laser range finders and cameras in smoke. A thin CLI over the library.
 #include <iostream>
+#include <new>
 
 #include "commands.hpp"
 #include "smokescan/core/error.hpp"
@@ -18,15 +19,20 @@ int main(int argc, char** argv)
     smokescan::cli::addFitPlume(app, run);
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {  // one line, as every other error
+        std::cerr << "smokescan: " << smokescan::printable(e.what()) << " (see --help)\n";
+        return 2;
     }
     try {
         return run ? run() : 0;
-    } catch (const smokescan::Error& e) {
-        std::cerr << "smokescan: " << e.what() << '\n';
+    } catch (const std::bad_alloc&) {
+        std::cerr << "smokescan: out of memory (the run needs more than this machine has; see docs/limits.md)\n";
     } catch (const std::exception& e) {
-        std::cerr << "smokescan: " << e.what() << '\n';
+        std::cerr << "smokescan: " << smokescan::printable(e.what()) << '\n';
     }
     return 1;
 }

@@ -6,6 +6,8 @@
 
 #include "commands.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/io/run_files.hpp"
 #include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -19,14 +21,13 @@ struct RenderArgs {
     int width = -1, height = -1;  // -1: the camera's
 };
 
-/// Fails before any work when an output cannot be written: wrong extension or missing folder.
-void checkOutput(const std::string& path, bool float_only)
+/// Fails before any work when an output cannot be written: wrong extension.
+void checkFormat(const std::string& path, bool float_only)
 {
     if (path.empty()) return;
     if (!isImageExtension(path)) throw Error(path, "unknown image format (exr, png, jpg, tif)");
     if (float_only && std::filesystem::path(path).extension() != ".exr")
         throw Error(path, "must be an .exr (it holds linear floats)");
-    requireOutputFolder(path);
 }
 
 std::string expand(const std::string& pattern, int index, double t)
@@ -53,17 +54,25 @@ int runRender(const RenderArgs& a)
     const bool series = a.every > 0;
     if (series) {
         if (std::isnan(a.from) || std::isnan(a.to) || a.to < a.from) throw Error("--every", "needs --from <= --to");
+        if ((a.to - a.from) / a.every + 1 > double(limits::kFrames))
+            throw Error("--every", "would render " + std::to_string((long long)((a.to - a.from) / a.every) + 1) + " frames (at most " +
+                                       std::to_string(limits::kFrames) + ")");
         times.clear();
         for (int k = 0; a.from + k * a.every <= a.to + 1e-9; ++k) times.push_back(a.from + k * a.every);
         for (const std::string* p : {&a.out, &a.exr, &a.ids})
             if (!p->empty() && p->find("{i}") == std::string::npos && p->find("{t}") == std::string::npos)
                 throw Error(*p, "a time series needs {i} (frame index) or {t} (time) in each output name");
     }
-    if (a.width == 0 || a.height == 0 || a.width < -1 || a.height < -1)
-        throw Error(a.width <= 0 && a.width != -1 ? "--width" : "--height", "resolution must be > 0");
-    checkOutput(a.out, false);
-    checkOutput(a.exr, true);
-    checkOutput(a.ids, true);
+    checkFormat(a.out, false);
+    checkFormat(a.exr, true);
+    checkFormat(a.ids, true);
+    RunFiles files;
+    files.input(a.scene, "the scene");
+    for (size_t k = 0; k < times.size(); ++k) {
+        files.output(expand(a.out, int(k), times[k]), "--out");
+        files.output(expand(a.exr, int(k), times[k]), "--exr");
+        files.output(expand(a.ids, int(k), times[k]), "--ids");
+    }
     const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
     for (size_t k = 0; k < times.size(); ++k) {
@@ -75,12 +84,13 @@ int runRender(const RenderArgs& a)
         double used = 0;
         const Image frame = toDisplay(r.radiance, exposure, &used);
         const std::string out = expand(a.out, int(k), times[k]);
-        writeImage(out, frame);
-        if (!a.exr.empty()) writeImage(expand(a.exr, int(k), times[k]), r.radiance);
-        if (!a.ids.empty()) writeImage(expand(a.ids, int(k), times[k]), r.ids);
+        writeImage(files.stage(out), frame);
+        if (!a.exr.empty()) writeImage(files.stage(expand(a.exr, int(k), times[k])), r.radiance);
+        if (!a.ids.empty()) writeImage(files.stage(expand(a.ids, int(k), times[k])), r.ids);
         std::printf("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
                     r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);
     }
+    files.commit();
     return 0;
 }
 
@@ -91,20 +101,20 @@ void addRender(CLI::App& app, Runner& run)
     auto a = std::make_shared<RenderArgs>();
     auto* c = app.add_subcommand("render", "Render camera frames through the smoke (volumetric path tracing)");
     c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml)")->capture_default_str();
-    c->add_option("--time", a->cfg.time_s, "Scene time [s]")->capture_default_str();
-    c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str();
+    c->add_option("--time", a->cfg.time_s, "Scene time [s]")->capture_default_str()->check(finite());
+    c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
     c->add_option("--out", a->out, "8-bit sRGB frame (.png, .jpg, .tif); {i}/{t} in a time series")->required();
     c->add_option("--exr", a->exr, "Also write linear radiance (.exr)");
     c->add_option("--ids", a->ids, "Also write object id, material id and depth AOVs (.exr)");
     c->add_option("--camera", a->cfg.camera, "Scene camera name (default: the first)");
-    c->add_option("--width", a->width, "Override the camera's width [px]");
-    c->add_option("--height", a->height, "Override the camera's height [px]");
+    c->add_option("--width", a->width, "Override the camera's width [px]")->check(intRange(1, limits::kFrameSide));
+    c->add_option("--height", a->height, "Override the camera's height [px]")->check(intRange(1, limits::kFrameSide));
     c->add_option("--seed", a->cfg.seed, "Random seed")->capture_default_str();
-    c->add_option("--max-depth", a->cfg.max_depth, "Scattering/bounce events per path")->capture_default_str();
+    c->add_option("--max-depth", a->cfg.max_depth, "Scattering/bounce events per path")->capture_default_str()->check(intRange(0, limits::kPathDepth));
     c->add_option("--exposure", a->exposure, "'auto' (average metering to 18 % grey) or a radiance scale")->capture_default_str();
-    c->add_option("--from", a->from, "Time series: first time [s]");
-    c->add_option("--to", a->to, "Time series: last time [s]");
-    c->add_option("--every", a->every, "Time series: interval [s]");
+    c->add_option("--from", a->from, "Time series: first time [s]")->check(finite());
+    c->add_option("--to", a->to, "Time series: last time [s]")->check(finite());
+    c->add_option("--every", a->every, "Time series: interval [s]")->check(positive());
     c->callback([a, &run] { run = [a] { return runRender(*a); }; });
 }
 

@@ -1,18 +1,24 @@
 // `smokescan scan`: laser scans of a scene over time, the paper's log, and a summary.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <iostream>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
-#include <unistd.h>
 
 #include "commands.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/calib/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/laser_log.hpp"
+#include "smokescan/io/run_files.hpp"
 #include "smokescan/render/image.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
@@ -38,20 +44,28 @@ struct ScanArgs {
 /// a temporary folder that replaces FOLDER only when the run succeeds.
 class FrameFolder {
 public:
-    explicit FrameFolder(std::string dir) : dir_(std::move(dir)), tmp_(dir_ + ".tmp." + std::to_string(::getpid()))
+    explicit FrameFolder(std::string dir) : dir_(std::move(dir))
     {
         namespace fs = std::filesystem;
-        requireOutputFolder(dir_);
-        if (fs::exists(dir_) && !(fs::is_directory(dir_) && fs::is_empty(dir_)))
+        struct stat st {};
+        if (::lstat(dir_.c_str(), &st) == 0 && !(S_ISDIR(st.st_mode) && fs::is_empty(dir_)))
             throw Error(dir_, "exists and is not an empty folder (--saturation-frames writes a new one)");
+        const fs::path parent = fs::path(dir_).parent_path();
+        if (!parent.empty() && !fs::is_directory(parent)) throw Error(dir_, "cannot write (no such directory)");
+        std::string tmpl = dir_ + ".tmpXXXXXX";
+        if (!::mkdtemp(tmpl.data())) throw Error(dir_, "cannot create the frames folder: " + std::string(std::strerror(errno)));
+        tmp_ = tmpl;
+        registerTemporary(tmp_);
         std::error_code ec;
-        fs::create_directories(fs::path(tmp_) / "ids", ec);
+        fs::create_directory(fs::path(tmp_) / "ids", ec);
         if (ec) throw Error(dir_, "cannot create the frames folder: " + ec.message());
     }
     ~FrameFolder()
     {
+        if (done_) return;
         std::error_code ec;
-        if (!done_) std::filesystem::remove_all(tmp_, ec);
+        std::filesystem::remove_all(tmp_, ec);
+        releaseTemporary(tmp_);
     }
     FrameFolder(const FrameFolder&) = delete;
     FrameFolder& operator=(const FrameFolder&) = delete;
@@ -75,6 +89,7 @@ public:
         std::filesystem::remove(dir_, ec);  // an empty folder given as the target
         std::filesystem::rename(tmp_, dir_, ec);
         if (ec) throw Error(dir_, "cannot move the frames into place: " + ec.message());
+        releaseTemporary(tmp_);
         done_ = true;
     }
 
@@ -83,64 +98,93 @@ private:
     bool done_ = false;
 };
 
-/// Error fraction on the beams that hit the target (surfaces whose name starts with `prefix`)
-/// in clear air, per time bin.
-void printSummary(const Scene& scene, const Scanner& sc, const std::vector<Scan>& scans, const ScanArgs& a)
-{
-    std::vector<char> on_target(size_t(sc.spec().n_beams), 0);
-    int n_target = 0;
-    for (size_t i = 0; i < on_target.size(); ++i)
-        for (const Scan& s : scans)
-            if (!s.beams.empty()) {
+/// The summary, accumulated scan by scan: the error fraction on the beams that hit the target
+/// (surfaces whose name starts with the prefix), and the mean smoke column on them, per time bin.
+class ScanSummary {
+public:
+    ScanSummary(const Scene& scene, const Scanner& sc, const ScanArgs& a, const std::vector<double>& times)
+        : scene_(scene), sc_(sc), a_(a), first_t_(times.empty() ? 0.0 : times.front())
+    {
+        const double span = times.empty() ? 0.0 : times.back() - times.front();
+        bin_ = a.bin_s > 0 ? a.bin_s : std::max(1.0, std::ceil(span / 36.0 / 5.0) * 5.0);
+        if (!a.quiet && span / bin_ + 1 > double(limits::kSummaryRows))
+            throw Error("--bin", "would print " + std::to_string((long long)(span / bin_) + 1) + " rows (at most " +
+                                     std::to_string(limits::kSummaryRows) + "; use a wider bin or --quiet)");
+    }
+
+    void add(const Scan& s)
+    {
+        ++scans_;
+        if (on_target_.empty()) {
+            on_target_.assign(size_t(sc_.spec().n_beams), 0);
+            for (size_t i = 0; i < on_target_.size() && i < s.beams.size(); ++i) {
                 const int surf = s.beams[i].hit.surface;
-                on_target[i] = surf >= 0 && scene.surfaces[size_t(surf)].name.rfind(a.target, 0) == 0;
-                n_target += on_target[i];
-                break;
+                on_target_[i] = surf >= 0 && scene_.surfaces[size_t(surf)].name.rfind(a_.target, 0) == 0;
+                n_target_ += on_target_[i];
             }
-    std::printf("sensor %s (%s, model %s): %zu scans, %d beams each, %d on '%s*'\n", sc.mount().name.c_str(),
-                sc.spec().type.c_str(), sc.mount().model.c_str(), scans.size(), sc.spec().n_beams, n_target,
-                a.target.c_str());
-    if (scans.empty()) return;
-    if (n_target == 0) {  // no target in this scene: the error fraction over all beams
-        long long errs = 0, total = 0;
-        for (const Scan& s : scans)
-            for (long long v : s.value) {
-                errs += sc.spec().isErrorValue(v);
-                ++total;
+        }
+        for (long long v : s.value) all_errors_ += sc_.spec().isErrorValue(v);
+        all_beams_ += (long long)s.value.size();
+        if (n_target_ == 0) return;
+        const double t0 = first_t_ + bin_ * std::floor((s.time_s - first_t_) / bin_);
+        if (bin_rows_ == 0 || t0 != bin_t0_) flushBin(t0);
+        for (size_t i = 0; i < on_target_.size(); ++i) {
+            if (!on_target_[i]) continue;
+            const bool err = s.beams[i].error;
+            bin_err_ += err;
+            ++bin_n_;
+            bin_col_ += s.beams[i].smoke.column_regional;
+            if (err) {
+                if (std::isnan(first_err_)) first_err_ = s.time_s;
+                last_err_ = s.time_s;
             }
-        std::printf("error codes: %.1f %% of all beams\n", 100.0 * errs / std::max(1LL, total));
-        return;
+        }
     }
-    const double span = scans.back().time_s - scans.front().time_s;
-    const double bin = a.bin_s > 0 ? a.bin_s : std::max(1.0, std::ceil(span / 36.0 / 5.0) * 5.0);
-    std::printf("%10s %10s %22s %12s\n", "t0_s", "t1_s", "column_on_target_d.m", "error_frac");
-    double first_err = NAN, last_err = NAN;
-    long long errs = 0, total = 0;
-    size_t k = 0;
-    while (k < scans.size()) {
-        const double t0 = scans.front().time_s + bin * std::floor((scans[k].time_s - scans.front().time_s) / bin);
-        long long e = 0, n = 0;
-        double col = 0;
-        for (; k < scans.size() && scans[k].time_s < t0 + bin; ++k)
-            for (size_t i = 0; i < on_target.size(); ++i) {
-                if (!on_target[i]) continue;
-                const bool err = scans[k].beams[i].error;
-                e += err;
-                ++n;
-                col += scans[k].beams[i].smoke.column_regional;
-                if (err) {
-                    if (std::isnan(first_err)) first_err = scans[k].time_s;
-                    last_err = scans[k].time_s;
-                }
-            }
-        errs += e;
-        total += n;
-        std::printf("%10.1f %10.1f %22.5f %12.3f\n", t0, t0 + bin, n ? col / n : 0.0, n ? double(e) / n : 0.0);
+
+    void print()
+    {
+        std::printf("sensor %s (%s, model %s): %lld scans, %d beams each, %d on '%s*'\n", sc_.mount().name.c_str(),
+                    sc_.spec().type.c_str(), sc_.mount().model.c_str(), scans_, sc_.spec().n_beams, n_target_, a_.target.c_str());
+        if (scans_ == 0) return;
+        if (n_target_ == 0) {  // no target in this scene: the error fraction over all beams
+            std::printf("error codes: %.1f %% of all beams\n", 100.0 * all_errors_ / std::max(1LL, all_beams_));
+            return;
+        }
+        flushBin(NAN);
+        std::printf("%10s %10s %22s %12s\n", "t0_s", "t1_s", "column_on_target_d.m", "error_frac");
+        std::fputs(rows_.c_str(), stdout);
+        std::printf("error codes on the target: %.1f %% of beams", 100.0 * errs_ / std::max(1LL, total_));
+        if (!std::isnan(first_err_)) std::printf(", first at %.1f s, last at %.1f s", first_err_, last_err_);
+        std::printf("\n");
     }
-    std::printf("error codes on the target: %.1f %% of beams", 100.0 * errs / std::max(1LL, total));
-    if (!std::isnan(first_err)) std::printf(", first at %.1f s, last at %.1f s", first_err, last_err);
-    std::printf("\n");
-}
+
+private:
+    void flushBin(double next_t0)
+    {
+        if (bin_rows_ > 0) {
+            char row[96];
+            std::snprintf(row, sizeof row, "%10.1f %10.1f %22.5f %12.3f\n", bin_t0_, bin_t0_ + bin_, bin_n_ ? bin_col_ / bin_n_ : 0.0,
+                          bin_n_ ? double(bin_err_) / bin_n_ : 0.0);
+            rows_ += row;
+            errs_ += bin_err_;
+            total_ += bin_n_;
+        }
+        bin_t0_ = next_t0;
+        bin_err_ = bin_n_ = 0;
+        bin_col_ = 0;
+        ++bin_rows_;
+    }
+
+    const Scene& scene_;
+    const Scanner& sc_;
+    const ScanArgs& a_;
+    double first_t_, bin_ = 1, bin_t0_ = NAN, bin_col_ = 0;
+    double first_err_ = NAN, last_err_ = NAN;
+    std::vector<char> on_target_;
+    int n_target_ = 0;
+    long long scans_ = 0, all_errors_ = 0, all_beams_ = 0, errs_ = 0, total_ = 0, bin_err_ = 0, bin_n_ = 0, bin_rows_ = 0;
+    std::string rows_;
+};
 
 struct CameraStream {
     SaturationSeries series;
@@ -186,39 +230,9 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
     return out;
 }
 
-int runScan(const ScanArgs& a0)
+/// The log's header: the scene, the sensor and its model's smoke parameter, the format.
+std::vector<std::string> logHeader(const Scene& scene, const Scanner& sc, const ScanArgs& a)
 {
-    ScanArgs a = a0;
-    requireOutputFolder(a.out);
-    requireOutputFolder(a.tau_csv);
-    requireOutputFolder(a.image);
-    requireOutputFolder(a.saturation_out);
-    if (!a.image.empty() && !isImageExtension(a.image)) throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
-    const Scene scene = loadScene(a.scene);
-    const SurfaceSet surfaces(scene);
-    if (!std::isnan(a.from)) a.cfg.from_s = a.from;
-    if (!std::isnan(a.to)) a.cfg.to_s = a.to;
-    const Scanner sc(scene, surfaces, a.cfg);
-    const auto times = sc.times();
-    // The camera's stream, checked before the scans are made.
-    std::unique_ptr<SaturationPredictor> predictor;
-    std::unique_ptr<SaturationRenderer> renderer;
-    if (a.saturation_render && a.saturation_out.empty()) throw Error("--saturation-render", "needs --saturation-out");
-    if (!a.frames_dir.empty() && !a.saturation_render) throw Error("--saturation-frames", "needs --saturation-render");
-    std::unique_ptr<FrameFolder> frames;
-    if (!a.frames_dir.empty()) frames = std::make_unique<FrameFolder>(a.frames_dir);
-    if (!a.saturation_out.empty() && a.saturation_render) {
-        SaturationRenderConfig rc = a.render;
-        rc.camera = a.camera;
-        rc.target_prefix = a.target + "_";
-        rc.seed = a.cfg.seed;
-        renderer = std::make_unique<SaturationRenderer>(scene, surfaces, rc, times.empty() ? 0.0 : times.front());
-    } else if (!a.saturation_out.empty()) {
-        predictor = std::make_unique<SaturationPredictor>(scene, surfaces, readCalibrationJson(a.calibration).curve, a.camera, a.target + "_");
-    }
-    std::vector<Scan> scans;
-    scans.reserve(times.size());
-    for (size_t k = 0; k < times.size(); ++k) scans.push_back(sc.scanAt(times[k], k));
     // The model's own smoke parameter: the paper's penetration power, or the receiver's noise floor.
     char model_param[64];
     if (sc.mount().model == "physical")
@@ -229,22 +243,92 @@ int runScan(const ScanArgs& a0)
     char buf[256];
     std::snprintf(buf, sizeof buf, "sensor=%s type=%s model=%s %s rate_hz=%g seed=%llu", sc.mount().name.c_str(),
                   sc.spec().type.c_str(), sc.mount().model.c_str(), model_param, a.cfg.rate_hz, (unsigned long long)a.cfg.seed);
-    const std::vector<std::string> header = {
-        "smokescan scan " + scene.source, buf,
-        "format: time_s then pairs of (angle_rad, range_mm); error codes: " +
-            std::string(sc.spec().type == "urg04lx" ? "values below 20 (0 = no return)" : "values >= 8183 (8183 = no echo within range)")};
-    // The camera's stream (rendering may take minutes and may fail): made before anything is written.
-    const CameraStream stream = a.saturation_out.empty() ? CameraStream{} : cameraStream(scene, a, times, predictor.get(), renderer.get(), frames.get());
-    writeLaserLog(a.out, header, scans, sc.spec());
-    if (!a.tau_csv.empty()) writeBeamCsv(a.tau_csv, scans, scene);
-    if (!a.saturation_out.empty()) {
-        writeSaturationCsv(a.saturation_out, stream.series, stream.header);
-        if (frames) frames->commit();
+    return {"smokescan scan " + scene.source, buf,
+            "format: time_s then pairs of (angle_rad, range_mm); error codes: " +
+                std::string(sc.spec().type == "urg04lx" ? "values below 20 (0 = no return)" : "values >= 8183 (8183 = no echo within range)")};
+}
+
+/// Every file the run reads and writes, checked against each other before any work.
+void recordFiles(RunFiles& files, const ScanArgs& a)
+{
+    files.input(a.scene, "the scene");
+    files.input(a.cfg.sensor_file, "--sensor-file");
+    files.input(a.calibration, "--calibration");
+    files.output(a.out, "--out");
+    files.output(a.tau_csv, "--tau");
+    files.output(a.image, "--image");
+    files.output(a.saturation_out, "--saturation-out");
+}
+
+int runScan(const ScanArgs& a0)
+{
+    ScanArgs a = a0;
+    RunFiles files;
+    recordFiles(files, a);
+    if (!a.image.empty() && !isImageExtension(a.image)) throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
+    const Scene scene = loadScene(a.scene);
+    const SurfaceSet surfaces(scene);
+    if (!std::isnan(a.from)) a.cfg.from_s = a.from;
+    if (!std::isnan(a.to)) a.cfg.to_s = a.to;
+    const Scanner sc(scene, surfaces, a.cfg);
+    const auto times = sc.times();
+    if (!a.image.empty() && (long long)times.size() > limits::kImageScans)
+        throw Error("--image", "would draw " + std::to_string(times.size()) + " scans (at most " + std::to_string(limits::kImageScans) +
+                                   "; draw a shorter span or a lower --rate)");
+    if (!a.saturation_out.empty() && !times.empty()) {
+        const double frames_wanted = (times.back() - times.front()) * a.sat.rate_hz + 1;
+        if (frames_wanted > double(limits::kFrames))
+            throw Error("--saturation-rate", "would make " + std::to_string((long long)frames_wanted) + " camera frames (at most " +
+                                                 std::to_string(limits::kFrames) + ")");
+        if (a.saturation_render && double(a.render.width) * a.render.height * a.render.spp > double(limits::kFrameSamples))
+            throw Error("--saturation-spp", "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
     }
+    if (a.saturation_render && a.saturation_out.empty()) throw Error("--saturation-render", "needs --saturation-out");
+    if (!a.frames_dir.empty() && !a.saturation_render) throw Error("--saturation-frames", "needs --saturation-render");
+    std::unique_ptr<FrameFolder> frames;
+    if (!a.frames_dir.empty()) frames = std::make_unique<FrameFolder>(a.frames_dir);
+    // The camera's stream, checked before the scans are made.
+    std::unique_ptr<SaturationPredictor> predictor;
+    std::unique_ptr<SaturationRenderer> renderer;
+    if (!a.saturation_out.empty() && a.saturation_render) {
+        SaturationRenderConfig rc = a.render;
+        rc.camera = a.camera;
+        rc.target_prefix = a.target + "_";
+        rc.seed = a.cfg.seed;
+        renderer = std::make_unique<SaturationRenderer>(scene, surfaces, rc, times.empty() ? 0.0 : times.front());
+    } else if (!a.saturation_out.empty()) {
+        predictor = std::make_unique<SaturationPredictor>(scene, surfaces, readCalibrationJson(a.calibration).curve, a.camera, a.target + "_");
+    }
+    // Scans are streamed to the outputs' temporaries: memory does not grow with the run's length
+    // (only --image keeps each scan's values, within limits::kImageScans).
+    ScanSummary summary(scene, sc, a, times);
+    AtomicFile log(files.stage(a.out));
+    writeLaserLogHeader(log.stream(), logHeader(scene, sc, a));
+    std::unique_ptr<AtomicFile> tau;
+    if (!a.tau_csv.empty()) {
+        tau = std::make_unique<AtomicFile>(files.stage(a.tau_csv));
+        writeBeamCsvHeader(tau->stream());
+    }
+    std::vector<Scan> drawn;  // values only, for --image
+    for (size_t k = 0; k < times.size(); ++k) {
+        Scan s = sc.scanAt(times[k], k);
+        writeLaserLogScan(log.stream(), s, sc.spec());
+        if (tau) writeBeamCsvScan(tau->stream(), s, scene);
+        summary.add(s);
+        if (!a.image.empty()) drawn.push_back(Scan{s.time_s, {}, std::move(s.value), {}});
+    }
+    log.commit();
+    if (tau) tau->commit();
     if (!a.image.empty())
-        writeScanImage(a.image, scans, sc.spec(), a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
-    if (!a.quiet) printSummary(scene, sc, scans, a);
-    std::printf("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), scans.size(), a.tau_csv.empty() ? "" : ", ",
+        writeScanImage(files.stage(a.image), drawn, sc.spec(), a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
+    if (!a.saturation_out.empty()) {
+        const CameraStream stream = cameraStream(scene, a, times, predictor.get(), renderer.get(), frames.get());
+        writeSaturationCsv(files.stage(a.saturation_out), stream.series, stream.header);
+    }
+    files.commit();
+    if (frames) frames->commit();
+    if (!a.quiet) summary.print();
+    std::printf("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), times.size(), a.tau_csv.empty() ? "" : ", ",
                 a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str(), a.saturation_out.empty() ? "" : ", ",
                 a.saturation_out.c_str());
     return 0;
@@ -258,31 +342,31 @@ void addScan(CLI::App& app, Runner& run)
     auto* c = app.add_subcommand("scan", "Simulate laser scans of a scene over time; write the paper's log format");
     c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml)")->capture_default_str();
     c->add_option("--sensor", a->cfg.sensor, "Sensor name or type in the scene (urg04lx, lms200); default: the first");
-    c->add_option("--from", a->from, "First scan time [s] (default: scene start)");
-    c->add_option("--to", a->to, "Last scan time [s] (default: scene end)");
-    c->add_option("--rate", a->cfg.rate_hz, "Scans per second [Hz]")->capture_default_str();
+    c->add_option("--from", a->from, "First scan time [s] (default: scene start)")->check(finite());
+    c->add_option("--to", a->to, "Last scan time [s] (default: scene end)")->check(finite());
+    c->add_option("--rate", a->cfg.rate_hz, "Scans per second [Hz]")->capture_default_str()->check(positive());
     c->add_option("--out", a->out, "Laser log to write")->required();
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option("--image", a->image, "Also draw the scan series as the paper's Fig. 10 (PNG): angle across, time down, shade = range, red = error");
-    c->add_option("--image-range", a->image_range_m, "Range [m] drawn white in --image (default: the sensor's maximum)");
+    c->add_option("--image-range", a->image_range_m, "Range [m] drawn white in --image (default: the sensor's maximum)")->check(positive());
     c->add_option("--model", a->cfg.model, "Sensor model: paper or physical (default: the scene's or sensor file's)");
     c->add_option("--sensor-file", a->cfg.sensor_file, "Sensor file (TOML) with the model and its parameters (docs/sensors.md)");
-    c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]");
+    c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]")->check(positive());
     c->add_option("--seed", a->cfg.seed, "Noise seed")->capture_default_str();
     c->add_option("--target", a->target, "Surface-name prefix the summary counts as the target")->capture_default_str();
-    c->add_option("--bin", a->bin_s, "Summary time bin [s] (default: automatic)");
+    c->add_option("--bin", a->bin_s, "Summary time bin [s] (default: automatic)")->check(positive());
     c->add_flag("--quiet", a->quiet, "No summary");
     c->add_option("--saturation-out", a->saturation_out, "Also write the camera's target saturation over time (CSV), predicted from the smoke on its line of sight");
     c->add_flag("--saturation-render", a->saturation_render, "Measure --saturation-out in rendered camera frames instead (slow: 2–3 s per 320x240 frame)");
-    c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")->capture_default_str();
-    c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")->capture_default_str();
-    c->add_option("--saturation-height", a->render.height, "Height of those frames [px]")->capture_default_str();
+    c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")->capture_default_str()->check(intRange(1, limits::kSpp));
+    c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
+    c->add_option("--saturation-height", a->render.height, "Height of those frames [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
     c->add_option("--saturation-frames", a->frames_dir, "Also keep those frames: a new folder of PNG frames, id AOVs (EXR) and timestamps.csv for `smokescan saturation`");
     c->add_option("--calibration", a->calibration, "Density-saturation calibration for the predicted --saturation-out (JSON or built-in name)")->capture_default_str();
     c->add_option("--camera", a->camera, "Scene camera for --saturation-out (default: the first)");
-    c->add_option("--saturation-rate", a->sat.rate_hz, "Camera frames per second for --saturation-out [Hz]")->capture_default_str();
-    c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")->capture_default_str();
-    c->add_option("--camera-offset", a->sat.clock_offset_s, "Camera clock - laser clock [s] in --saturation-out")->capture_default_str();
+    c->add_option("--saturation-rate", a->sat.rate_hz, "Camera frames per second for --saturation-out [Hz]")->capture_default_str()->check(positive());
+    c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")->capture_default_str()->check(nonnegative());
+    c->add_option("--camera-offset", a->sat.clock_offset_s, "Camera clock - laser clock [s] in --saturation-out")->capture_default_str()->check(finite());
     c->callback([a, &run] { run = [a] { return runScan(*a); }; });
 }
 

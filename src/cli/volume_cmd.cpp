@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/io/run_files.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
@@ -58,11 +59,15 @@ int runInfo(const VolumeArgs& a)
 
 int runBuild(const VolumeArgs& a)
 {
+    RunFiles files;
+    files.input(a.input, "the scene");
+    files.output(a.out, "--out");
     const Scene scene = loadScene(a.input);
     if (scene.volumes.empty()) throw Error(scene.source, "has no smoke volumes to build");
     std::vector<std::pair<std::string, DensityGrid>> grids;
     for (const auto& v : scene.volumes) grids.emplace_back(v.name, v.gridAt(a.time_s)->scaled(v.timeline.at(a.time_s)));
-    DensityGrid::writeVdb(a.out, grids);
+    DensityGrid::writeVdb(files.stage(a.out), grids);
+    files.commit();
     std::printf("wrote %s: %zu grids (density at t = %g s)\n", a.out.c_str(), grids.size(), a.time_s);
     return 0;
 }
@@ -72,8 +77,12 @@ int runExport(const VolumeArgs& a)
     VdbLoadConfig c;
     c.grid_name = a.grid;
     c.scale = a.scale;
+    RunFiles files;
+    files.input(a.input, "the input");
+    files.output(a.out, "--out");
     const DensityGrid g = DensityGrid::loadVdb(a.input, c);
-    DensityGrid::writeVdb(a.out, {{"density", g}});
+    DensityGrid::writeVdb(files.stage(a.out), {{"density", g}});
+    files.commit();
     std::printf("wrote %s: float grid 'density' (stored values × %g)\n", a.out.c_str(), a.scale);
     return 0;
 }
@@ -88,20 +97,20 @@ void addVolume(CLI::App& app, Runner& run)
     auto* info = v->add_subcommand("info", "Describe a .vdb file's grid, or a scene's smoke volumes at a time");
     info->add_option("input", a->input, "A .vdb file, a scene file or a built-in scene")->required();
     info->add_option("--grid", a->grid, "Grid name in a .vdb file (\"\" = first scalar grid)")->capture_default_str();
-    info->add_option("--scale", a->scale, "Stored value × scale = density")->capture_default_str();
-    info->add_option("--time", a->time_s, "Scene time [s]")->capture_default_str();
+    info->add_option("--scale", a->scale, "Stored value × scale = density")->capture_default_str()->check(positive());
+    info->add_option("--time", a->time_s, "Scene time [s]")->capture_default_str()->check(finite());
     info->callback([a, &run] { run = [a] { return runInfo(*a); }; });
 
     auto* build = v->add_subcommand("build", "Voxelise a scene's smoke at a time and write every volume as a grid");
     build->add_option("scene", a->input, "Scene file or built-in scene")->required();
-    build->add_option("--time", a->time_s, "Scene time [s]")->capture_default_str();
+    build->add_option("--time", a->time_s, "Scene time [s]")->capture_default_str()->check(finite());
     build->add_option("--out", a->out, "Output .vdb")->required();
     build->callback([a, &run] { run = [a] { return runBuild(*a); }; });
 
     auto* exp = v->add_subcommand("export", "Read a grid made elsewhere, validate it, write it as a float density grid");
     exp->add_option("input", a->input, "Input .vdb")->required();
     exp->add_option("--grid", a->grid, "Grid name (\"\" = first scalar grid)")->capture_default_str();
-    exp->add_option("--scale", a->scale, "Stored value × scale = density")->capture_default_str();
+    exp->add_option("--scale", a->scale, "Stored value × scale = density")->capture_default_str()->check(positive());
     exp->add_option("--out", a->out, "Output .vdb")->required();
     exp->callback([a, &run] { run = [a] { return runExport(*a); }; });
 }

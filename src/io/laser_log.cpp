@@ -15,38 +15,53 @@
 
 namespace smokescan {
 
+void writeLaserLogHeader(std::ostream& o, const std::vector<std::string>& header)
+{
+    for (const auto& h : header) o << "# " << h << '\n';
+}
+
+void writeLaserLogScan(std::ostream& o, const Scan& s, const LrfSpec& spec)
+{
+    const long long mm_per_unit = std::llround(spec.unit_m / 0.001);
+    o << std::fixed << std::setprecision(3) << s.time_s;
+    for (size_t i = 0; i < s.value.size(); ++i)
+        o << ' ' << std::setprecision(6) << s.angle_rad[i] << ' ' << s.value[i] * mm_per_unit;
+    o << '\n';
+}
+
 void writeLaserLog(const std::string& path, const std::vector<std::string>& header,
                    const std::vector<Scan>& scans, const LrfSpec& spec)
 {
     AtomicFile f(path);
-    std::ostream& o = f.stream();
-    for (const auto& h : header) o << "# " << h << '\n';
-    const long long mm_per_unit = std::llround(spec.unit_m / 0.001);
-    for (const Scan& s : scans) {
-        o << std::fixed << std::setprecision(3) << s.time_s;
-        for (size_t i = 0; i < s.value.size(); ++i)
-            o << ' ' << std::setprecision(6) << s.angle_rad[i] << ' ' << s.value[i] * mm_per_unit;
-        o << '\n';
-    }
+    writeLaserLogHeader(f.stream(), header);
+    for (const Scan& s : scans) writeLaserLogScan(f.stream(), s, spec);
     f.commit();
 }
 
 std::vector<LaserLogScan> readLaserLog(const std::string& path) { return readRecordedLog(path).scans; }
 
+void writeBeamCsvHeader(std::ostream& o)
+{
+    o << "time_s,beam,angle_rad,value,error,cause,surface,hit_m,column_regional,column_local,tau,power\n";
+}
+
+void writeBeamCsvScan(std::ostream& o, const Scan& s, const Scene& scene)
+{
+    o << std::setprecision(9);
+    for (size_t i = 0; i < s.beams.size(); ++i) {
+        const BeamResult& b = s.beams[i];
+        o << s.time_s << ',' << i << ',' << s.angle_rad[i] << ',' << s.value[i] << ',' << (b.error ? 1 : 0) << ','
+          << b.cause << ',' << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none")) << ','
+          << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local << ','
+          << b.smoke.tau << ',' << b.power << '\n';
+    }
+}
+
 void writeBeamCsv(const std::string& path, const std::vector<Scan>& scans, const Scene& scene)
 {
     AtomicFile f(path);
-    std::ostream& o = f.stream();
-    o << "time_s,beam,angle_rad,value,error,cause,surface,hit_m,column_regional,column_local,tau,power\n";
-    o << std::setprecision(9);
-    for (const Scan& s : scans)
-        for (size_t i = 0; i < s.beams.size(); ++i) {
-            const BeamResult& b = s.beams[i];
-            o << s.time_s << ',' << i << ',' << s.angle_rad[i] << ',' << s.value[i] << ',' << (b.error ? 1 : 0) << ','
-              << b.cause << ',' << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none")) << ','
-              << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local
-              << ',' << b.smoke.tau << ',' << b.power << '\n';
-        }
+    writeBeamCsvHeader(f.stream());
+    for (const Scan& s : scans) writeBeamCsvScan(f.stream(), s, scene);
     f.commit();
 }
 

@@ -9,17 +9,14 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/text_input.hpp"
 
 namespace smokescan {
 namespace {
 
-std::ifstream openInput(const std::string& path)
+std::istringstream openInput(const std::string& path, const std::string& what)
 {
-    if (!std::filesystem::exists(path)) throw Error(path, "no such file");
-    if (std::filesystem::is_directory(path)) throw Error(path, "is a folder, not a file");
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot read");
-    return in;
+    return std::istringstream(readTextInput(path, what));
 }
 
 bool blankOrComment(const std::string& line)
@@ -77,7 +74,7 @@ double parseRangeUnit(const std::string& name, const std::string& what)
 
 RecordedLog readRecordedLog(const std::string& path, const ReadOptions& opt)
 {
-    std::ifstream in = openInput(path);
+    std::istringstream in = openInput(path, "laser log");
     RecordedLog log;
     log.path = path;
     log.unit_m = opt.unit_m;
@@ -120,7 +117,7 @@ RecordedLog readRecordedLog(const std::string& path, const ReadOptions& opt)
 
 SaturationSeries readSaturationCsv(const std::string& path, const ReadOptions& opt)
 {
-    std::ifstream in = openInput(path);
+    std::istringstream in = openInput(path, "saturation CSV");
     SaturationSeries s;
     s.path = path;
     int col_t = 0, col_s = 1;

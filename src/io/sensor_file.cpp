@@ -6,6 +6,7 @@
 
 #include "sensor_toml.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/text_input.hpp"
 
 namespace smokescan {
 namespace {
@@ -58,11 +59,7 @@ void readPaperTable(TomlTable t, SensorMount& m)
 
 void applySensorFile(const std::string& path, SensorMount& m)
 {
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot open sensor file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const toml::table root = parseToml(ss.str(), path);
+    const toml::table root = parseToml(readTextInput(path, "sensor file"), path);
     TomlTable t(root, path, "");
     const std::string type = t.strReq("type");
     if (type != m.type) t.error("type", "is '" + type + "' but the sensor is a " + m.type);

@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
 #include "vdb_grid.hpp"
 
 namespace smokescan {
@@ -342,21 +343,15 @@ void DensityGrid::writeVdb(const std::string& path,
         copy->setName(name);
         out.push_back(copy);
     }
-    const std::string tmp = path + ".tmp";
+    AtomicFile file(path);
     try {
-        openvdb::io::File f(tmp);
+        openvdb::io::File f(file.tempPath());
         f.write(out);
         f.close();
     } catch (const std::exception& e) {
-        std::remove(tmp.c_str());
         throw Error(path, std::string("cannot write (") + e.what() + ")");
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw Error(path, "cannot write (" + ec.message() + ")");
-    }
+    file.commit();
 }
 
 }  // namespace smokescan

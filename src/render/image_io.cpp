@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
 #include "smokescan/render/image.hpp"
 
 namespace smokescan {
@@ -32,17 +33,15 @@ void writeImage(const std::string& path, const Image& img)
     if (!isImageExtension(path))
         throw Error(path, "unknown image format '" + lowerExt(path) + "' (exr, png, jpg, tif)");
     if (img.width <= 0 || img.height <= 0 || img.channels <= 0) throw Error(path, "empty image");
-    const fs::path p(path);
-    if (fs::is_directory(p)) throw Error(path, "is a directory");
-    // The temporary keeps the extension: OpenImageIO picks the writer by it.
-    const fs::path tmp = p.parent_path() / ("." + p.stem().string() + ".tmp" + std::to_string(::getpid()) + p.extension().string());
+    AtomicFile file(path);  // the temporary keeps the extension: OpenImageIO picks the writer by it
+    const std::string& tmp = file.tempPath();
     const bool is_float = lowerExt(path) == ".exr";
     OIIO::ImageSpec spec(img.width, img.height, img.channels, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
     if (!img.channel_names.empty()) spec.channelnames = img.channel_names;
     if (!is_float) spec.attribute("oiio:ColorSpace", "sRGB");
-    auto out = OIIO::ImageOutput::create(tmp.string());
+    auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error(path, "no image writer for this format (" + OIIO::geterror() + ")");
-    bool ok = out->open(tmp.string(), spec);
+    bool ok = out->open(tmp, spec);
     if (ok) {
         if (is_float) {
             ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data.data());
@@ -58,16 +57,9 @@ void writeImage(const std::string& path, const Image& img)
     }
     if (!ok) {
         const std::string why = out->geterror();
-        std::error_code ec;
-        fs::remove(tmp, ec);
         throw Error(path, "cannot write (" + (why.empty() ? std::string("directory missing or not writable") : why) + ")");
     }
-    std::error_code ec;
-    fs::rename(tmp, p, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error(path, "cannot write (" + ec.message() + ")");
-    }
+    file.commit();
 }
 
 Image readImage(const std::string& path)

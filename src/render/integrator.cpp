@@ -14,6 +14,7 @@
 #include "bsdf.hpp"
 #include "integrator.hpp"
 #include "sphere_rect.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/render/renderer.hpp"
 
@@ -221,8 +222,17 @@ RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const Camera
 RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, const CameraModel& camera,
                               const RenderMedium& medium, const RenderConfig& cfg)
 {
-    if (cfg.spp < 1) throw Error("--spp", "must be >= 1");
+    if (cfg.spp < 1 || cfg.spp > limits::kSpp) throw Error("--spp", "must be in [1, " + std::to_string(limits::kSpp) + "]");
+    if (cfg.max_depth < 0 || cfg.max_depth > limits::kPathDepth)
+        throw Error("--max-depth", "must be in [0, " + std::to_string(limits::kPathDepth) + "]");
     if (camera.width() <= 0 || camera.height() <= 0) throw Error("camera", "resolution must be > 0");
+    const int64_t pixels = int64_t(camera.width()) * camera.height();
+    if (camera.width() > limits::kFrameSide || camera.height() > limits::kFrameSide || pixels > limits::kFramePixels)
+        throw Error("--width", std::to_string(camera.width()) + "x" + std::to_string(camera.height()) + " is over the " +
+                                   std::to_string(limits::kFrameSide) + " px a side and " + std::to_string(limits::kFramePixels) +
+                                   " pixels a frame may have");
+    if (double(pixels) * cfg.spp > double(limits::kFrameSamples))
+        throw Error("--spp", "pixels × spp is over the " + std::to_string(limits::kFrameSamples) + " samples a frame may have");
     const auto t0 = std::chrono::steady_clock::now();
     const LightSet lights(scene);
     const Context ctx{scene, surfaces, medium, lights, cfg};

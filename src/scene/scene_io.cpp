@@ -13,6 +13,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/sensor_file.hpp"
 #include "smokescan/scene/mesh.hpp"
+#include "smokescan/io/text_input.hpp"
 
 namespace smokescan {
 namespace {
@@ -336,11 +337,7 @@ Scene loadScene(const std::string& name_or_path)
             for (const auto& b : builtinSceneNames()) s += (s.empty() ? "" : ", ") + b;
             return s;
         }() + ")");
-    std::ifstream in(name_or_path);
-    if (!in) throw Error(name_or_path, "cannot read");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parseScene(ss.str(), name_or_path, fs::path(name_or_path).parent_path().string());
+    return parseScene(readTextInput(name_or_path, "scene file"), name_or_path, fs::path(name_or_path).parent_path().string());
 }
 
 }  // namespace smokescan

@@ -7,12 +7,18 @@
 
 namespace smokescan {
 
+/// @brief `text` made safe to print on one line: control bytes, bytes that are not valid UTF-8 and
+/// line breaks become `\xNN` (backslash itself stays), so a message quoting a binary input is
+/// still one readable line.
+/// @param max_bytes longer texts are cut there and end in "…"
+std::string printable(const std::string& text, size_t max_bytes = 400);
+
 class Error : public std::runtime_error {
 public:
-    explicit Error(const std::string& what) : std::runtime_error(what) {}
+    explicit Error(const std::string& what) : std::runtime_error(printable(what, 2000)) {}
     /// @param where file (and optionally ":line" or key) the problem is in
     Error(const std::string& where, const std::string& problem)
-        : std::runtime_error(where.empty() ? problem : where + ": " + problem) {}
+        : std::runtime_error(printable(where.empty() ? problem : where + ": " + problem, 2000)) {}
 };
 
 }  // namespace smokescan

@@ -1,28 +1,53 @@
 #pragma once
 /// @file atomic_file.hpp
-/// @brief An output file that appears only when complete: written to "PATH.tmp.PID", renamed on
-/// commit(), removed if destroyed uncommitted (an error midway leaves no partial output).
+/// @brief An output file that appears only when complete, and never at the cost of another file.
+///
+/// The content goes to a temporary created exclusively (O_EXCL, random name) beside the target,
+/// with the target's extension so that writers choosing a format by extension (OpenImageIO) work,
+/// and commit() renames it into place. A target that exists must be a regular file, a character
+/// device or a FIFO: a symbolic link, a folder or anything else is refused, never replaced. A
+/// device or FIFO (`/dev/null`, `/dev/stdout`, a pipe) is written into at commit, from a
+/// temporary in the temp folder. Every write and the close are checked ("No space left on
+/// device" is an error, not a short file). An uncommitted temporary is removed when the object is
+/// destroyed, and also on SIGINT, SIGTERM and SIGHUP.
 #include <fstream>
+#include <memory>
 #include <string>
 
 namespace smokescan {
 
 class AtomicFile {
 public:
-    /// @throw Error naming `path` when the temporary cannot be created.
+    /// @param path the file to write
+    /// @throw Error naming `path` when it may not be replaced or the temporary cannot be created.
     explicit AtomicFile(std::string path);
     ~AtomicFile();
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
 
-    std::ostream& stream() { return out_; }
-    /// @throw Error when writing or renaming failed.
+    /// The stream onto the temporary (opened on first use).
+    std::ostream& stream();
+    /// The temporary's name, for writers that open files by name (OpenVDB, OpenImageIO).
+    const std::string& tempPath() const { return tmp_; }
+    const std::string& path() const { return path_; }
+    /// Checks every write, then moves the content into place.
+    /// @throw Error when writing, closing or renaming failed (the target is then untouched).
     void commit();
 
 private:
     std::string path_, tmp_;
     std::ofstream out_;
-    bool done_ = false;
+    bool device_ = false, done_ = false;
 };
+
+/// @brief Refuses (Error naming `path`) an output that may not be written: a folder, a symbolic
+/// link, a socket or block device, or a file in a folder that does not exist.
+/// @return true when `path` is a character device or FIFO (written into, not replaced)
+bool checkOutputPath(const std::string& path);
+
+/// @brief Removes `path` (a file or a folder tree) on SIGINT, SIGTERM or SIGHUP until it is
+/// released; for temporaries. Installs the signal handlers on first use.
+void registerTemporary(const std::string& path);
+void releaseTemporary(const std::string& path);
 
 }  // namespace smokescan

@@ -1,0 +1,41 @@
+#pragma once
+/// @file limits.hpp
+/// @brief The bounds on every size a user can set, checked before work starts (docs/limits.md
+/// lists them with the option or key each bounds). A request beyond one is a one-line error
+/// naming the option or key; nothing is allocated or computed first.
+#include <cstddef>
+#include <cstdint>
+
+namespace smokescan::limits {
+
+/// Bytes of one text input (laser log, CSV, scene, sensor file, calibration, beam groups).
+inline constexpr size_t kTextInputBytes = size_t(512) << 20;
+/// Scans in one `scan` run.
+inline constexpr int64_t kScans = 1'000'000;
+/// Rows of `scan`'s summary table (--bin).
+inline constexpr int64_t kSummaryRows = 10'000;
+/// Scans drawn by `scan --image` (each 2 px tall).
+inline constexpr int64_t kImageScans = 30'000;
+/// Pixels of one rendered frame (width × height): 8192 × 8192.
+inline constexpr int64_t kFramePixels = int64_t(8192) * 8192;
+/// Width or height of one rendered frame [px].
+inline constexpr int kFrameSide = 16384;
+/// Samples per pixel of one frame.
+inline constexpr int kSpp = 1 << 16;
+/// Samples of one frame (pixels × spp).
+inline constexpr int64_t kFrameSamples = int64_t(1) << 34;
+/// Frames in one `render` time series, or camera frames in one `scan --saturation-render` run.
+inline constexpr int64_t kFrames = 100'000;
+/// Scattering/bounce events of one path (--max-depth).
+inline constexpr int kPathDepth = 1'000'000;
+/// Voxels of one grid made from a scene (box, mesh or plume), as estimated from its bounding box.
+inline constexpr int64_t kGridVoxels = int64_t(1) << 30;
+/// Densities in one calibration sweep; engine densities accepted there (the sweep's smoke).
+inline constexpr int kCalibrationDensities = 1000;
+inline constexpr double kCalibrationDensityMax = 1.0;
+/// Density bins of `fit-plume`.
+inline constexpr int kPlumeBins = 1000;
+/// Triangles of one mesh.
+inline constexpr int64_t kMeshTriangles = 50'000'000;
+
+}  // namespace smokescan::limits

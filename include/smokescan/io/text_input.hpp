@@ -1,0 +1,19 @@
+#pragma once
+/// @file text_input.hpp
+/// @brief Text inputs read whole, within bounds: a missing file, a folder, a file over
+/// limits::kTextInputBytes (or a device or pipe that keeps giving bytes), or binary content
+/// (a NUL byte) is a one-line error naming the file, before anything is parsed.
+#include <string>
+
+#include "smokescan/core/limits.hpp"
+
+namespace smokescan {
+
+/// @param path the file to read (a regular file, FIFO or character device)
+/// @param what what the file is, for the error ("laser log", "scene file")
+/// @param max_bytes the largest text accepted
+/// @throw Error naming `path` for each case above.
+std::string readTextInput(const std::string& path, const std::string& what,
+                          size_t max_bytes = limits::kTextInputBytes);
+
+}  // namespace smokescan

@@ -1,0 +1,68 @@
+// Option checks shared by the subcommands (commands.hpp).
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "commands.hpp"
+
+namespace smokescan::cli {
+namespace {
+
+/// The option's text as a finite number, or why not.
+std::string parseFinite(const std::string& text, double& v)
+{
+    char* end = nullptr;
+    errno = 0;
+    v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end == text.c_str() || *end) return "'" + text + "' is not a number";
+    if (!std::isfinite(v) || errno == ERANGE) return "'" + text + "' is not a finite number";
+    return "";
+}
+
+CLI::Validator numberRule(const char* name, bool (*ok)(double), const char* rule)
+{
+    return CLI::Validator(
+        [ok, rule](std::string& text) {
+            double v = 0;
+            const std::string why = parseFinite(text, v);
+            if (!why.empty()) return why;
+            return ok(v) ? std::string() : "'" + text + "' " + rule;
+        },
+        name);
+}
+
+}  // namespace
+
+const CLI::Validator& finite()
+{
+    static const CLI::Validator v = numberRule("FINITE", [](double) { return true; }, "");
+    return v;
+}
+
+const CLI::Validator& positive()
+{
+    static const CLI::Validator v = numberRule("POSITIVE", [](double x) { return x > 0; }, "must be > 0");
+    return v;
+}
+
+const CLI::Validator& nonnegative()
+{
+    static const CLI::Validator v = numberRule("NONNEGATIVE", [](double x) { return x >= 0; }, "must be >= 0");
+    return v;
+}
+
+CLI::Validator intRange(long long lo, long long hi)
+{
+    return CLI::Validator(
+        [lo, hi](std::string& text) {
+            char* end = nullptr;
+            errno = 0;
+            const long long v = std::strtoll(text.c_str(), &end, 10);
+            if (text.empty() || *end || errno == ERANGE) return "'" + text + "' is not an integer";
+            if (v < lo || v > hi) return "'" + text + "' is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+            return std::string();
+        },
+        "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+}  // namespace smokescan::cli

@@ -1,0 +1,80 @@
+#include "smokescan/io/run_files.hpp"
+
+#include <sys/stat.h>
+
+#include <filesystem>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
+
+namespace smokescan {
+namespace {
+namespace fs = std::filesystem;
+
+/// A file's identity: (device, inode) of the file, or for a file not yet made, of its folder
+/// plus its name.
+struct FileId {
+    dev_t dev = 0;
+    ino_t ino = 0;
+    std::string name;  ///< "" for an existing file
+    bool device = false;
+    bool operator==(const FileId& o) const { return dev == o.dev && ino == o.ino && name == o.name; }
+};
+
+bool identify(const std::string& path, FileId& id)
+{
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        id = {st.st_dev, st.st_ino, "", S_ISCHR(st.st_mode)};
+        return true;
+    }
+    const fs::path p(path);
+    const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+    if (::stat(dir.c_str(), &st) != 0) return false;
+    id = {st.st_dev, st.st_ino, p.filename().string(), false};
+    return true;
+}
+
+}  // namespace
+
+RunFiles::RunFiles() = default;
+RunFiles::~RunFiles() = default;  // uncommitted AtomicFiles remove their temporaries
+
+void RunFiles::input(const std::string& path, const std::string& option)
+{
+    struct stat st {};
+    if (path.empty() || ::stat(path.c_str(), &st) != 0) return;
+    inputs_.emplace_back(path, option);
+}
+
+void RunFiles::output(const std::string& path, const std::string& option)
+{
+    if (path.empty()) return;
+    checkOutputPath(path);
+    FileId me;
+    if (!identify(path, me)) throw Error(path, "cannot write (no such directory)");
+    for (const auto& [p, opt] : inputs_) {
+        FileId other;
+        if (identify(p, other) && other == me)
+            throw Error(path, "is the input of " + opt + " (" + p + "); " + option + " would destroy it");
+    }
+    for (const auto& [p, opt] : outputs_) {
+        FileId other;
+        if (identify(p, other) && other == me && !me.device)
+            throw Error(path, "is named by both " + opt + " and " + option + "; give each output its own file");
+    }
+    outputs_.emplace_back(path, option);
+}
+
+std::string RunFiles::stage(const std::string& path)
+{
+    staged_.push_back(std::make_unique<AtomicFile>(path));
+    return staged_.back()->tempPath();
+}
+
+void RunFiles::commit()
+{
+    for (auto& f : staged_) f->commit();
+}
+
+}  // namespace smokescan

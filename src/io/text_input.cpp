@@ -1,0 +1,49 @@
+#include "smokescan/io/text_input.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "smokescan/core/error.hpp"
+
+namespace smokescan {
+
+std::string readTextInput(const std::string& path, const std::string& what, size_t max_bytes)
+{
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) throw Error(path, "no such " + what);
+    if (S_ISDIR(st.st_mode)) throw Error(path, "is a folder, not a " + what);
+    if (S_ISREG(st.st_mode) && size_t(st.st_size) > max_bytes)
+        throw Error(path, "is " + std::to_string(st.st_size >> 20) + " MiB, over the " + std::to_string(max_bytes >> 20) +
+                              " MiB a " + what + " may have");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw Error(path, "cannot read (" + std::string(std::strerror(errno)) + ")");
+    std::string text;
+    char buf[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, buf, sizeof buf);
+        if (n == 0) break;
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int e = errno;
+            ::close(fd);
+            throw Error(path, "cannot read (" + std::string(std::strerror(e)) + ")");
+        }
+        if (std::memchr(buf, '\0', size_t(n))) {
+            ::close(fd);
+            throw Error(path, "is not text (a NUL byte near byte " + std::to_string(text.size()) + "); expected a " + what);
+        }
+        if (text.size() + size_t(n) > max_bytes) {
+            ::close(fd);
+            throw Error(path, "gives more than the " + std::to_string(max_bytes >> 20) + " MiB a " + what + " may have");
+        }
+        text.append(buf, size_t(n));
+    }
+    ::close(fd);
+    return text;
+}
+
+}  // namespace smokescan
