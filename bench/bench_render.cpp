@@ -64,7 +64,13 @@ void bocas(double time_s, int spp, int frames)
 
 void teapot()
 {
-    const std::string vdb = std::string(SMOKESCAN_SOURCE_DIR) + "/../shared/data/vdb/teapot_cloud.vdb";
+    // A third-party file (no licence to ship it): found through SMOKESCAN_EXTERNAL_VDB, else skipped.
+    const char* dir = std::getenv("SMOKESCAN_EXTERNAL_VDB");
+    const std::string vdb = dir && *dir ? std::string(dir) + "/teapot_cloud.vdb" : "";
+    if (vdb.empty() || !std::filesystem::is_regular_file(vdb)) {
+        std::printf("teapot cloud: skipped (set SMOKESCAN_EXTERNAL_VDB to the folder holding teapot_cloud.vdb)\n");
+        return;
+    }
     const int W = 320, H = 240;
     const double density_scale = 0.02, sigma = 100.0;  // σ_a = 100 · 0.02 · stored value [1/m]
     const std::string toml = R"(

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs what smokescan needs from Debian 12's packages (only what is missing) and builds it.
+# --no-build: install only (scripts/test.sh --sanitize builds its own tree).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 pkgs=(build-essential cmake ninja-build pkg-config
   libopenvdb-dev libopenvdb-tools libboost-iostreams-dev libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev libtinyobjloader-dev
-  nlohmann-json3-dev fonts-dejavu-core)
+  nlohmann-json3-dev fonts-dejavu-core clang libclang-rt-14-dev llvm)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -17,5 +18,6 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
 fi
+[ "${1:-}" = "--no-build" ] && exit 0
 cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$here/build" -j "$(nproc)"

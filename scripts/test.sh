@@ -1,7 +1,23 @@
 #!/usr/bin/env bash
 # Builds smokescan (installing what is missing) and runs the whole test suite.
+#   bash scripts/test.sh             the Release build in build/
+#   bash scripts/test.sh --sanitize  the same suite built with clang, AddressSanitizer and
+#                                    UndefinedBehaviorSanitizer in build-sanitize/, then each
+#                                    reader's fuzzer for a bounded time (fuzz/run.sh)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
+if [ "${1:-}" = "--sanitize" ]; then
+  "$here/scripts/setup.sh" --no-build
+  cmake -S "$here" -B "$here/build-sanitize" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_CXX_COMPILER=clang++ -DSMOKESCAN_SANITIZE=ON -DSMOKESCAN_BUILD_FUZZ=ON \
+    -DSMOKESCAN_BUILD_BENCH=OFF >/dev/null
+  cmake --build "$here/build-sanitize" -j "$(nproc)"
+  export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:detect_container_overflow=0
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  (cd "$here/build-sanitize" && ctest --output-on-failure -j "$(nproc)")
+  bash "$here/fuzz/run.sh" "$here/build-sanitize" "${SMOKESCAN_FUZZ_SECONDS:-30}"
+  exit 0
+fi
 "$here/scripts/setup.sh"
 cd "$here/build"
 ctest --output-on-failure -j "$(nproc)"

@@ -129,7 +129,7 @@ TEST(Cli, VolumeBuildInfoExport)
     ASSERT_EQ(info.status, 0) << info.err;
     EXPECT_NE(info.out.find("grid 'room'"), std::string::npos);
     const std::string exp = file("export.vdb");
-    const CliRun e = cli("volume export ../shared/data/vdb/smoke_dense_double.vdb --scale 0.01 --out " + exp);
+    const CliRun e = cli("volume export volumes/ramp_block_double.vdb --scale 0.01 --out " + exp);
     ASSERT_EQ(e.status, 0) << e.err;
     EXPECT_NE(cli("volume info " + exp).out.find("stored as float"), std::string::npos);
     EXPECT_EQ(cli("volume info bocas --time 120").status, 0);
@@ -180,9 +180,9 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput)
     expectBad("render bocas --out " + png + " --exr " + file("lin.png"), "must be an .exr", png);
     expectBad("render bocas --camera nope --spp 1 --out " + png, "no camera named 'nope'", png);
     const std::string vdb_out = file("never.vdb");
-    expectBad("volume info ../shared/data/vdb/teapot_cloud.vdb --grid smoke", "no grid named 'smoke'", vdb_out);
+    expectBad("volume info volumes/fog_ball_float.vdb --grid smoke", "no grid named 'smoke'", vdb_out);
     expectBad("volume export nothere.vdb --out " + vdb_out, "nothere.vdb: no such file", vdb_out);
-    expectBad("volume export ../shared/data/vdb/teapot_cloud.vdb --scale -1 --out " + vdb_out, "--scale: '-1' must be > 0", vdb_out);
+    expectBad("volume export volumes/fog_ball_float.vdb --scale -1 --out " + vdb_out, "--scale: '-1' must be > 0", vdb_out);
 }
 
 // A simulated recorded run (the laser's log and the camera's saturation 3 s ahead) goes through

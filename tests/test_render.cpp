@@ -10,6 +10,8 @@
 #include "../src/render/integrator.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
+#include "test_data.hpp"
+
 using namespace smokescan;
 
 namespace {
@@ -76,9 +78,9 @@ medium = { preset = "theatrical_fog", albedo = 1.0 }
 
 TEST(Render, WhiteFurnaceHeterogeneousSpectralMedium)
 {
-    // The teapot cloud with a wavelength-dependent extinction (Ångström 2) and albedo 1: spectral
-    // tracking must keep every channel at 1 in expectation. Thin enough (σ_t ≤ 25 /m) that paths
-    // escape in well under the depth limit, which would otherwise remove energy.
+    // The fog ball (volumes/) with a wavelength-dependent extinction (Ångström 2) and albedo 1:
+    // spectral tracking must keep every channel at 1 in expectation. Thin enough (σ_t ≤ 40 /m over
+    // 0.4 m) that paths escape in well under the depth limit, which would otherwise remove energy.
     const RenderResult r = renderScene(R"(
 [[lights]]
 name = "sky"
@@ -86,16 +88,16 @@ kind = "ambient"
 radiance = 1.0
 [[cameras]]
 name = "cam"
-position = [0.0, -3.0, 0.0]
+position = [0.0, -0.8, 0.0]
 look_at = [0.0, 0.0, 0.0]
 width = 12
 height = 8
 hfov_deg = 45
 [[smoke]]
-name = "teapot"
+name = "ball"
 type = "vdb"
-file = "../shared/data/vdb/teapot_cloud.vdb"
-scale = 0.002
+file = "volumes/fog_ball_float.vdb"
+scale = 0.4
 medium = { sigma_t_550 = 100.0, angstrom = 2.0, albedo = 1.0, g = 0.6 }
 )", config(256, 1000000));
     for (int k = 0; k < 3; ++k) {
@@ -128,11 +130,10 @@ TEST(Render, TransmittanceIsBeerLambert)
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], std::exp(-tau), 3 * se[k] + 1e-9);
 
     SmokeVolume t;
-    t.name = "teapot";
-    t.source = std::make_shared<const DensityGrid>(
-        DensityGrid::loadVdb(std::string(SMOKESCAN_SOURCE_DIR) + "/../shared/data/vdb/teapot_cloud.vdb"));
+    t.name = "ball";
+    t.source = std::make_shared<const DensityGrid>(DensityGrid::loadVdb(test::projectVolume("fog_ball_float.vdb")));
     const auto& grid = *std::get<std::shared_ptr<const DensityGrid>>(t.source);
-    const Ray r1{Vec3(-2, 0.05, 0.0), Vec3::UnitX()}, r2{Vec3(-1, -1, -0.5), Vec3(1, 1, 0.5).normalized()};
+    const Ray r1{Vec3(-2, 0.05, 0.0), Vec3::UnitX()}, r2{Vec3(-1, -0.95, -0.45), Vec3(1, 1, 0.5).normalized()};
     const double scale = 1.0 / (Medium::kCalibratedSigmaT * grid.integrate(r1, 0, 10));  // τ = 1 along r1
     t.timeline = DensityTimeline::constant(scale);
     std::vector<SmokeVolume> tv = {t};

@@ -14,10 +14,6 @@
 namespace smokescan {
 namespace {
 
-std::istringstream openInput(const std::string& path, const std::string& what)
-{
-    return std::istringstream(readTextInput(path, what));
-}
 
 bool blankOrComment(const std::string& line)
 {
@@ -57,6 +53,20 @@ std::vector<std::string> splitCsv(const std::string& line)
     return out;
 }
 
+/// Why a scan's (angle, range) pairs cannot be a laser's, or "": an angle beyond ±2π rad, a
+/// negative range, or one beyond 1 km (in the log's unit).
+std::string implausibleBeam(const std::vector<double>& f, double unit_m)
+{
+    constexpr double kTwoPi = 6.283185307179586, kMaxRange_m = 1000.0;
+    for (size_t i = 1; i + 1 < f.size(); i += 2) {
+        const std::string beam = "beam " + std::to_string(i / 2);
+        if (std::abs(f[i]) > kTwoPi + 1e-9) return beam + ": angle " + std::to_string(f[i]) + " rad is beyond ±2π";
+        if (f[i + 1] < 0) return beam + ": range " + std::to_string(f[i + 1]) + " is negative";
+        if (f[i + 1] * unit_m > kMaxRange_m) return beam + ": range " + std::to_string(f[i + 1] * unit_m) + " m is beyond 1 km (wrong --unit?)";
+    }
+    return "";
+}
+
 bool endsWith(const std::string& s, const std::string& suffix)
 {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -74,7 +84,12 @@ double parseRangeUnit(const std::string& name, const std::string& what)
 
 RecordedLog readRecordedLog(const std::string& path, const ReadOptions& opt)
 {
-    std::istringstream in = openInput(path, "laser log");
+    return parseRecordedLog(readTextInput(path, "laser log"), path, opt);
+}
+
+RecordedLog parseRecordedLog(const std::string& text, const std::string& path, const ReadOptions& opt)
+{
+    std::istringstream in(text);
     RecordedLog log;
     log.path = path;
     log.unit_m = opt.unit_m;
@@ -102,7 +117,11 @@ RecordedLog readRecordedLog(const std::string& path, const ReadOptions& opt)
                 std::to_string(log.scans.front().range.size()) + " (truncated line?)");
             continue;
         }
-        if (!log.scans.empty() && f[0] < log.scans.back().time_s) { bad("time goes backwards"); continue; }
+        if (!log.scans.empty() && f[0] <= log.scans.back().time_s) {
+            bad(f[0] < log.scans.back().time_s ? "time goes backwards" : "time repeats the previous scan's");
+            continue;
+        }
+        if (const std::string why = implausibleBeam(f, opt.unit_m); !why.empty()) { bad(why); continue; }
         LaserLogScan s;
         s.time_s = f[0];
         for (size_t i = 1; i < f.size(); i += 2) {
@@ -117,7 +136,12 @@ RecordedLog readRecordedLog(const std::string& path, const ReadOptions& opt)
 
 SaturationSeries readSaturationCsv(const std::string& path, const ReadOptions& opt)
 {
-    std::istringstream in = openInput(path, "saturation CSV");
+    return parseSaturationCsv(readTextInput(path, "saturation CSV"), path, opt);
+}
+
+SaturationSeries parseSaturationCsv(const std::string& text, const std::string& path, const ReadOptions& opt)
+{
+    std::istringstream in(text);
     SaturationSeries s;
     s.path = path;
     int col_t = 0, col_s = 1;

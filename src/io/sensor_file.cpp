@@ -59,7 +59,12 @@ void readPaperTable(TomlTable t, SensorMount& m)
 
 void applySensorFile(const std::string& path, SensorMount& m)
 {
-    const toml::table root = parseToml(readTextInput(path, "sensor file"), path);
+    applySensorText(readTextInput(path, "sensor file"), path, m);
+}
+
+void applySensorText(const std::string& text, const std::string& path, SensorMount& m)
+{
+    const toml::table root = parseToml(text, path);
     TomlTable t(root, path, "");
     const std::string type = t.strReq("type");
     if (type != m.type) t.error("type", "is '" + type + "' but the sensor is a " + m.type);

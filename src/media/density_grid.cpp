@@ -4,14 +4,19 @@
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/Prune.h>
 
+#include <sys/stat.h>
+
 #include <Eigen/LU>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "vdb_header.hpp"
 #include "vdb_grid.hpp"
 
 namespace smokescan {
@@ -125,12 +130,43 @@ DensityGrid wrapFloatGrid(openvdb::FloatGrid::Ptr grid, const std::string& where
     return DensityGrid(DensityGrid::Impl::make(grid, where));
 }
 
+namespace {
+
+/// The grid to read: checks the file's structure first (vdb_header.hpp), then picks the named
+/// grid, or the first float or double grid, and refuses a wrong type or an oversized grid before
+/// OpenVDB reads any of its data.
+std::string chooseVdbGrid(const std::string& path, const std::string& wanted)
+{
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) throw Error(path, "no such file");
+    if (!S_ISREG(st.st_mode)) throw Error(path, "is not a regular file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path, "cannot read");
+    const auto grids = detail::checkVdbHeader(in, uint64_t(st.st_size), path);
+    const detail::VdbGridEntry* g = nullptr;
+    std::string names;
+    for (const auto& e : grids) {
+        names += (names.empty() ? "" : ", ") + e.name;
+        if (!g && (wanted.empty() ? (e.type == "float" || e.type == "double") : e.name == wanted)) g = &e;
+    }
+    if (!g && wanted.empty()) throw Error(path, "holds no float or double grid");
+    if (!g) throw Error(path, "no grid named '" + wanted + "' (grids: " + (names.empty() ? "none" : names) + ")");
+    if (g->type != "float" && g->type != "double")
+        throw Error(path, "grid '" + g->name + "' holds " + g->type + " values; a density grid must be scalar float or double");
+    if (g->voxels > limits::kGridVoxels)
+        throw Error(path, "grid '" + g->name + "' holds " + std::to_string(g->voxels) + " voxels, over the " +
+                              std::to_string(limits::kGridVoxels) + " a grid may have");
+    return g->name;
+}
+
+}  // namespace
+
 DensityGrid DensityGrid::loadVdb(const std::string& path, const VdbLoadConfig& cfg)
 {
     ensureOpenVdb();
-    if (!std::filesystem::exists(path)) throw Error(path, "no such file");
     if (!(std::isfinite(cfg.scale) && cfg.scale > 0))
         throw Error(path, "scale must be finite and > 0, got " + std::to_string(cfg.scale));
+    const std::string name = chooseVdbGrid(path, cfg.grid_name);
     openvdb::io::File file(path);
     try {
         file.open(false);
@@ -139,24 +175,7 @@ DensityGrid DensityGrid::loadVdb(const std::string& path, const VdbLoadConfig& c
     }
     openvdb::GridBase::Ptr base;
     try {
-        if (cfg.grid_name.empty()) {
-            for (auto it = file.beginName(); it != file.endName() && !base; ++it) {
-                auto g = file.readGrid(it.gridName());
-                if (g->isType<openvdb::FloatGrid>() || g->isType<openvdb::DoubleGrid>()) base = g;
-            }
-            if (!base) throw Error(path, "holds no float or double grid");
-        } else {
-            if (!file.hasGrid(cfg.grid_name)) {
-                std::string names;
-                for (auto it = file.beginName(); it != file.endName(); ++it)
-                    names += (names.empty() ? "" : ", ") + it.gridName();
-                throw Error(path, "no grid named '" + cfg.grid_name + "' (grids: " +
-                                      (names.empty() ? "none" : names) + ")");
-            }
-            base = file.readGrid(cfg.grid_name);
-        }
-    } catch (const Error&) {
-        throw;
+        base = file.readGrid(name);
     } catch (const std::exception& e) {
         throw Error(path, std::string("cannot read grid (") + e.what() + ")");
     }

@@ -36,8 +36,12 @@ struct RecordedLog {
 
 /// @brief Reads a laser log. Problems, each "FILE:LINE: …": a non-numeric or non-finite field, an
 /// odd number of fields after the time, a scan with another beam count than the first (a
-/// truncated line), time going backwards. @throw Error on the first, unless `lenient`.
+/// truncated line), time not advancing, an angle outside ±2π rad, a negative range or one
+/// beyond 1 km. The file itself is read within bounds (io/text_input.hpp).
+/// @throw Error on the first, unless `lenient`.
 RecordedLog readRecordedLog(const std::string& path, const ReadOptions& opt = {});
+/// @brief The same from the file's text; `path` names it in errors.
+RecordedLog parseRecordedLog(const std::string& text, const std::string& path, const ReadOptions& opt = {});
 
 /// A target's saturation over time (camera clock): the mean over the target and, optionally,
 /// per patch (NaN where a frame had no pixels of a patch).
@@ -54,6 +58,8 @@ struct SaturationSeries {
 /// too few fields, non-numeric, NaN, saturation outside [0, 1], time going backwards.
 /// @throw Error "FILE:LINE: …" unless `lenient`; also when no row is left.
 SaturationSeries readSaturationCsv(const std::string& path, const ReadOptions& opt = {});
+/// @brief The same from the file's text; `path` names it in errors.
+SaturationSeries parseSaturationCsv(const std::string& text, const std::string& path, const ReadOptions& opt = {});
 
 /// @brief Writes `time_s,saturation` (and patch columns) atomically.
 void writeSaturationCsv(const std::string& path, const SaturationSeries& s, const std::vector<std::string>& header = {});

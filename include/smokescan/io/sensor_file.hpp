@@ -19,6 +19,8 @@ namespace smokescan {
 /// @throw Error "FILE:LINE: problem" for unreadable files, unknown keys, bad values, or a type
 /// that differs from the mount's.
 void applySensorFile(const std::string& path, SensorMount& mount);
+/// @brief The same from the file's text; `path` names it in errors.
+void applySensorText(const std::string& text, const std::string& path, SensorMount& mount);
 
 /// @brief Writes the mount's model and every parameter as a sensor file (atomically).
 void writeSensorFile(const std::string& path, const SensorMount& mount, const std::string& comment = "");

@@ -18,7 +18,7 @@
 /// calib/bocas.json; docs/calibration.md). Defaults describe theatrical oil/glycol fog, the BOCAS
 /// smoke: droplets near 1 µm give an Ångström exponent near 0 (same σ_t at all three wavelengths)
 /// and albedo close to 1. Presets for soot (Å ≈ 1, albedo 0.3) and fine smoke (Å ≈ 2, albedo 0.9)
-/// follow ../shared/REFERENCE.md.
+/// follow typical aerosol values (docs/smoke.md, docs/references.md).
 ///
 /// Backscatter for the lidar equation, β = σ_s·p(π) [1/(m·sr)]: HG's p(π) = (1−g)/(4π(1+g)²) is
 /// known to understate the backscatter peak of real droplets and soot (HG has no glory), so a

@@ -1,7 +1,7 @@
 #pragma once
 /// @file lrf.hpp
 /// @brief Datasheet geometry, range limits, noise and error values of the two laser range
-/// finders of the smoke paper. Sources: ../shared/REFERENCE.md; details in docs/sensors.md.
+/// finders of the smoke paper. Sources (SCIP 2.0, the LMS200 manual): docs/references.md; details in docs/sensors.md.
 ///
 /// | field            | URG-04LX                         | LMS200                                   |
 /// |------------------|----------------------------------|------------------------------------------|
