@@ -143,12 +143,18 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     res.dof = int(pts.size()) - 3;
     res.r2 = ss_tot > 0 ? 1 - ss_res / ss_tot : 0;
 
+    // The covariance's SVD is only defined on a finite Jacobian: densities far beyond the curve's
+    // range underflow it (and Eigen's SVD then never returns).
+    ceres::CRSMatrix jac;
+    double cost = 0;
+    const bool finite_jacobian = problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &jac) &&
+                                 std::all_of(jac.values.begin(), jac.values.end(), [](double v) { return std::isfinite(v); });
     ceres::Covariance::Options copt;
     copt.algorithm_type = ceres::DENSE_SVD;
     copt.null_space_rank = -1;
     ceres::Covariance cov(copt);
     std::vector<std::pair<const double*, const double*>> blocks = {{p, p}};
-    if (cov.Compute(blocks, &problem)) {
+    if (finite_jacobian && cov.Compute(blocks, &problem)) {
         double c[9];
         cov.GetCovarianceBlock(p, p, c);
         res.covariance = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c);
@@ -158,6 +164,10 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
         res.message += " (covariance could not be computed: the curve is not identifiable from these points)";
     }
     for (int k = 0; k < 3; ++k) res.std_error[size_t(k)] = std::sqrt(std::max(0.0, res.covariance(k, k)));
+    if (res.converged && !(res.std_error[0] > 0 && res.std_error[1] > 0 && res.std_error[2] > 0)) {
+        res.converged = false;
+        res.message += " (a parameter has no standard error: the curve is not identifiable from these points)";
+    }
     return res;
 }
 

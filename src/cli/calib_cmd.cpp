@@ -73,6 +73,9 @@ int runCalibrate(const CalibArgs& a)
                      "==============================", w - k, "", done, total, el, el * (total - done) / done);
         if (done == total) std::fprintf(stderr, "\n");
     });
+    if (!r.fit.converged)
+        throw Error("calibrate", "the curve could not be fitted to these " + std::to_string(cfg.densities.size()) +
+                                     " points: " + r.fit.message + " (the default sweep: 14 densities from 0 to 0.012)");
     writeCalibrationJson(files.stage(a.out), r, cfg, scene.source);
     if (!a.plot.empty()) writeCalibrationPlot(files.stage(a.plot), r, cfg);
     files.commit();

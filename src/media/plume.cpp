@@ -26,6 +26,15 @@ void PlumeConfig::validate() const
     if (!source_m.allFinite() || !wind_m_s.allFinite()) throw Error("", "source_m and wind_m_s must be finite");
     if (!std::isfinite(start_s) || !(stop_s > start_s)) throw Error("", "plume needs a finite start_s < stop_s");
     if (rate_per_s * lifetime_s > 2e5) throw Error("", "plume has more than 200000 live particles (rate_per_s × lifetime_s)");
+    // Bounded work: each live puff is rasterised over a cube of 6σ a side (σ up to radius_m +
+    // growth_m_s·lifetime_s), and its voxel indices must fit the grid's integer coordinates.
+    const double sigma_max = radius_m + growth_m_s * lifetime_s;
+    const double side = 6 * sigma_max / voxel_m + 2, live = std::ceil(rate_per_s * lifetime_s) + 1;
+    if (live * side * side * side > 5e8)
+        throw Error("", "plume puffs would cover about " + std::to_string((long long)(live * side * side * side)) +
+                            " voxels at once (at most 5e8): raise voxel or lower radius_m, growth_m_s or rate_per_s");
+    const double reach = source_m.norm() + (wind_m_s.norm() + std::abs(rise_m_s) + 8 * spread_m_s) * lifetime_s + 3 * sigma_max;
+    if (reach / voxel_m > 1e8) throw Error("", "plume reaches " + std::to_string(reach) + " m from the origin, over 1e8 voxels");
 }
 
 std::vector<DensityGrid::Blob> plumeBlobs(const PlumeConfig& c, double t)

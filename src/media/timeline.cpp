@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 
 namespace smokescan {
 
@@ -48,6 +49,10 @@ DensityTimeline DensityTimeline::machine(std::vector<std::pair<double, double>> 
         if (i > 0 && on_s[i].first < on_s[i - 1].second)
             throw Error("", "machine intervals must be in order and not overlap (interval " + std::to_string(i) + ")");
     }
+    double on_time_s = 0;
+    for (const auto& [a, b] : on_s) on_time_s += b - a;
+    if (!(fill_per_s * std::min(on_time_s, 10 * dissolve_s) <= limits::kDensity))
+        throw Error("", "fill_per_s × time on reaches a density factor over " + std::to_string(limits::kDensity));
     DensityTimeline t;
     t.kind_ = Kind::Machine;
     t.pts_ = std::move(on_s);

@@ -2,10 +2,16 @@
 
 #include <tiny_obj_loader.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <sstream>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/io/text_input.hpp"
 
 namespace smokescan {
 
@@ -16,14 +22,42 @@ void TriMesh::append(const TriMesh& o)
     for (auto t : o.triangles) triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
 
+namespace {
+
+/// tinyobjloader reads "nan" or "1e999" as some number: every vertex line must be three finite
+/// numbers (an optional fourth, w) before it parses.
+void checkVertexLines(const std::string& text, const std::string& path)
+{
+    std::istringstream in(text);
+    std::string line;
+    for (int ln = 1; std::getline(in, line); ++ln) {
+        std::istringstream ls(line);
+        std::string tag, tok;
+        if (!(ls >> tag) || tag != "v") continue;
+        int n = 0;
+        while (ls >> tok) {
+            char* end = nullptr;
+            errno = 0;
+            const double x = std::strtod(tok.c_str(), &end);
+            if (*end || end == tok.c_str() || !std::isfinite(x) || errno == ERANGE)
+                throw Error(path + ":" + std::to_string(ln), "vertex coordinate '" + tok + "' is not a finite number");
+            ++n;
+        }
+        if (n < 3 || n > 4) throw Error(path + ":" + std::to_string(ln), "a vertex needs 3 coordinates, got " + std::to_string(n));
+    }
+}
+
+}  // namespace
+
 TriMesh loadObj(const std::string& path)
 {
-    if (!std::filesystem::exists(path)) throw Error(path, "no such file");
+    const std::string text = readTextInput(path, "OBJ file");
+    checkVertexLines(text, path);
     tinyobj::ObjReaderConfig cfg;
     cfg.triangulate = true;
     cfg.vertex_color = false;
     tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path, cfg)) {
+    if (!reader.ParseFromString(text, "", cfg)) {
         std::string msg = reader.Error();
         while (!msg.empty() && (msg.back() == '\n' || msg.back() == '\r')) msg.pop_back();
         throw Error(path, "cannot read as OBJ (" + (msg.empty() ? std::string("parse error") : msg) + ")");
@@ -43,9 +77,24 @@ TriMesh loadObj(const std::string& path)
                 if (k < 0 || size_t(k) >= m.points_m.size()) throw Error(path, "face index out of range");
             m.triangles.push_back(t);
         }
+        if (int64_t(m.triangles.size()) > limits::kMeshTriangles)
+            throw Error(path, "has over " + std::to_string(limits::kMeshTriangles) + " triangles");
     }
     if (m.triangles.empty()) throw Error(path, "holds no faces");
     return m;
+}
+
+size_t openEdges(const TriMesh& mesh)
+{
+    std::map<std::pair<int, int>, int> uses;
+    for (const auto& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const int a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+            ++uses[{std::min(a, b), std::max(a, b)}];
+        }
+    size_t open = 0;
+    for (const auto& [edge, n] : uses) open += n != 2;
+    return open;
 }
 
 namespace {

@@ -11,6 +11,7 @@
 #include "../io/sensor_toml.hpp"
 #include "../io/toml_reader.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/io/sensor_file.hpp"
 #include "smokescan/scene/mesh.hpp"
 #include "smokescan/io/text_input.hpp"
@@ -195,6 +196,14 @@ Medium readMedium(TomlTable& parent)
     return m;
 }
 
+/// A smoke area's density [engine units], within limits::kDensity.
+double density(TomlTable& t)
+{
+    const double rho = t.nonneg("density", 1.0);
+    if (rho > limits::kDensity) t.error("density", "must be at most 1e6 (engine units; the paper's threshold is 0.0028)");
+    return rho;
+}
+
 DensityTimeline readTimeline(TomlTable& parent)
 {
     if (!parent.has("timeline")) return DensityTimeline::constant();
@@ -245,16 +254,23 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
         if (type == "box") {
             const Vec3 lo = t.vec3Req("min"), hi = t.vec3Req("max");
             if (!(hi.array() > lo.array()).all()) t.error("max", "must exceed min on every axis");
-            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
-            if (((hi - lo) / h).maxCoeff() > 4000) t.error("voxel", "is too small for this box (over 4000 voxels a side)");
+            const double rho = density(t), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
+            if (((hi - lo) / h).maxCoeff() > limits::kGridSide) t.error("voxel", "is too small for this box (over 4000 voxels a side)");
             v.source = std::make_shared<const DensityGrid>(DensityGrid::box(lo, hi, rho, h, edge));
         } else if (type == "mesh") {
             const std::string file = resolve(base_dir, t.strReq("file"));
             const Pose pose = readPose(t);
             const double scale = t.positive("scale", 1.0);
-            const double rho = t.nonneg("density", 1.0), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
+            const double rho = density(t), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
             TriMesh mesh = loadObj(file);
             for (Vec3& p : mesh.points_m) p = pose.apply(scale * p);
+            Aabb box;
+            for (const Vec3& p : mesh.points_m) box.extend(p);
+            if (!box.empty() && ((box.hi - box.lo).maxCoeff() + 2 * edge) / h > limits::kGridSide)
+                t.error("voxel", "is too small for this mesh (over 4000 voxels a side)");
+            if (const size_t open = openEdges(mesh))
+                t.error("file", "'" + file + "' is not a closed mesh (" + std::to_string(open) +
+                                    " edges do not join exactly two faces); a smoke area needs an inside");
             v.source = std::make_shared<const DensityGrid>(
                 DensityGrid::fromMesh(mesh.points_m, mesh.triangles, rho, h, edge));
         } else if (type == "vdb") {
@@ -274,6 +290,7 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
             p.radius_m = t.num("radius_m", p.radius_m);
             p.growth_m_s = t.num("growth_m_s", p.growth_m_s);
             p.peak_density = t.num("peak_density", p.peak_density);
+            if (p.peak_density > limits::kDensity) t.error("peak_density", "must be at most 1e6");
             p.start_s = t.num("start_s", p.start_s);
             p.stop_s = t.num("stop_s", 1e300);
             p.voxel_m = t.num("voxel", p.voxel_m);

@@ -33,6 +33,11 @@ inline constexpr int64_t kGridVoxels = int64_t(1) << 30;
 /// Densities in one calibration sweep; engine densities accepted there (the sweep's smoke).
 inline constexpr int kCalibrationDensities = 1000;
 inline constexpr double kCalibrationDensityMax = 1.0;
+/// Largest smoke density (engine units; the paper's threshold is 0.0028) of a box, mesh, plume
+/// puff or timeline factor: beyond it optical depths overflow.
+inline constexpr double kDensity = 1e6;
+/// Voxels a side of a box or mesh smoke area.
+inline constexpr double kGridSide = 4000;
 /// Density bins of `fit-plume`.
 inline constexpr int kPlumeBins = 1000;
 /// Triangles of one mesh.

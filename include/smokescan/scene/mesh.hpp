@@ -16,8 +16,13 @@ struct TriMesh {
 };
 
 /// @brief Reads the triangles of an OBJ file (polygons are fan-triangulated).
-/// @throw Error naming the file: missing, unreadable, no faces, bad indices.
+/// @throw Error naming the file (and line): missing, unreadable, over the text-input bound, a
+/// vertex that is not three finite numbers, no faces, bad indices, over limits::kMeshTriangles.
 TriMesh loadObj(const std::string& path);
+
+/// @brief Edges that belong to one triangle only, or to more than two: 0 for a closed mesh
+/// (one whose inside is defined, as a smoke area's must be).
+size_t openEdges(const TriMesh& mesh);
 
 /// @brief World-space triangles of a surface (cylinders: 128 facets and two caps).
 TriMesh tessellate(const Surface& s);
