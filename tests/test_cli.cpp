@@ -10,57 +10,11 @@
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/render/image.hpp"
 
-#include "scratch.hpp"
+#include "cli_run.hpp"
 
 namespace fs = std::filesystem;
 
-namespace {
-struct CliRun {
-    int status;
-    std::string out, err;
-};
-
-fs::path dir()
-{
-    static const fs::path d = smokescan::test::scratch("cli");
-    return d;
-}
-
-std::string slurp(const fs::path& p)
-{
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-CliRun cli(const std::string& args)
-{
-    const fs::path o = dir() / "stdout", e = dir() / "stderr";
-    const std::string cmd = std::string(SMOKESCAN_CLI) + " " + args + " >" + o.string() + " 2>" + e.string();
-    const int rc = std::system(cmd.c_str());
-    return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(o), slurp(e)};
-}
-
-std::string file(const std::string& name, const std::string& text = "")
-{
-    const fs::path p = dir() / name;
-    if (!text.empty()) std::ofstream(p) << text;
-    return p.string();
-}
-
-/// Bad input: non-zero exit, exactly one line on stderr that contains `needle`, no output file.
-void expectBad(const std::string& args, const std::string& needle, const std::string& out_file)
-{
-    const CliRun r = cli(args);
-    EXPECT_NE(r.status, 0) << args;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_FALSE(fs::exists(out_file)) << out_file;
-    for (const auto& e : fs::directory_iterator(dir()))
-        EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left a temporary " << e.path();
-}
-}  // namespace
+using namespace smokescan::test;
 
 TEST(Cli, ScanWritesThePapersLogAndSummary)
 {

@@ -1,4 +1,5 @@
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <filesystem>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/render/image.hpp"
 
@@ -62,16 +64,57 @@ void writeImage(const std::string& path, const Image& img)
     file.commit();
 }
 
+namespace {
+
+/// OpenImageIO's messages, on one line ("a\nb" → "a; b").
+std::string oneLine(std::string m)
+{
+    while (!m.empty() && (m.back() == '\n' || m.back() == '\r')) m.pop_back();
+    for (size_t p; (p = m.find('\n')) != std::string::npos;) m.replace(p, 1, "; ");
+    return m;
+}
+
+/// Silences stderr while a reader runs: libpng prints its errors there itself, and OpenImageIO
+/// also returns them, so they reach the user once, in the one-line error.
+class QuietStderr {
+public:
+    QuietStderr() : saved_(::dup(2))
+    {
+        const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
+        if (null >= 0) ::close(null);
+    }
+    ~QuietStderr()
+    {
+        if (saved_ < 0) return;
+        ::dup2(saved_, 2);
+        ::close(saved_);
+    }
+    QuietStderr(const QuietStderr&) = delete;
+    QuietStderr& operator=(const QuietStderr&) = delete;
+
+private:
+    int saved_;
+};
+
+}  // namespace
+
 Image readImage(const std::string& path)
 {
     if (!fs::exists(path)) throw Error(path, "no such file");
+    if (fs::is_directory(path)) throw Error(path, "is a folder, not an image");
+    QuietStderr quiet;
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error(path, "cannot read as an image (" + OIIO::geterror() + ")");
+    if (!in) throw Error(path, "cannot read as an image (" + oneLine(OIIO::geterror()) + ")");
     const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.nchannels > 64 || spec.width > limits::kFrameSide ||
+        spec.height > limits::kFrameSide || int64_t(spec.width) * spec.height > limits::kFramePixels)
+        throw Error(path, "is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
+                              std::to_string(spec.nchannels) + " channels, beyond what smokescan reads (docs/limits.md)");
     Image img(spec.width, spec.height, spec.nchannels);
     img.channel_names = spec.channelnames;
     const bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data());
-    const std::string why = in->geterror();
+    const std::string why = oneLine(in->geterror());
     in->close();
     if (!ok) throw Error(path, "cannot read pixels (" + why + ")");
     return img;
