@@ -58,10 +58,9 @@ void RunFiles::output(const std::string& path, const std::string& option)
         if (identify(p, other) && other == me)
             throw Error(path, "is the input of " + opt + " (" + p + "); " + option + " would destroy it");
     }
-    for (const auto& [p, opt] : outputs_) {
-        FileId other;
-        if (identify(p, other) && other == me && !me.device)
-            throw Error(path, "is named by both " + opt + " and " + option + "; give each output its own file");
+    if (!me.device) {
+        const auto [it, fresh] = output_ids_.emplace(std::make_tuple(uint64_t(me.dev), uint64_t(me.ino), me.name), option);
+        if (!fresh) throw Error(path, "is named by both " + it->second + " and " + option + "; give each output its own file");
     }
     outputs_.emplace_back(path, option);
 }

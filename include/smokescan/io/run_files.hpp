@@ -9,8 +9,11 @@
 /// write to stage(path), a fresh temporary beside each output, and commit() moves them all into
 /// place at the end, so a run that fails midway leaves none of its outputs (and no temporaries:
 /// they are removed on destruction and on SIGINT/SIGTERM/SIGHUP).
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace smokescan {
@@ -39,6 +42,7 @@ public:
 
 private:
     std::vector<std::pair<std::string, std::string>> inputs_, outputs_;  // (path, option)
+    std::map<std::tuple<uint64_t, uint64_t, std::string>, std::string> output_ids_;  // identity → option
     std::vector<std::unique_ptr<AtomicFile>> staged_;
 };
 
