@@ -55,7 +55,7 @@ int runRender(const RenderArgs& a)
     if (series) {
         if (std::isnan(a.from) || std::isnan(a.to) || a.to < a.from) throw Error("--every", "needs --from <= --to");
         if ((a.to - a.from) / a.every + 1 > double(limits::kFrames))
-            throw Error("--every", "would render " + std::to_string((long long)((a.to - a.from) / a.every) + 1) + " frames (at most " +
+            throw Error("--every", "would render " + limits::count(std::floor((a.to - a.from) / a.every) + 1) + " frames (at most " +
                                        std::to_string(limits::kFrames) + ")");
         times.clear();
         for (int k = 0; a.from + k * a.every <= a.to + 1e-9; ++k) times.push_back(a.from + k * a.every);

@@ -108,7 +108,7 @@ public:
         const double span = times.empty() ? 0.0 : times.back() - times.front();
         bin_ = a.bin_s > 0 ? a.bin_s : std::max(1.0, std::ceil(span / 36.0 / 5.0) * 5.0);
         if (!a.quiet && span / bin_ + 1 > double(limits::kSummaryRows))
-            throw Error("--bin", "would print " + std::to_string((long long)(span / bin_) + 1) + " rows (at most " +
+            throw Error("--bin", "would print " + limits::count(std::floor(span / bin_) + 1) + " rows (at most " +
                                      std::to_string(limits::kSummaryRows) + "; use a wider bin or --quiet)");
     }
 
@@ -278,7 +278,7 @@ int runScan(const ScanArgs& a0)
     if (!a.saturation_out.empty() && !times.empty()) {
         const double frames_wanted = (times.back() - times.front()) * a.sat.rate_hz + 1;
         if (frames_wanted > double(limits::kFrames))
-            throw Error("--saturation-rate", "would make " + std::to_string((long long)frames_wanted) + " camera frames (at most " +
+            throw Error("--saturation-rate", "would make " + limits::count(std::floor(frames_wanted)) + " camera frames (at most " +
                                                  std::to_string(limits::kFrames) + ")");
         if (a.saturation_render && double(a.render.width) * a.render.height * a.render.spp > double(limits::kFrameSamples))
             throw Error("--saturation-spp", "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");

@@ -5,6 +5,8 @@
 /// naming the option or key; nothing is allocated or computed first.
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 
 namespace smokescan::limits {
 
@@ -42,5 +44,14 @@ inline constexpr double kGridSide = 4000;
 inline constexpr int kPlumeBins = 1000;
 /// Triangles of one mesh.
 inline constexpr int64_t kMeshTriangles = 50'000'000;
+
+/// A requested count for an error message, whatever its size ("1.75e+25"; never cast to an
+/// integer, which is undefined beyond its range).
+inline std::string count(double n)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, n < 1e15 ? "%.0f" : "%.3g", n);
+    return buf;
+}
 
 }  // namespace smokescan::limits
