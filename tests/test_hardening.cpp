@@ -130,6 +130,9 @@ TEST(Hardening, AnOutputThatIsAnInputIsRefusedByIdentity)
              {"scan bocas --to 1 --out " + file("x.log") + " --tau " + (dir() / "." / "x.log").string(), "named by both --out and --tau"},
              {"scan bocas --to 1 --out " + file("x.png") + " --image " + file("x.png"), "named by both --out and --image"},
              {"render bocas --spp 1 --out " + file("f.exr") + " --exr " + file("f.exr"), "named by both --out and --exr"},
+             {"scan bocas --to 1 --out " + file("x.log") + " --saturation-out " + file("x.csv") + " --saturation-render --saturation-frames " +
+                  file("x.log"),
+              "named by both --out and --saturation-frames"},
          }) {
         const CliRun r = cli(c.args);
         EXPECT_NE(r.status, 0) << c.args;

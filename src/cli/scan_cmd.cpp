@@ -258,6 +258,7 @@ void recordFiles(RunFiles& files, const ScanArgs& a)
     files.output(a.tau_csv, "--tau");
     files.output(a.image, "--image");
     files.output(a.saturation_out, "--saturation-out");
+    files.outputFolder(a.frames_dir, "--saturation-frames");
 }
 
 int runScan(const ScanArgs& a0)

@@ -51,6 +51,16 @@ void RunFiles::output(const std::string& path, const std::string& option)
 {
     if (path.empty()) return;
     checkOutputPath(path);
+    record(path, option);
+}
+
+void RunFiles::outputFolder(const std::string& path, const std::string& option)
+{
+    if (!path.empty()) record(path, option);
+}
+
+void RunFiles::record(const std::string& path, const std::string& option)
+{
     FileId me;
     if (!identify(path, me)) throw Error(path, "cannot write (no such directory)");
     for (const auto& [p, opt] : inputs_) {

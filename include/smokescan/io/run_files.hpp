@@ -34,6 +34,9 @@ public:
     /// @throw Error when it may not be written, or is an input or another output of this run
     /// (two outputs may share a character device such as /dev/null).
     void output(const std::string& path, const std::string& option);
+    /// @brief Records an output folder (made new, or an empty one replaced, by its writer):
+    /// compared with the inputs and outputs as output() does; "" is ignored.
+    void outputFolder(const std::string& path, const std::string& option);
     /// @brief A new temporary to write `path`'s content to (path must have been recorded).
     /// @return the temporary's name (same folder and extension as `path`)
     std::string stage(const std::string& path);
@@ -41,6 +44,8 @@ public:
     void commit();
 
 private:
+    void record(const std::string& path, const std::string& option);
+
     std::vector<std::pair<std::string, std::string>> inputs_, outputs_;  // (path, option)
     std::map<std::tuple<uint64_t, uint64_t, std::string>, std::string> output_ids_;  // identity → option
     std::vector<std::unique_ptr<AtomicFile>> staged_;
