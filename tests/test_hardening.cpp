@@ -168,7 +168,7 @@ TEST(Hardening, InputsThatCrashedAreOneLineErrors)
                      "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n");
     const std::string mesh_scene = file("mesh.toml", "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
                                                      "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"cube.obj\"\nvoxel = 0.0001\n");
-    expectBad("scan " + mesh_scene + " --to 1 --out " + file("m.log"), "too small for this mesh", file("m.log"));
+    expectBad("scan " + mesh_scene + " --to 1 --out " + file("m.log"), "makes this mesh over 4000 voxels a side", file("m.log"));
 }
 
 TEST(Hardening, TheCalibrationFitSurvivesDensitiesFarBeyondItsRange)
@@ -263,6 +263,14 @@ TEST(Hardening, BadSceneAndMeshValuesAreOneLineErrorsNamingFileAndKey)
     expectBad("scan " + fill + " --to 5 --out " + out, fill + ":", out);
     expectBad("volume build " + fill + " --time 5 --out " + vdb, fill + ":", vdb);
     EXPECT_NE(cli("volume build " + fill + " --time 5 --out " + vdb).err.find("fill_per_s"), std::string::npos);
+    // A soft edge of 1000 km (it hung), and a box at 1e300 m with voxels to match.
+    const auto box = [](const std::string& keys) {
+        return file("box.toml", "[[smoke]]\nname = \"b\"\ntype = \"box\"\n" + keys);
+    };
+    expectBad("volume build " + box("min = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\nedge_m = 1e6\n") + " --out " + vdb,
+              "smoke[0].edge_m makes this box over 4000 voxels a side", vdb);
+    expectBad("volume build " + box("min = [-1e300, 0.0, 0.0]\nmax = [1e300, 1.0, 1.0]\nvoxel = 1e298\n") + " --out " + vdb,
+              "smoke[0].max the box must lie within 1000 km of the origin", vdb);
     file("nan.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n");
     const std::string nan_scene = file("nanmesh.toml", "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"nan.obj\"\n");
     expectBad("volume build " + nan_scene + " --out " + vdb, "nan.obj:2: vertex coordinate 'nan' is not a finite number", vdb);

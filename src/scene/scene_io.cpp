@@ -196,6 +196,16 @@ Medium readMedium(TomlTable& parent)
     return m;
 }
 
+/// A smoke area's grid, bounded before it is made: at most limits::kGridSide voxels a side
+/// (its soft edge included), within 1000 km of the origin.
+void checkGridExtent(TomlTable& t, const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m, const std::string& what)
+{
+    if (!(((hi - lo).maxCoeff() + 2 * edge_m) / voxel_m <= limits::kGridSide))
+        t.error(edge_m > 0 ? "edge_m" : "voxel", "makes this " + what + " over 4000 voxels a side (its soft edge included)");
+    const double reach = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) + edge_m;
+    if (!(reach <= 1e6)) t.error(what == "box" ? "max" : "file", "the " + what + " must lie within 1000 km of the origin");
+}
+
 /// A smoke area's density [engine units], within limits::kDensity.
 double density(TomlTable& t)
 {
@@ -255,7 +265,7 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
             const Vec3 lo = t.vec3Req("min"), hi = t.vec3Req("max");
             if (!(hi.array() > lo.array()).all()) t.error("max", "must exceed min on every axis");
             const double rho = density(t), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
-            if (((hi - lo) / h).maxCoeff() > limits::kGridSide) t.error("voxel", "is too small for this box (over 4000 voxels a side)");
+            checkGridExtent(t, lo, hi, h, edge, "box");
             v.source = std::make_shared<const DensityGrid>(DensityGrid::box(lo, hi, rho, h, edge));
         } else if (type == "mesh") {
             const std::string file = resolve(base_dir, t.strReq("file"));
@@ -266,8 +276,7 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
             for (Vec3& p : mesh.points_m) p = pose.apply(scale * p);
             Aabb box;
             for (const Vec3& p : mesh.points_m) box.extend(p);
-            if (!box.empty() && ((box.hi - box.lo).maxCoeff() + 2 * edge) / h > limits::kGridSide)
-                t.error("voxel", "is too small for this mesh (over 4000 voxels a side)");
+            if (!box.empty()) checkGridExtent(t, box.lo, box.hi, h, edge, "mesh");
             if (const size_t open = openEdges(mesh))
                 t.error("file", "'" + file + "' is not a closed mesh (" + std::to_string(open) +
                                     " edges do not join exactly two faces); a smoke area needs an inside");
