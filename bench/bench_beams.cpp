@@ -200,7 +200,7 @@ void BM_FullScanOneCore(benchmark::State& st, const std::string& model, const st
     const Scene scene = loadScene(scene_name);
     const SurfaceSet set(scene);
     ScanConfig cfg;
-    cfg.model = model;
+    cfg.model = parseSensorModel(model);
     cfg.keep_beams = false;
     const Scanner sc(scene, set, cfg);
     const double t = scene_name == "bocas" ? 150.0 : 60.0;

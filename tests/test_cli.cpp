@@ -167,7 +167,7 @@ TEST(Cli, FitRecoversTheSensorFromASimulatedRun)
     expectBad("fit --model physical --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --out " + file("nophys.toml"),
               "needs --scene", file("nophys.toml"));
     expectBad("fit --model fancy --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("nophys.toml"),
-              "unknown model", file("nophys.toml"));
+              "unknown sensor model", file("nophys.toml"));
 
     // Groups by angle instead of a scene; the offset held.
     r = cli("fit --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --fixed-offset --offset 3 --out " + file("f2.toml"));

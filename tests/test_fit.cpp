@@ -64,7 +64,7 @@ SimRun simulate(uint64_t seed, double P, double offset_s, double sigma_S, double
 {
     Bocas& b = bocas();
     Scene scene = b.scene;  // the physical model's noise floor, when given, on a copy
-    if (noise_floor > 0) scene.sensors[size_t(scene.findSensor("hokuyo"))].physical.noise_floor = noise_floor;
+    if (noise_floor > 0) scene.sensors[size_t(scene.findSensor("hokuyo"))].config.physical.noise_floor = noise_floor;
     ScanConfig sc;
     sc.sensor = "hokuyo";
     sc.from_s = from_s;
@@ -72,7 +72,7 @@ SimRun simulate(uint64_t seed, double P, double offset_s, double sigma_S, double
     sc.rate_hz = rate_hz;
     sc.seed = seed;
     sc.penetration_power = P;
-    sc.model = model;
+    sc.model = parseSensorModel(model);
     sc.keep_beams = false;
     const Scanner scanner(scene, b.surfaces, sc);
     SimRun r;
@@ -92,7 +92,7 @@ std::vector<BeamGroup> targetGroups()
 {
     Bocas& b = bocas();
     const SensorMount& m = b.scene.sensors[size_t(b.scene.findSensor("hokuyo"))];
-    return beamGroupsFromScene(b.scene, b.surfaces, m, specFor(m), "target_");
+    return beamGroupsFromScene(b.scene, b.surfaces, m, specFor(m.config), "target_");
 }
 
 /// The saturation at which the paper model's beams of a group switch: the curve at P / L_i,
@@ -101,7 +101,7 @@ double trueThreshold(const BeamGroup& g, double P)
 {
     Bocas& b = bocas();
     const SensorMount& m = b.scene.sensors[size_t(b.scene.findSensor("hokuyo"))];
-    const LrfSpec spec = specFor(m);
+    const LrfSpec spec = specFor(m.config);
     double sum = 0;
     int n = 0;
     for (int i = 0; i < spec.n_beams; ++i) {
@@ -302,10 +302,10 @@ RecordedLog sickInPlumes(double nf_scale, uint64_t seed)
     static const SurfaceSet surfaces(plume);
     Scene scene = plume;
     const size_t si = size_t(scene.findSensor("lms200"));
-    scene.sensors[si].physical.noise_floor *= nf_scale;
+    scene.sensors[si].config.physical.noise_floor *= nf_scale;
     ScanConfig sc;
     sc.sensor = scene.sensors[si].name;
-    sc.model = "physical";
+    sc.model = SensorModel::Physical;
     sc.rate_hz = 0.25;
     sc.seed = seed;
     sc.keep_beams = false;

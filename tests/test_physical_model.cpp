@@ -11,7 +11,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
-#include "smokescan/io/sensor_file.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
@@ -112,11 +112,11 @@ AheadBeam ahead(Rig& rig, const std::string& sensor, double rho, int n, uint64_t
     }
     AheadBeam a;
     const SmokeField field = SmokeField::at(rig.scene.volumes, 0.0);
-    a.sig = traceBeamSignal(sc.beamRay(i), sc.spec(), sc.mount().physical, rig.scene, rig.surfaces, field, &a.hit, nullptr);
+    a.sig = traceBeamSignal(sc.beamRay(i), sc.spec(), sc.mount().config.physical, rig.scene, rig.surfaces, field, &a.hit, nullptr);
     for (int k = 0; k < n; ++k) {
         KeyedRng rng(seed, uint64_t(k), 0);
-        a.reads.push_back(sc.spec().type == "urg04lx" ? amcwBeam(sc.spec(), sc.mount().physical, a.sig, rng)
-                                                      : pulsedBeam(sc.spec(), sc.mount().physical, a.sig, rng));
+        a.reads.push_back(sc.spec().type == SensorType::Urg04lx ? amcwBeam(sc.spec(), sc.mount().config.physical, a.sig, rng)
+                                                      : pulsedBeam(sc.spec(), sc.mount().config.physical, a.sig, rng));
     }
     return a;
 }
@@ -141,9 +141,9 @@ double bocasBlueOnset(const PhysicalParams& pp)
     static const Scene scene = loadScene("bocas");
     static const SurfaceSet surfaces(scene);
     Scene sc = scene;
-    sc.sensors[0].physical = pp;
+    sc.sensors[0].config.physical = pp;
     ScanConfig c;
-    c.model = "physical";
+    c.model = SensorModel::Physical;
     c.from_s = 0;
     c.to_s = 200;
     Scanner scanner(sc, surfaces, c);
@@ -178,7 +178,7 @@ TEST(PhysicalModel, LidarEquationForAWhiteWall)
     // URG's overlap ramp: P = ρ·O(R)/R².
     Rig rig(roomScene(0.0, "white_paper"));
     const AheadBeam a = ahead(rig, "hokuyo", 0.0, 1);
-    const PhysicalParams p = physicalDefaults("urg04lx");
+    const PhysicalParams p = physicalDefaults(SensorType::Urg04lx);
     EXPECT_NEAR(a.sig.surface_power, 0.8 * p.overlap(2.5) / 6.25, 1e-4 * a.sig.surface_power);
     EXPECT_EQ(a.sig.smoke_power, 0.0);
 }
@@ -221,7 +221,7 @@ TEST(PhysicalModel, HokuyoInHomogeneousSmokeRangesThenErrorsNoShortReadings)
             } else {
                 ++ranges;
                 // datasheet σ plus the phase noise of the fine wave at this amplitude
-                const PhysicalParams& p = rig.scene.sensors[0].physical;
+                const PhysicalParams& p = rig.scene.sensors[0].config.physical;
                 const double phase_sd = 1000 * 299792458.0 / (4 * M_PI * p.mod_freq_hi_hz) * p.noise_floor / r.power;
                 EXPECT_NEAR(double(r.value), 2500.0, 4 * std::hypot(sd, phase_sd) + 1) << "rho " << rho;
             }
@@ -237,7 +237,7 @@ TEST(PhysicalModel, HokuyoOnsetInBocasIsThePapersPenetrationPower)
 {
     // The calibrated default: on the bocas target's blue paper, errors begin at 0.007 density·m
     // (the paper's 0.0028 × 2.5 m) within 5 %.
-    const double onset = bocasBlueOnset(physicalDefaults("urg04lx"));
+    const double onset = bocasBlueOnset(physicalDefaults(SensorType::Urg04lx));
     EXPECT_NEAR(onset, 0.007, 0.05 * 0.007);
 }
 
@@ -257,9 +257,9 @@ TEST(PhysicalModel, WithoutSmokePaperAndPhysicalAgreeWithTheSurface)
     const SurfaceSet surfaces(scene);
     ScanConfig c;
     c.from_s = c.to_s = 0;
-    c.model = "paper";
+    c.model = SensorModel::Paper;
     const Scan paper = Scanner(scene, surfaces, c).scanAt(0, 0);
-    c.model = "physical";
+    c.model = SensorModel::Physical;
     const Scanner phys_sc(scene, surfaces, c);
     const Scan phys = phys_sc.scanAt(0, 0);
     int both = 0, disagree = 0;
@@ -307,7 +307,7 @@ TEST(PhysicalModel, SickRangeFallsAsSmokeThickensAndErrorsAtTheEdges)
     const Scene scene = loadScene("plume");
     const SurfaceSet surfaces(scene);
     ScanConfig c;
-    c.model = "physical";
+    c.model = SensorModel::Physical;
     c.rate_hz = 1;
     const Scanner sc(scene, surfaces, c);
     std::vector<double> col_err, col_obst;
@@ -350,25 +350,23 @@ TEST(SensorFile, RoundTripAndStrictErrors)
 {
     namespace fs = std::filesystem;
     const fs::path dir = smokescan::test::scratch("sensor_file");
-    SensorMount m;
-    m.type = "urg04lx";
-    m.model = "physical";
-    m.physical = physicalDefaults("urg04lx");
+    SensorConfig m = SensorConfig::defaults(SensorType::Urg04lx);
+    m.model = SensorModel::Physical;
     m.physical.noise_floor = 3.25e-4;
-    m.penetration_power = 0.00575;
+    m.paper.penetration_power = 0.00575;
     writeSensorFile((dir / "s.toml").string(), m, "test");
-    SensorMount back;
-    back.type = "urg04lx";
+    SensorConfig back;
+    back.type = SensorType::Urg04lx;
     applySensorFile((dir / "s.toml").string(), back);
-    EXPECT_EQ(back.model, "physical");
+    EXPECT_EQ(back.model, SensorModel::Physical);
     EXPECT_DOUBLE_EQ(back.physical.noise_floor, 3.25e-4);
     EXPECT_DOUBLE_EQ(back.physical.overlap_full_m, m.physical.overlap_full_m);
-    EXPECT_DOUBLE_EQ(back.penetration_power, 0.00575);
+    EXPECT_DOUBLE_EQ(back.paper.penetration_power, 0.00575);
 
     auto expectError = [&](const std::string& text, const std::string& needle) {
         std::ofstream((dir / "bad.toml").string()) << text;
-        SensorMount x;
-        x.type = "urg04lx";
+        SensorConfig x;
+        x.type = SensorType::Urg04lx;
         try {
             applySensorFile((dir / "bad.toml").string(), x);
             ADD_FAILURE() << "accepted: " << text;
@@ -390,7 +388,7 @@ TEST(PhysicalModel, AmcwErrorProbabilityMatchesTheSimulatedReadings)
     // One echo of amplitude A at 2.5 m; the closed-form error probability (low intensity and the
     // two waves' difference, Gaussian amplitudes) against 4000 noisy readings of amcwBeam, from
     // the clean side of the threshold through it.
-    const PhysicalParams p = physicalDefaults("urg04lx");
+    const PhysicalParams p = physicalDefaults(SensorType::Urg04lx);
     const LrfSpec spec = urg04lx();
     const int N = 4000;
     for (double snr : {6.0, 8.0, 9.0, 11.0, 14.0, 20.0, 40.0}) {

@@ -195,9 +195,9 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
                                      const SensorFitResult& fit, size_t g, const CurveFitResult& calib,
                                      const UrgNoiseFloorConfig& cfg)
 {
-    const LrfSpec spec = specFor(mount);
-    if (spec.type != "urg04lx")
-        throw Error("--model physical", "the noise floor fit is for the URG-04LX (AMCW); not for the " + spec.type);
+    const LrfSpec spec = specFor(mount.config);
+    if (spec.type != SensorType::Urg04lx)
+        throw Error("--model physical", std::string("the noise floor fit is for the URG-04LX (AMCW); not for the ") + sensorTypeName(spec.type));
     UrgNoiseFloorResult out;
     const BeamGroup& group = fit.groups.at(g);
     const ThresholdFit& th = fit.thresholds.at(g);
@@ -259,9 +259,9 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
         const SmokeField scaled = field.scaledRegional(tab.rho_max * j / (tab.n - 1) / best);
         for (size_t b = 0; b < rays.size(); ++b)
             tab.beam[b][size_t(j)] =
-                amcwAmplitudes(mount.physical, traceBeamSignal(rays[b], spec, mount.physical, scene, surfaces, scaled, nullptr, nullptr));
+                amcwAmplitudes(mount.config.physical, traceBeamSignal(rays[b], spec, mount.config.physical, scene, surfaces, scaled, nullptr, nullptr));
     }
-    const ThetaFit f = fitTheta(tab, mount.physical, obs, cfg.iterations);
+    const ThetaFit f = fitTheta(tab, mount.config.physical, obs, cfg.iterations);
     if (!f.ok) return fail("the noise floor fit did not converge");
     // The curve's error: every density moved by its relative standard error at S*.
     double se_cal = 0;
@@ -270,7 +270,7 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
         if (rho_s > 0 && se_rho > 0) {
             std::vector<Obs> moved = obs;
             for (Obs& o : moved) o.rho *= 1 + se_rho / rho_s;
-            const ThetaFit f2 = fitTheta(tab, mount.physical, moved, cfg.iterations);  // the table holds beyond its end
+            const ThetaFit f2 = fitTheta(tab, mount.config.physical, moved, cfg.iterations);  // the table holds beyond its end
             if (f2.ok) se_cal = std::abs(f2.theta - f.theta);
         }
     } catch (const Error&) {
@@ -288,10 +288,10 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
     for (double l : L) Lm += l / double(L.size());
     auto rhoAtHalf = [&](double theta) {
         double lo = 0, hi = tab.rho_max;
-        if (groupErrorProbability(tab, mount.physical, theta, hi) < 0.5) return double(NAN);
+        if (groupErrorProbability(tab, mount.config.physical, theta, hi) < 0.5) return double(NAN);
         for (int it = 0; it < 60; ++it) {
             const double mid = 0.5 * (lo + hi);
-            (groupErrorProbability(tab, mount.physical, theta, mid) < 0.5 ? lo : hi) = mid;
+            (groupErrorProbability(tab, mount.config.physical, theta, mid) < 0.5 ? lo : hi) = mid;
         }
         return 0.5 * (lo + hi);
     };

@@ -48,8 +48,8 @@ struct ShareResidual {
 PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
                             const PlumeFitConfig& cfg)
 {
-    const LrfSpec spec = specFor(mount);
-    if (spec.type != "lms200") throw Error("fit-plume", "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + spec.type);
+    const LrfSpec spec = specFor(mount.config);
+    if (spec.type != SensorType::Lms200) throw Error("fit-plume", "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + sensorTypeName(spec.type));
     std::vector<SmokeVolume> local;
     for (const auto& v : scene.volumes)
         if (v.role == SmokeRole::Local) local.push_back(v);

@@ -2,6 +2,8 @@
 // The CLI's subcommands: each registers its options on the app and runs when chosen.
 #include <CLI/CLI.hpp>
 
+#include "smokescan/sensors/sensor_kind.hpp"
+
 #include <functional>
 #include <string>
 
@@ -20,6 +22,10 @@ const CLI::Validator& positive();
 const CLI::Validator& nonnegative();
 /// An integer in [lo, hi].
 CLI::Validator intRange(long long lo, long long hi);
+/// The sensor model an option names ("paper", "physical"); Error(option, ...) otherwise.
+SensorModel sensorModelOption(const std::string& option, const std::string& value);
+/// The sensor type an option names ("urg04lx", "lms200"); Error(option, ...) otherwise.
+SensorType sensorTypeOption(const std::string& option, const std::string& value);
 
 void addScan(CLI::App& app, Runner& run);
 void addVolume(CLI::App& app, Runner& run);

@@ -13,7 +13,7 @@
 #include "smokescan/calib/plume_fit.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/run_files.hpp"
-#include "smokescan/io/sensor_file.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
@@ -54,8 +54,8 @@ int runFit(const FitArgs& a0)
     files.output(a.aligned, "--aligned");
     files.output(a.covariates, "--covariates");
     if (!a.covariates.empty() && a.scene.empty()) throw Error("--covariates", "needs --scene (the simulation's side of the table)");
-    if (a.model != "paper" && a.model != "physical") throw Error("--model", "unknown model '" + a.model + "' (paper, physical)");
-    if (a.model == "physical" && a.scene.empty()) throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
+    const SensorModel model = sensorModelOption("--model", a.model);
+    if (model == SensorModel::Physical && a.scene.empty()) throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
     const int sources = !a.scene.empty() + (!a.surfaces.empty() || !a.surfaces_file.empty());
     if (sources == 0) throw Error("fit", "say which beams see which surface: --scene, --surface or --surfaces");
     ReadOptions ro;
@@ -80,7 +80,8 @@ int runFit(const FitArgs& a0)
     const CurveFitResult calib = readCalibrationJson(a.calibration, a.patch);
     // The sensor and its beam groups.
     SensorMount mount;
-    mount.type = a.sensor_type;
+    mount.name = a.sensor_type;
+    mount.config = SensorConfig::defaults(sensorTypeOption("--sensor-type", a.sensor_type));
     std::unique_ptr<Scene> scene;
     std::unique_ptr<SurfaceSet> surfaces;
     std::vector<BeamGroup> groups;
@@ -91,11 +92,11 @@ int runFit(const FitArgs& a0)
         const int si = a.sensor.empty() ? scene->findSensor(a.sensor_type) : scene->findSensor(a.sensor);
         if (si < 0) throw Error(scene->source, "no sensor '" + (a.sensor.empty() ? a.sensor_type : a.sensor) + "'");
         mount = scene->sensors[size_t(si)];
-        groups = beamGroupsFromScene(*scene, *surfaces, mount, specFor(mount), a.prefix);
+        groups = beamGroupsFromScene(*scene, *surfaces, mount, specFor(mount.config), a.prefix);
         if (groups.empty()) throw Error(scene->source, "no beam of sensor '" + mount.name + "' hits a surface named '" + a.prefix + "*'");
         for (const auto& v : scene->volumes)
             if (v.role == SmokeRole::Regional) {
-                a.cfg.sigma_t_per_density = v.medium.sigmaT(specFor(mount).wavelength_nm);
+                a.cfg.sigma_t_per_density = v.medium.sigmaT(specFor(mount.config).wavelength_nm);
                 break;
             }
         src.groups_from = scene->source;
@@ -109,17 +110,17 @@ int runFit(const FitArgs& a0)
         for (const auto& s : a.surfaces) groups.push_back(parseBeamGroup(s));
         src.groups_from = a.surfaces_file.empty() ? "--surface" : a.surfaces_file + " and --surface";
     }
-    const LrfSpec spec = specFor(mount);
+    const LrfSpec spec = specFor(mount.config);
     a.cfg.offset_s = a.offset;
     a.cfg.estimate_offset = !a.fixed_offset;
     src.skipped = log.skipped;
     src.skipped.insert(src.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
 
-    if (a.model == "physical" && spec.type != "urg04lx")
-        throw Error("--model physical", "fits the URG-04LX noise floor only; for a " + spec.type + " in plumes see fit-plume");
+    if (model == SensorModel::Physical && spec.type != SensorType::Urg04lx)
+        throw Error("--model physical", std::string("fits the URG-04LX noise floor only; for a ") + sensorTypeName(spec.type) + " in plumes see fit-plume");
     const SensorFitResult r = fitSensor(log, sat, groups, spec, &calib, a.cfg);
     std::unique_ptr<UrgNoiseFloorResult> phys;
-    if (a.model == "physical" && r.ok())
+    if (model == SensorModel::Physical && r.ok())
         phys = std::make_unique<UrgNoiseFloorResult>(fitUrgNoiseFloor(*scene, *surfaces, mount, r, size_t(r.reference), calib));
     // A failed fit writes its report alone (it holds the diagnosis); a fitted one writes everything.
     writeFitReportJson(files.stage(a.report), r, a.cfg, src, phys.get());
@@ -154,8 +155,8 @@ int runFit(const FitArgs& a0)
     for (const auto& d : r.diagnoses) std::printf("diagnosis: %s\n", d.c_str());
     if (!r.ok()) throw Error(a.laser, "no threshold could be fitted: " + (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
     const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
-    mount.model = a.model;
-    mount.penetration_power = ref.penetration_power.value;
+    mount.config.model = model;
+    mount.config.paper.penetration_power = ref.penetration_power.value;
     char comment[768];
     int n = std::snprintf(comment, sizeof comment,
                           "fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m",
@@ -164,7 +165,7 @@ int runFit(const FitArgs& a0)
     n = std::clamp(n, 0, int(sizeof comment) - 1);
     if (phys) {
         if (!phys->ok) throw Error(a.laser, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
-        mount.physical.noise_floor = phys->noise_floor.value;
+        mount.config.physical.noise_floor = phys->noise_floor.value;
         std::printf("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n", phys->group.c_str(),
                     phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value, phys->onset_column.se);
         n += std::snprintf(comment + n, sizeof comment - size_t(n), "; physical noise_floor = %.4g +/- %.2g", phys->noise_floor.value,
@@ -172,7 +173,7 @@ int runFit(const FitArgs& a0)
         n = std::clamp(n, 0, int(sizeof comment) - 1);
     }
     std::snprintf(comment + n, sizeof comment - size_t(n), " (report: %s)", a.report.c_str());
-    writeSensorFile(files.stage(a.out), mount, comment);
+    writeSensorFile(files.stage(a.out), mount.config, comment);
     files.commit();
     std::printf("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), a.model.c_str(), ref.group.c_str(),
                 a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ", a.aligned.c_str(),
@@ -201,9 +202,9 @@ int runFitPlume(const PlumeArgs& a)
     const int si = scene.findSensor(a.sensor.empty() ? "lms200" : a.sensor);
     if (si < 0) throw Error(scene.source, "no sensor '" + (a.sensor.empty() ? std::string("lms200") : a.sensor) + "'");
     const SensorMount& mount = scene.sensors[size_t(si)];
-    const size_t beams = log.scans.front().range.size(), expected = size_t(specFor(mount).n_beams);
-    if (mount.type == "lms200" && beams != expected)
-        throw Error(a.laser, "has " + std::to_string(beams) + " beams a scan; the scene's sensor '" + mount.name + "' (" + mount.type +
+    const size_t beams = log.scans.front().range.size(), expected = size_t(specFor(mount.config).n_beams);
+    if (mount.config.type == SensorType::Lms200 && beams != expected)
+        throw Error(a.laser, "has " + std::to_string(beams) + " beams a scan; the scene's sensor '" + mount.name + "' (" + sensorTypeName(mount.config.type) +
                                  ") has " + std::to_string(expected) + " (a log of another sensor?)");
     const PlumeFitResult r = fitSickPlume(log, scene, surfaces, mount, a.cfg);
     writePlumeFitJson(files.stage(a.out), r, a.cfg, a.laser, a.scene);

@@ -28,7 +28,7 @@ namespace {
 
 struct ScanArgs {
     std::string scene = "bocas", out, tau_csv, image, target = "target";
-    std::string saturation_out, calibration = "bocas", camera, frames_dir;
+    std::string saturation_out, calibration = "bocas", camera, frames_dir, model;
     SaturationSimConfig sat;
     bool saturation_render = false;
     SaturationRenderConfig render;
@@ -144,7 +144,7 @@ public:
     void print()
     {
         std::printf("sensor %s (%s, model %s): %lld scans, %d beams each, %d on '%s*'\n", sc_.mount().name.c_str(),
-                    sc_.spec().type.c_str(), sc_.mount().model.c_str(), scans_, sc_.spec().n_beams, n_target_, a_.target.c_str());
+                    sensorTypeName(sc_.spec().type), sensorModelName(sc_.mount().config.model), scans_, sc_.spec().n_beams, n_target_, a_.target.c_str());
         if (scans_ == 0) return;
         if (n_target_ == 0) {  // no target in this scene: the error fraction over all beams
             std::printf("error codes: %.1f %% of all beams\n", 100.0 * all_errors_ / std::max(1LL, all_beams_));
@@ -234,18 +234,12 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
 std::vector<std::string> logHeader(const Scene& scene, const Scanner& sc, const ScanArgs& a)
 {
     // The model's own smoke parameter: the paper's penetration power, or the receiver's noise floor.
-    char model_param[64];
-    if (sc.mount().model == "physical")
-        std::snprintf(model_param, sizeof model_param, "noise_floor=%g", sc.mount().physical.noise_floor);
-    else
-        std::snprintf(model_param, sizeof model_param, "penetration_power=%g",
-                      a.cfg.penetration_power > 0 ? a.cfg.penetration_power : sc.mount().penetration_power);
     char buf[256];
     std::snprintf(buf, sizeof buf, "sensor=%s type=%s model=%s %s rate_hz=%g seed=%llu", sc.mount().name.c_str(),
-                  sc.spec().type.c_str(), sc.mount().model.c_str(), model_param, a.cfg.rate_hz, (unsigned long long)a.cfg.seed);
+                  sensorTypeName(sc.spec().type), sensorModelName(sc.mount().config.model),
+                  sc.model().smokeParameter().c_str(), a.cfg.rate_hz, (unsigned long long)a.cfg.seed);
     return {"smokescan scan " + scene.source, buf,
-            "format: time_s then pairs of (angle_rad, range_mm); error codes: " +
-                std::string(sc.spec().type == "urg04lx" ? "values below 20 (0 = no return)" : "values >= 8183 (8183 = no echo within range)")};
+            "format: time_s then pairs of (angle_rad, range_mm); error codes: " + sc.spec().errorValueSummary()};
 }
 
 /// Every file the run reads and writes, checked against each other before any work.
@@ -271,6 +265,7 @@ int runScan(const ScanArgs& a0)
     const SurfaceSet surfaces(scene);
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
     if (!std::isnan(a.to)) a.cfg.to_s = a.to;
+    if (!a.model.empty()) a.cfg.model = sensorModelOption("--model", a.model);
     const Scanner sc(scene, surfaces, a.cfg);
     const auto times = sc.times();
     if (!a.image.empty() && (long long)times.size() > limits::kImageScans)
@@ -350,7 +345,7 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option("--image", a->image, "Also draw the scan series as the paper's Fig. 10 (PNG): angle across, time down, shade = range, red = error");
     c->add_option("--image-range", a->image_range_m, "Range [m] drawn white in --image (default: the sensor's maximum)")->check(positive());
-    c->add_option("--model", a->cfg.model, "Sensor model: paper or physical (default: the scene's or sensor file's)");
+    c->add_option("--model", a->model, "Sensor model: paper or physical (default: the scene's or sensor file's)");
     c->add_option("--sensor-file", a->cfg.sensor_file, "Sensor file (TOML) with the model and its parameters (docs/sensors.md)");
     c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]")->check(positive());
     c->add_option("--seed", a->cfg.seed, "Noise seed")->capture_default_str();

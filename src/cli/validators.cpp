@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "commands.hpp"
+#include "smokescan/core/error.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -63,6 +64,18 @@ CLI::Validator intRange(long long lo, long long hi)
             return std::string();
         },
         "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+SensorModel sensorModelOption(const std::string& option, const std::string& value)
+{
+    if (const auto m = parseSensorModel(value)) return *m;
+    throw Error(option, "unknown sensor model '" + value + "' (paper, physical)");
+}
+
+SensorType sensorTypeOption(const std::string& option, const std::string& value)
+{
+    if (const auto t = parseSensorType(value)) return *t;
+    throw Error(option, "unknown sensor type '" + value + "' (urg04lx, lms200)");
 }
 
 }  // namespace smokescan::cli

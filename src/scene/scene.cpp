@@ -7,14 +7,7 @@ int Scene::findSensor(const std::string& key) const
     for (size_t i = 0; i < sensors.size(); ++i)
         if (sensors[i].name == key) return int(i);
     for (size_t i = 0; i < sensors.size(); ++i)
-        if (sensors[i].type == key) return int(i);
-    return -1;
-}
-
-int Scene::findSurface(const std::string& name) const
-{
-    for (size_t i = 0; i < surfaces.size(); ++i)
-        if (surfaces[i].name == name) return int(i);
+        if (sensorTypeName(sensors[i].config.type) == key) return int(i);
     return -1;
 }
 

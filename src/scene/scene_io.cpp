@@ -8,11 +8,11 @@
 #include <map>
 #include <sstream>
 
-#include "../io/sensor_toml.hpp"
+#include "../sensors/sensor_tables.hpp"
 #include "../io/toml_reader.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
-#include "smokescan/io/sensor_file.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 #include "smokescan/scene/mesh.hpp"
 #include "smokescan/io/text_input.hpp"
 
@@ -103,27 +103,15 @@ Surface readSurface(TomlTable t, const std::map<std::string, int>& materials, co
 
 SensorMount readSensor(TomlTable t, const std::string& base_dir)
 {
+    const std::string type = t.strReq("type");
+    const auto kind = parseSensorType(type);
+    if (!kind) t.error("type", std::string("must be ") + sensorTypeNames() + ", got '" + type + "'");
     SensorMount m;
-    m.type = t.strReq("type");
-    if (m.type != "urg04lx" && m.type != "lms200")
-        t.error("type", "must be urg04lx or lms200, got '" + m.type + "'");
-    m.name = t.str("name", m.type);
+    m.config = SensorConfig::defaults(*kind);
+    m.name = t.str("name", type);
     m.pose = readPose(t);
-    m.physical = physicalDefaults(m.type);
-    if (t.has("sensor_file")) {
-        applySensorFile(resolve(base_dir, t.strReq("sensor_file")), m);
-    }
-    m.model = t.str("model", m.model);
-    if (m.model != "paper" && m.model != "physical")
-        t.error("model", "must be paper or physical, got '" + m.model + "'");
-    m.penetration_power = t.positive("penetration_power", m.penetration_power);
-    m.local_threshold = t.positive("local_threshold", m.local_threshold);
-    if (t.has("physical")) readPhysicalTable(t.table("physical"), m.physical);
-    m.sick_resolution_deg = t.num("resolution_deg", m.sick_resolution_deg);
-    if (m.sick_resolution_deg != 1.0 && m.sick_resolution_deg != 0.5)
-        t.error("resolution_deg", "must be 1 or 0.5");
-    m.sick_range_m = t.num("range_mode_m", m.sick_range_m);
-    if (m.sick_range_m != 8.0 && m.sick_range_m != 80.0) t.error("range_mode_m", "must be 8 or 80");
+    if (t.has("sensor_file")) applySensorFile(resolve(base_dir, t.strReq("sensor_file")), m.config);
+    readSceneSensorKeys(t, m.config);
     t.finish();
     return m;
 }

@@ -11,7 +11,6 @@ struct SurfaceSet::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<int> material_of;  // by geometry id
-    size_t triangles = 0;
     ~Impl()
     {
         if (scene) rtcReleaseScene(scene);
@@ -40,14 +39,11 @@ SurfaceSet::SurfaceSet(const Scene& s) : impl_(std::make_unique<Impl>())
         rtcAttachGeometryByID(impl_->scene, g, unsigned(i));
         rtcReleaseGeometry(g);
         impl_->material_of.push_back(s.surfaces[i].material);
-        impl_->triangles += m.triangles.size();
     }
     rtcCommitScene(impl_->scene);
 }
 
 SurfaceSet::~SurfaceSet() = default;
-
-size_t SurfaceSet::triangleCount() const { return impl_->triangles; }
 
 SurfaceHit SurfaceSet::closest(const Ray& ray, double t_max, double t_min) const
 {

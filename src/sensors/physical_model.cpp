@@ -13,43 +13,7 @@ namespace {
 constexpr double kC = 299792458.0;  // [m/s]
 constexpr double kBin_m = 0.1;      // smoke bins: 0.2 rad of fine phase (sinc loss 0.2 %), 0.4 of the Sick pulse's σ
 
-double smoothstep(double x)
-{
-    x = std::clamp(x, 0.0, 1.0);
-    return x * x * (3 - 2 * x);
-}
-
 }  // namespace
-
-double PhysicalParams::overlap(double r) const
-{
-    if (r < window_m) return 0.0;  // inside the housing
-    const double s = overlap_full_m <= overlap_start_m
-                         ? (r >= overlap_full_m ? 1.0 : 0.0)
-                         : smoothstep((r - overlap_start_m) / (overlap_full_m - overlap_start_m));
-    // Below the biaxial overlap only defocused light reaches the detector: a small floor that
-    // itself falls as r² near the sensor (a blur circle larger than the detector).
-    const double x = r / std::max(overlap_start_m, 1e-9);
-    return std::max(s, overlap_floor * std::min(1.0, x * x));
-}
-
-PhysicalParams physicalDefaults(const std::string& type)
-{
-    PhysicalParams p;
-    if (type == "urg04lx") {
-        p.overlap_start_m = 1.5;
-        p.overlap_full_m = 3.0;
-        p.overlap_floor = 0.03;
-        p.noise_floor = 1.675e-4;  // calibrated: bocas blue-paper onset at 0.007 density·m (docs/sensors.md)
-        return p;
-    }
-    if (type == "lms200") {
-        p.divergence_mrad = 12.0;
-        p.noise_floor = 5e-5;  // calibrated: dense plume cores read as obstacles, thin edges as 8189 (docs/sensors.md)
-        return p;
-    }
-    throw Error("", "unknown sensor type '" + type + "' (urg04lx, lms200)");
-}
 
 TauProfile::TauProfile(const std::vector<ProfileSegment>& s) : seg_(s)
 {
@@ -138,42 +102,74 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
     }
 }
 
-BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
+namespace {
+
+/// Phasors at both modulation frequencies: the starting values (the receiver's noise) plus the
+/// summed echoes.
+struct AmcwPhasors {
+    std::complex<double> lo, hi;
+    double k_lo = 0, k_hi = 0;  ///< 4π f / c [rad/m]
+};
+
+AmcwPhasors amcwPhasors(const PhysicalParams& p, const BeamSignal& s, std::complex<double> lo = {},
+                        std::complex<double> hi = {})
+{
+    AmcwPhasors z{lo, hi, 4 * M_PI * p.mod_freq_lo_hz / kC, 4 * M_PI * p.mod_freq_hi_hz / kC};
+    for (const Echo& e : s.echoes) {
+        z.lo += std::polar(e.power, z.k_lo * e.range_m);
+        z.hi += std::polar(e.power, z.k_hi * e.range_m);
+    }
+    return z;
+}
+
+/// The fine phase's range, unwrapped by the coarse one [m].
+double amcwRange(const AmcwPhasors& z)
+{
+    const double L_hi = 2 * M_PI / z.k_hi;  // fine ambiguity interval [m]
+    auto wrap = [](double phi) { return phi < 0 ? phi + 2 * M_PI : phi; };
+    const double r_lo = wrap(std::arg(z.lo)) / z.k_lo, r_hi = wrap(std::arg(z.hi)) / z.k_hi;
+    return r_hi + L_hi * std::round((r_lo - r_hi) / L_hi);
+}
+
+/// The URG's validity rules and phase unwrapping on measured phasors; ds_noise (a standard
+/// normal) draws the datasheet noise added to the range.
+BeamResult amcwRead(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, const AmcwPhasors& z,
+                    double ds_noise)
 {
     BeamResult r;
     auto fail = [&](long long code, const char* cause) { return markError(r, code, cause); };
-    // Phasors at both modulation frequencies; the receiver's noise is complex Gaussian.
-    const double k_lo = 4 * M_PI * p.mod_freq_lo_hz / kC, k_hi = 4 * M_PI * p.mod_freq_hi_hz / kC;
-    std::complex<double> Z_lo(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
-    std::complex<double> Z_hi(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
-    for (const Echo& e : s.echoes) {
-        Z_lo += std::polar(e.power, k_lo * e.range_m);
-        Z_hi += std::polar(e.power, k_hi * e.range_m);
-    }
-    const double A_lo = std::abs(Z_lo), A_hi = std::abs(Z_hi);
+    const double A_lo = std::abs(z.lo), A_hi = std::abs(z.hi);
     r.power = A_lo;
-    const double ds_noise = rng.normal();
-    if (A_lo > p.saturation_power) return fail(18, "strong_reflection");
+    if (A_lo > p.saturation_power) return fail(urg_code::kStrongReflection, "strong_reflection");
     if (A_lo < p.snr_min * p.noise_floor)
-        return s.surface_in_range ? fail(1, "low_intensity") : fail(0, "nothing_in_range");
-    if (std::abs(A_hi - A_lo) > p.two_wave_tolerance * A_lo) return fail(8, "two_wave_difference");
-    // Fine phase, unwrapped by the coarse one.
-    const double L_hi = 2 * M_PI / k_hi;  // fine ambiguity interval [m]
-    auto wrap = [](double phi) { return phi < 0 ? phi + 2 * M_PI : phi; };
-    const double r_lo = wrap(std::arg(Z_lo)) / k_lo, r_hi = wrap(std::arg(Z_hi)) / k_hi;
-    const double range = r_hi + L_hi * std::round((r_lo - r_hi) / L_hi);
-    return reportRange(spec, range, ds_noise, r);
+        return s.surface_in_range ? fail(urg_code::kLowIntensity, "low_intensity")
+                                  : fail(urg_code::kNoReturn, "nothing_in_range");
+    if (std::abs(A_hi - A_lo) > p.two_wave_tolerance * A_lo)
+        return fail(urg_code::kTwoWaveDifference, "two_wave_difference");
+    return reportRange(spec, amcwRange(z), ds_noise, r);
+}
+
+}  // namespace
+
+BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
+{
+    // The receiver's noise is complex Gaussian on each phasor (drawn in this order: lo, hi).
+    const std::complex<double> n_lo(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
+    const std::complex<double> n_hi(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
+    const AmcwPhasors z = amcwPhasors(p, s, n_lo, n_hi);
+    const double ds_noise = rng.normal();
+    return amcwRead(spec, p, s, z, ds_noise);
+}
+
+BeamResult amcwBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+{
+    return amcwRead(spec, p, s, amcwPhasors(p, s), 0.0);
 }
 
 AmcwAmplitudes amcwAmplitudes(const PhysicalParams& p, const BeamSignal& s)
 {
-    const double k_lo = 4 * M_PI * p.mod_freq_lo_hz / kC, k_hi = 4 * M_PI * p.mod_freq_hi_hz / kC;
-    std::complex<double> Z_lo(0, 0), Z_hi(0, 0);
-    for (const Echo& e : s.echoes) {
-        Z_lo += std::polar(e.power, k_lo * e.range_m);
-        Z_hi += std::polar(e.power, k_hi * e.range_m);
-    }
-    return {std::abs(Z_lo), std::abs(Z_hi)};
+    const AmcwPhasors z = amcwPhasors(p, s);
+    return {std::abs(z.lo), std::abs(z.hi)};
 }
 
 double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A)
@@ -198,45 +194,69 @@ double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A)
     return std::clamp(1.0 - valid, 0.0, 1.0);
 }
 
-namespace {
-/// The LMS200's reading; rng = null: the noise-free waveform.
-BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng* rng)
+double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
 {
-    BeamResult r;
-    auto fail = [&](long long code, const char* cause) { return markError(r, code, cause); };
+    const AmcwPhasors z = amcwPhasors(p, s);
+    const double p_rules = amcwErrorProbability(p, {std::abs(z.lo), std::abs(z.hi)});
+    return 1 - (1 - p_rules) * (1 - reportErrorProbability(spec, amcwRange(z)));
+}
+
+namespace {
+
+/// The noise-free waveform of a beam's echoes: Gaussian pulses sampled every dr from lo.
+struct Waveform {
+    double lo = 0, dr = 0;
+    double sig_p = 0;  ///< pulse σ in range [m]
+    std::vector<double> w;
+};
+
+/// Samples the span the echoes cover (empty when none lies within range): noise alone stays
+/// below the threshold (probability ~1e-9 per sample at threshold_snr = 6).
+Waveform pulsedWaveform(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+{
+    Waveform f;
     // Range-domain Gaussian pulse: FWHM in time → σ in range (half the path).
-    const double sig_p = kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
-    const double dr = sig_p / 4, reach = 4 * sig_p;
-    const double thr = p.threshold_snr * p.noise_floor;
+    f.sig_p = kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
+    f.dr = f.sig_p / 4;
+    const double reach = 4 * f.sig_p;
     const double r_end = spec.range_max_m + reach;
-    // Only the span the echoes cover is sampled: noise alone stays below the threshold
-    // (probability ~1e-9 per sample at threshold_snr = 6).
     double lo = r_end, hi = 0;
     for (const Echo& e : s.echoes)
         if (e.power > 0 && e.range_m < r_end) {
             lo = std::min(lo, e.range_m - reach);
             hi = std::max(hi, e.range_m + reach);
         }
-    if (!(hi > lo)) return fail(spec.no_return_code, "no_echo");
-    lo = std::max(0.0, lo);
+    if (!(hi > lo)) return f;
+    f.lo = lo = std::max(0.0, lo);
     hi = std::min(hi, r_end);
-    const int n = int(std::ceil((hi - lo) / dr)) + 1;
-    std::vector<double> w(size_t(n), 0.0);
-    const double inv2s2 = 1.0 / (2 * sig_p * sig_p);
+    const int n = int(std::ceil((hi - lo) / f.dr)) + 1;
+    f.w.assign(size_t(n), 0.0);
+    const double inv2s2 = 1.0 / (2 * f.sig_p * f.sig_p);
     for (const Echo& e : s.echoes) {
-        const int k0 = std::max(0, int(std::floor((e.range_m - reach - lo) / dr)));
-        const int k1 = std::min(n - 1, int(std::ceil((e.range_m + reach - lo) / dr)));
+        const int k0 = std::max(0, int(std::floor((e.range_m - reach - lo) / f.dr)));
+        const int k1 = std::min(n - 1, int(std::ceil((e.range_m + reach - lo) / f.dr)));
         for (int k = k0; k <= k1; ++k) {
-            const double x = lo + k * dr - e.range_m;
-            w[size_t(k)] += e.power * std::exp(-x * x * inv2s2);
+            const double x = lo + k * f.dr - e.range_m;
+            f.w[size_t(k)] += e.power * std::exp(-x * x * inv2s2);
         }
     }
-    if (rng)
-        for (double& v : w) v += p.noise_floor * rng->normal();
-    const double ds_noise = rng ? rng->normal() : 0.0;
+    return f;
+}
+
+/// The first echo above the threshold: its peak and half-maximum crossings.
+struct FirstEcho {
+    bool found = false;
+    double peak = 0, lead_m = 0, trail_m = 0;
+};
+
+FirstEcho firstEcho(const Waveform& f, double thr)
+{
+    FirstEcho e;
+    const std::vector<double>& w = f.w;
+    const int n = int(w.size());
     int k0 = 0;
     while (k0 < n && w[size_t(k0)] < thr) ++k0;
-    if (k0 == n) return fail(spec.no_return_code, "no_echo");
+    if (k0 == n) return e;
     int k1 = k0;
     double peak = w[size_t(k0)];
     int kp = k0;
@@ -244,24 +264,41 @@ BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const Be
         ++k1;
         if (w[size_t(k1)] > peak) { peak = w[size_t(k1)]; kp = k1; }
     }
-    r.power = peak;
-    if (peak > p.saturation_power) return fail(8191, "dazzled");
-    if (peak < p.valid_snr * p.noise_floor) return fail(8189, "weak_echo");
+    e.found = true;
+    e.peak = peak;
     // Half-maximum crossings around the peak (linear interpolation between samples).
-    const double half = 0.5 * peak;
+    const double half = 0.5 * peak, lo = f.lo, dr = f.dr;
     int a = kp;
     while (a > k0 && w[size_t(a - 1)] >= half) --a;
-    double lead = lo + a * dr;
+    e.lead_m = lo + a * dr;
     if (a > 0 && w[size_t(a - 1)] < half)
-        lead -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
+        e.lead_m -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
     int b = kp;
     while (b < n - 1 && w[size_t(b + 1)] >= half) ++b;
-    double trail = lo + b * dr;
+    e.trail_m = lo + b * dr;
     if (b < n - 1 && w[size_t(b + 1)] < half)
-        trail += dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
-    const double fwhm_pulse = 2.354820045 * sig_p;
-    if (trail - lead > p.max_echo_width * fwhm_pulse) return fail(8189, "ambiguous_echo");
-    const double range = lead + 0.5 * fwhm_pulse;
+        e.trail_m += dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
+    return e;
+}
+
+/// The LMS200's reading; rng = null: the noise-free waveform.
+BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng* rng)
+{
+    BeamResult r;
+    auto fail = [&](long long code, const char* cause) { return markError(r, code, cause); };
+    Waveform f = pulsedWaveform(spec, p, s);
+    if (f.w.empty()) return fail(spec.no_return_code, "no_echo");
+    if (rng)
+        for (double& v : f.w) v += p.noise_floor * rng->normal();
+    const double ds_noise = rng ? rng->normal() : 0.0;
+    const FirstEcho e = firstEcho(f, p.threshold_snr * p.noise_floor);
+    if (!e.found) return fail(spec.no_return_code, "no_echo");
+    r.power = e.peak;
+    if (e.peak > p.saturation_power) return fail(lms_code::kDazzled, "dazzled");
+    if (e.peak < p.valid_snr * p.noise_floor) return fail(lms_code::kWeakOrAmbiguous, "weak_echo");
+    const double fwhm_pulse = 2.354820045 * f.sig_p;
+    if (e.trail_m - e.lead_m > p.max_echo_width * fwhm_pulse) return fail(lms_code::kWeakOrAmbiguous, "ambiguous_echo");
+    const double range = e.lead_m + 0.5 * fwhm_pulse;
     return reportRange(spec, range, ds_noise, r);
 }
 
@@ -275,6 +312,21 @@ BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSi
 BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
 {
     return pulsedBeamImpl(spec, p, s, nullptr);
+}
+
+double pulsedErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+{
+    const Waveform f = pulsedWaveform(spec, p, s);
+    const FirstEcho e = f.w.empty() ? FirstEcho{} : firstEcho(f, p.threshold_snr * p.noise_floor);
+    if (!e.found) return 1.0;
+    const double fwhm_pulse = 2.354820045 * f.sig_p;
+    if (e.trail_m - e.lead_m > p.max_echo_width * fwhm_pulse) return 1.0;
+    const double sd = p.noise_floor;
+    auto Phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+    const double p_peak = sd > 0 ? Phi((p.saturation_power - e.peak) / sd) - Phi((p.valid_snr * sd - e.peak) / sd)
+                                 : double(e.peak >= 0 && e.peak <= p.saturation_power);
+    const double p_valid = std::max(0.0, p_peak) * (1 - reportErrorProbability(spec, e.lead_m + 0.5 * fwhm_pulse));
+    return std::clamp(1.0 - p_valid, 0.0, 1.0);
 }
 
 }  // namespace smokescan

@@ -6,8 +6,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
-#include "smokescan/io/sensor_file.hpp"
-#include "smokescan/sensors/physical_model.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan {
 
@@ -18,17 +17,15 @@ Scanner::Scanner(const Scene& scene, const SurfaceSet& surfaces, const ScanConfi
     const int si = cfg.sensor.empty() ? 0 : scene.findSensor(cfg.sensor);
     if (si < 0) {
         std::string names;
-        for (const auto& s : scene.sensors) names += (names.empty() ? "" : ", ") + s.name + " (" + s.type + ")";
+        for (const auto& s : scene.sensors)
+            names += (names.empty() ? "" : ", ") + s.name + " (" + sensorTypeName(s.config.type) + ")";
         throw Error(scene.source, "no sensor named or of type '" + cfg.sensor + "' (sensors: " + names + ")");
     }
     mount_ = scene.sensors[size_t(si)];
-    if (!cfg.sensor_file.empty()) applySensorFile(cfg.sensor_file, mount_);
-    if (!cfg.model.empty()) mount_.model = cfg.model;
-    if (mount_.model != "paper" && mount_.model != "physical")
-        throw Error("--model", "unknown sensor model '" + mount_.model + "' (paper, physical)");
-    spec_ = specFor(mount_);
-    paper_.penetration_power = cfg.penetration_power > 0 ? cfg.penetration_power : mount_.penetration_power;
-    paper_.local_threshold = mount_.local_threshold;
+    if (!cfg.sensor_file.empty()) applySensorFile(cfg.sensor_file, mount_.config);
+    if (cfg.model) mount_.config.model = *cfg.model;
+    if (cfg.penetration_power > 0) mount_.config.paper.penetration_power = cfg.penetration_power;
+    model_ = makeBeamModel(mount_.config);
     if (!std::isfinite(cfg_.from_s)) cfg_.from_s = scene.t_start_s;
     if (!std::isfinite(cfg_.to_s)) cfg_.to_s = scene.t_end_s;
     if (!(cfg_.rate_hz > 0) || !std::isfinite(cfg_.rate_hz)) throw Error("--rate", "must be finite and > 0");
@@ -46,41 +43,23 @@ std::vector<double> Scanner::times() const
 
 Ray Scanner::beamRay(int i) const
 {
-    return mount_.beamRay(spec_.angle(i));
+    return mount_.beamRay(spec().angle(i));
 }
 
 Scan Scanner::scanAt(double t_s, uint64_t index) const
 {
     const SmokeField field = SmokeField::at(scene_.volumes, t_s);
+    const BeamWorld world{scene_, surfaces_, field};
     Scan scan;
     scan.time_s = t_s;
-    const int n = spec_.n_beams;
+    const int n = spec().n_beams;
     scan.angle_rad.resize(size_t(n));
     scan.value.resize(size_t(n));
     scan.beams.resize(cfg_.keep_beams ? size_t(n) : 0);
-    BeamQuery q;
-    q.wavelength_nm = spec_.wavelength_nm;
-    q.local_threshold = paper_.local_threshold;
     tbb::parallel_for(0, n, [&](int i) {
-        const Ray ray = beamRay(i);
         KeyedRng rng(cfg_.seed, index, uint64_t(i));
-        BeamResult r;
-        if (mount_.model == "physical") {
-            SurfaceHit hit;
-            BeamSmoke smoke;
-            const BeamSignal sig = traceBeamSignal(ray, spec_, mount_.physical, scene_, surfaces_, field, &hit,
-                                                   cfg_.keep_beams ? &smoke : nullptr);
-            r = spec_.type == "urg04lx" ? amcwBeam(spec_, mount_.physical, sig, rng)
-                                        : pulsedBeam(spec_, mount_.physical, sig, rng);
-            r.hit = hit;
-            r.smoke = std::move(smoke);
-        } else {
-            const SurfaceHit hit = surfaces_.closest(ray, spec_.range_max_m);
-            const double t_end = hit.hit ? hit.t_m : spec_.range_max_m;
-            const BeamSmoke smoke = field.trace(ray, 0.0, t_end, q);
-            r = paperBeam(spec_, paper_, hit, smoke, rng.normal());
-        }
-        scan.angle_rad[size_t(i)] = spec_.angle(i);
+        BeamResult r = model_->read(world, beamRay(i), rng, cfg_.keep_beams);
+        scan.angle_rad[size_t(i)] = spec().angle(i);
         scan.value[size_t(i)] = r.value;
         if (cfg_.keep_beams) scan.beams[size_t(i)] = std::move(r);
     });

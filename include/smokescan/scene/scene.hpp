@@ -10,7 +10,7 @@
 
 #include "smokescan/core/ray.hpp"
 #include "smokescan/media/smoke.hpp"
-#include "smokescan/sensors/physical_params.hpp"
+#include "smokescan/sensors/sensor_config.hpp"
 
 namespace smokescan {
 
@@ -45,18 +45,11 @@ struct Surface {
 };
 
 /// A laser range finder mounted in the scene. The beam plane is the sensor's local x–y plane,
-/// angle 0 along local +x.
+/// angle 0 along local +x. What the sensor is and does lives in its config.
 struct SensorMount {
     std::string name;
-    std::string type;           ///< "urg04lx" or "lms200"
-    std::string model = "paper";   ///< "paper" or "physical"
-    std::string sensor_file;       ///< sensor file the parameters came from ("" = built-in defaults)
     Pose pose;
-    double penetration_power = 0.007;   ///< paper model [density·m]
-    double local_threshold = 0.002;     ///< paper model: local density that counts as met
-    double sick_resolution_deg = 0.5;   ///< LMS200: 1 or 0.5
-    double sick_range_m = 8.0;          ///< LMS200 range mode: 8 (mm) or 80 (cm)
-    PhysicalParams physical;            ///< physical model (defaults per type: physicalDefaults)
+    SensorConfig config;
 
     /// World ray of the beam at `angle_rad` in the sensor's scan plane (local x–y, 0 = local +x).
     Ray beamRay(double angle_rad) const
@@ -98,8 +91,8 @@ struct Scene {
     std::vector<SmokeVolume> volumes;
     double t_start_s = 0, t_end_s = 60;
 
+    /// @brief Index of the sensor with this name, else of the first of this type; −1 if none.
     int findSensor(const std::string& name_or_type) const;
-    int findSurface(const std::string& name) const;
 };
 
 }  // namespace smokescan

@@ -13,6 +13,9 @@ struct SurfaceHit {
     Vec3 normal = Vec3::UnitZ();   ///< unit geometric normal, facing the ray's origin
     int surface = -1;              ///< index into Scene::surfaces (the object id)
     int material = -1;             ///< index into Scene::materials
+
+    /// Where the ray stops: at the hit, else at `limit_m` (the length it was traced for).
+    double endOr(double limit_m) const { return hit ? t_m : limit_m; }
 };
 
 class SurfaceSet {
@@ -26,8 +29,6 @@ public:
 
     /// @brief Closest hit with t in (t_min_m, t_max_m]. Thread-safe.
     SurfaceHit closest(const Ray& ray, double t_max_m, double t_min_m = 0.0) const;
-
-    size_t triangleCount() const;
 
 private:
     struct Impl;

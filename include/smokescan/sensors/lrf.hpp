@@ -15,12 +15,15 @@
 ///
 /// Noise: the URG-04LX datasheet gives accuracy ±10 mm (60 mm–1 m) and ±1 % (1–4 m); smokescan
 /// takes that band as 2σ. The LMS200's statistical error is taken as 5 mm (1σ, mm mode).
+#include <algorithm>
 #include <string>
+
+#include "smokescan/sensors/sensor_kind.hpp"
 
 namespace smokescan {
 
 struct LrfSpec {
-    std::string type;            ///< "urg04lx" or "lms200"
+    SensorType type = SensorType::Urg04lx;
     double wavelength_nm = 785;
     int n_beams = 0;
     double angle0_rad = 0;       ///< angle of beam 0
@@ -41,14 +44,16 @@ struct LrfSpec {
     }
     /// True when a reported value is an error code, not a range.
     bool isErrorValue(long long value) const;
+    /// Which values are error codes, in words (log headers).
+    std::string errorValueSummary() const;
 };
 
 /// @brief Hokuyo URG-04LX (SCIP 2.0): steps 44…725, 20…5600 mm, error values below 20.
 LrfSpec urg04lx();
 /// @brief Sick LMS200: 180° at `resolution_deg` (1 or 0.5), range mode 8 m (mm) or 80 m (cm).
 LrfSpec lms200(double resolution_deg = 0.5, double range_mode_m = 8.0);
-/// @brief The spec for a scene sensor mount's type and options. @throw Error for unknown types.
-struct SensorMount;
-LrfSpec specFor(const SensorMount& mount);
+/// @brief The spec for a sensor's type and options.
+struct SensorConfig;
+LrfSpec specFor(const SensorConfig& config);
 
 }  // namespace smokescan

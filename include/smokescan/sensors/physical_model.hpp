@@ -19,8 +19,8 @@
 #include "smokescan/media/smoke.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
+#include "smokescan/sensors/beam_result.hpp"
 #include "smokescan/sensors/lrf.hpp"
-#include "smokescan/sensors/paper_model.hpp"
 #include "smokescan/sensors/physical_params.hpp"
 
 namespace smokescan {
@@ -90,6 +90,9 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
 /// difference of the two waves (a spread return), 0 nothing in range.
 BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng);
 
+/// @brief URG-04LX without receiver or datasheet noise: the reading the summed echoes give.
+BeamResult amcwBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
+
 /// Noise-free amplitudes |Σ P·e^{i·k·r}| of the summed echoes at the two modulation frequencies.
 struct AmcwAmplitudes {
     double lo = 0, hi = 0;
@@ -104,6 +107,10 @@ AmcwAmplitudes amcwAmplitudes(const PhysicalParams& p, const BeamSignal& s);
 /// X, Y the coarse and fine amplitudes. Smooth in every parameter (for fitting the noise floor).
 double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A);
 
+/// @brief The same for a beam's signal, with the noise-free phase range leaving the sensor's
+/// window counted as an error.
+double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
+
 /// @brief LMS200: the waveform (Gaussian pulse ⊗ echoes + noise), first echo above threshold,
 /// range at its half-maximum leading edge plus half the pulse width. Codes: 8183 no echo,
 /// 8189 echo too weak or too wide (ambiguous), 8191 dazzled.
@@ -112,5 +119,12 @@ BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSi
 /// @brief LMS200 without receiver noise: the reading the noise-free waveform gives (range or
 /// error value), what a fit of the Sick's thresholds compares recorded readings with.
 BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
+
+/// @brief Probability that pulsedBeam returns an error value, in the high-SNR limit: the first
+/// echo of the noise-free waveform decides whether there is an echo and whether it is too wide;
+/// the receiver noise on its peak sample (Gaussian, σ = noise_floor) decides weak (below
+/// valid_snr·σ) or dazzled (above saturation_power); the datasheet noise decides the rounding
+/// onto an error value. Noise crossing the threshold ahead of the echo is neglected.
+double pulsedErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
 
 }  // namespace smokescan

@@ -33,7 +33,7 @@
 ///
 /// "assumed" values are engineering guesses, documented as such; "calibrated" ones are fitted
 /// so that the bocas scene reproduces the smoke paper (docs/sensors.md).
-#include <string>
+#include "smokescan/sensors/sensor_kind.hpp"
 
 namespace smokescan {
 
@@ -61,7 +61,7 @@ struct PhysicalParams {
     double overlap(double r_m) const;
 };
 
-/// @brief Defaults for a sensor type ("urg04lx", "lms200"), calibrated values included.
-PhysicalParams physicalDefaults(const std::string& type);
+/// @brief Defaults for a sensor type, calibrated values included.
+PhysicalParams physicalDefaults(SensorType type);
 
 }  // namespace smokescan

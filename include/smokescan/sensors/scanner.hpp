@@ -2,13 +2,14 @@
 /// @file scanner.hpp
 /// @brief Simulated laser scans of a scene over time.
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
-#include "smokescan/sensors/lrf.hpp"
-#include "smokescan/sensors/paper_model.hpp"
+#include "smokescan/sensors/beam_model.hpp"
 
 namespace smokescan {
 
@@ -20,7 +21,7 @@ namespace smokescan {
 /// | rate_hz    | 1       | Hz   | scans per second                                   |
 /// | seed       | 1       | –    | noise seed; results do not depend on thread count  |
 /// | sensor_file| ""      | –    | sensor file applied to the mount (io/sensor_file.hpp) |
-/// | model      | ""      | –    | "" = the sensor's own (after sensor_file); "paper", "physical" |
+/// | model      | none    | –    | none = the sensor's own (after sensor_file); paper or physical |
 /// | penetration_power | mount's | density·m | overrides the mount's when > 0         |
 struct ScanConfig {
     std::string sensor;
@@ -28,7 +29,7 @@ struct ScanConfig {
     double rate_hz = 1.0;
     uint64_t seed = 1;
     std::string sensor_file;
-    std::string model;
+    std::optional<SensorModel> model;
     double penetration_power = 0;
     bool keep_beams = true;  ///< keep per-beam details (optical depth, hit) in Scan::beams
 };
@@ -50,8 +51,10 @@ public:
     /// The scan at time t_s; `index` keys the noise stream.
     Scan scanAt(double t_s, uint64_t index) const;
 
-    const LrfSpec& spec() const { return spec_; }
+    const LrfSpec& spec() const { return model_->spec(); }
+    /// The mount with the sensor file, model and penetration power of the config applied.
     const SensorMount& mount() const { return mount_; }
+    const BeamModel& model() const { return *model_; }
     /// World ray of beam i.
     Ray beamRay(int i) const;
 
@@ -60,8 +63,7 @@ private:
     const SurfaceSet& surfaces_;
     ScanConfig cfg_;
     SensorMount mount_;
-    LrfSpec spec_;
-    PaperModelConfig paper_;
+    std::shared_ptr<const BeamModel> model_;
 };
 
 }  // namespace smokescan

@@ -11,18 +11,18 @@
 /// ```
 #include <string>
 
-#include "smokescan/scene/scene.hpp"
+#include "smokescan/sensors/sensor_config.hpp"
 
 namespace smokescan {
 
-/// @brief Reads a sensor file and applies it to `mount` (fields absent keep their values).
+/// @brief Reads a sensor file and applies it to `config` (fields absent keep their values).
 /// @throw Error "FILE:LINE: problem" for unreadable files, unknown keys, bad values, or a type
-/// that differs from the mount's.
-void applySensorFile(const std::string& path, SensorMount& mount);
+/// that differs from the config's.
+void applySensorFile(const std::string& path, SensorConfig& config);
 /// @brief The same from the file's text; `path` names it in errors.
-void applySensorText(const std::string& text, const std::string& path, SensorMount& mount);
+void applySensorText(const std::string& text, const std::string& path, SensorConfig& config);
 
-/// @brief Writes the mount's model and every parameter as a sensor file (atomically).
-void writeSensorFile(const std::string& path, const SensorMount& mount, const std::string& comment = "");
+/// @brief Writes the config's model and every parameter as a sensor file (atomically).
+void writeSensorFile(const std::string& path, const SensorConfig& config, const std::string& comment = "");
 
 }  // namespace smokescan

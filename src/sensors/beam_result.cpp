@@ -1,0 +1,43 @@
+#include "smokescan/sensors/beam_result.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace smokescan {
+
+BeamResult& markError(BeamResult& r, long long code, const char* cause)
+{
+    r.error = true;
+    r.value = code;
+    r.cause = cause;
+    return r;
+}
+
+BeamResult& reportRange(const LrfSpec& spec, double range, double noise, BeamResult& r)
+{
+    if (!std::isfinite(range) || range > spec.range_max_m || range < spec.range_min_m)
+        return markError(r, spec.no_return_code, "out_of_range");
+    r.true_range_m = range;
+    const double measured = range + spec.rangeSigma(range) * noise;
+    const long long v = std::llround(std::max(measured, spec.range_min_m) / spec.unit_m);
+    if (spec.isErrorValue(v)) return markError(r, spec.no_return_code, "out_of_range");
+    r.value = v;
+    return r;
+}
+
+double reportErrorProbability(const LrfSpec& spec, double range)
+{
+    if (!std::isfinite(range) || range > spec.range_max_m || range < spec.range_min_m) return 1.0;
+    switch (spec.type) {
+    case SensorType::Urg04lx:
+        return 0.0;  // readings below the window are raised to range_min_m, a valid value
+    case SensorType::Lms200: {
+        // Error values from kNoEcho up: the measured range rounds onto them above (kNoEcho − ½)·unit.
+        const double edge = (double(lms_code::kNoEcho) - 0.5) * spec.unit_m;
+        return 0.5 * std::erfc((edge - range) / (spec.rangeSigma(range) * std::sqrt(2.0)));
+    }
+    }
+    return 1.0;
+}
+
+}  // namespace smokescan
