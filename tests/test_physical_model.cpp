@@ -16,80 +16,14 @@
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
-#include "scene_text.hpp"
+#include "room_rig.hpp"
 #include "scratch.hpp"
 
 using namespace smokescan;
 
 namespace {
-using smokescan::test::tomlNumber;
-
-/// A target quad 2.5 m ahead (turned by yaw_deg about z), homogeneous smoke of `density`
-/// filling a 12 m box around everything, a URG-04LX and an LMS200 at the origin looking at it.
-std::string roomScene(double density, const std::string& material, double yaw_deg = 0)
-{
-    const double c = std::cos(yaw_deg * M_PI / 180), s = std::sin(yaw_deg * M_PI / 180);
-    return R"(
-[[materials]]
-name = "white_paper"
-nir_785 = 0.8
-nir_905 = 0.8
-[[materials]]
-name = "blue_paper"
-nir_785 = 0.62
-nir_905 = 0.66
-[[materials]]
-name = "gold_paper"
-nir_785 = 0.75
-nir_905 = 0.78
-specular = 0.95
-roughness = 0.05
-[[materials]]
-name = "velvet"
-nir_785 = 0.03
-nir_905 = 0.03
-[[materials]]
-name = "wall"
-nir_785 = 0.6
-nir_905 = 0.6
-[[surfaces]]
-name = "target"
-material = ")" + material + R"("
-type = "quad"
-corner = [)" + tomlNumber(2.5 + 0.5 * s) + ", " + tomlNumber(-0.5 * c) + R"(, -0.5]
-u = [)" + tomlNumber(-s) + ", " + tomlNumber(c) + R"(, 0.0]
-v = [0.0, 0.0, 1.0]
-[[surfaces]]
-name = "room"
-material = "wall"
-type = "box"
-position = [0, 0, 0]
-size = [12, 12, 6]
-[[sensors]]
-name = "hokuyo"
-type = "urg04lx"
-model = "physical"
-[[sensors]]
-name = "sick"
-type = "lms200"
-model = "physical"
-rpy_deg = [0, 0, -90]
-[[smoke]]
-name = "room_smoke"
-type = "box"
-min = [-5.9, -5.9, -2.9]
-max = [5.9, 5.9, 2.9]
-voxel = 0.1
-density = )" + tomlNumber(density) + "\n";
-}
-
-struct Rig {
-    Scene scene;
-    SurfaceSet surfaces;
-    explicit Rig(const std::string& toml) : scene(parseScene(toml, "rig.toml", "")), surfaces(scene) {}
-};
-
-
+using smokescan::test::Rig;
+using smokescan::test::roomScene;
 
 /// The straight-ahead beam of a sensor in `rig` at smoke density rho: its signal, then
 /// `n` noisy readings.

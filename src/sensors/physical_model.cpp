@@ -11,7 +11,8 @@ namespace smokescan {
 namespace {
 
 constexpr double kC = 299792458.0;  // [m/s]
-constexpr double kBin_m = 0.1;      // smoke bins: 0.2 rad of fine phase (sinc loss 0.2 %), 0.4 of the Sick pulse's σ
+constexpr double kBin_m = 0.1;
+constexpr uint64_t kPredictiveSeed = 0x70726564;  // the common random numbers of pulsedErrorProbability      // smoke bins: 0.2 rad of fine phase (sinc loss 0.2 %), 0.4 of the Sick pulse's σ
 
 }  // namespace
 
@@ -281,12 +282,11 @@ FirstEcho firstEcho(const Waveform& f, double thr)
     return e;
 }
 
-/// The LMS200's reading; rng = null: the noise-free waveform.
-BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng* rng)
+/// The LMS200's reading of a waveform (noise added in place when rng is given).
+BeamResult pulsedRead(const LrfSpec& spec, const PhysicalParams& p, Waveform& f, KeyedRng* rng)
 {
     BeamResult r;
     auto fail = [&](long long code, const char* cause) { return markError(r, code, cause); };
-    Waveform f = pulsedWaveform(spec, p, s);
     if (f.w.empty()) return fail(spec.no_return_code, "no_echo");
     if (rng)
         for (double& v : f.w) v += p.noise_floor * rng->normal();
@@ -306,27 +306,27 @@ BeamResult pulsedBeamImpl(const LrfSpec& spec, const PhysicalParams& p, const Be
 
 BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
 {
-    return pulsedBeamImpl(spec, p, s, &rng);
+    Waveform f = pulsedWaveform(spec, p, s);
+    return pulsedRead(spec, p, f, &rng);
 }
 
 BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
 {
-    return pulsedBeamImpl(spec, p, s, nullptr);
+    Waveform f = pulsedWaveform(spec, p, s);
+    return pulsedRead(spec, p, f, nullptr);
 }
 
-double pulsedErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+double pulsedErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, int draws)
 {
     const Waveform f = pulsedWaveform(spec, p, s);
-    const FirstEcho e = f.w.empty() ? FirstEcho{} : firstEcho(f, p.threshold_snr * p.noise_floor);
-    if (!e.found) return 1.0;
-    const double fwhm_pulse = 2.354820045 * f.sig_p;
-    if (e.trail_m - e.lead_m > p.max_echo_width * fwhm_pulse) return 1.0;
-    const double sd = p.noise_floor;
-    auto Phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
-    const double p_peak = sd > 0 ? Phi((p.saturation_power - e.peak) / sd) - Phi((p.valid_snr * sd - e.peak) / sd)
-                                 : double(e.peak >= 0 && e.peak <= p.saturation_power);
-    const double p_valid = std::max(0.0, p_peak) * (1 - reportErrorProbability(spec, e.lead_m + 0.5 * fwhm_pulse));
-    return std::clamp(1.0 - p_valid, 0.0, 1.0);
+    if (f.w.empty()) return 1.0;
+    int errors = 0;
+    for (int d = 0; d < draws; ++d) {
+        KeyedRng rng(kPredictiveSeed, uint64_t(d), 0);
+        Waveform g = f;
+        errors += pulsedRead(spec, p, g, &rng).error;
+    }
+    return double(errors) / std::max(1, draws);
 }
 
 }  // namespace smokescan

@@ -120,11 +120,11 @@ BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSi
 /// error value), what a fit of the Sick's thresholds compares recorded readings with.
 BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
 
-/// @brief Probability that pulsedBeam returns an error value, in the high-SNR limit: the first
-/// echo of the noise-free waveform decides whether there is an echo and whether it is too wide;
-/// the receiver noise on its peak sample (Gaussian, σ = noise_floor) decides weak (below
-/// valid_snr·σ) or dazzled (above saturation_power); the datasheet noise decides the rounding
-/// onto an error value. Noise crossing the threshold ahead of the echo is neglected.
-double pulsedErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
+/// @brief Probability that pulsedBeam returns an error value, estimated from `draws` noisy
+/// readings of the beam's waveform with fixed random numbers (common to every call: the same
+/// signal always gives the same estimate, and nearby signals are compared on the same noise).
+/// Standard error ≤ 0.5/√draws. The peak of a noisy waveform is the largest of several noisy samples and the
+/// noise widens the echo, so no simple closed form holds (tests/test_beam_model.cpp).
+double pulsedErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, int draws = 1024);
 
 }  // namespace smokescan
