@@ -49,7 +49,7 @@ TEST(SaturationCurveFit, RecoversKnownParametersWithinReportedErrors)
     // Known σ, plain least squares: the z-scores (estimate − truth)/SE over 300 seeds must look
     // standard normal — that checks the estimates and the Ceres covariance together.
     CurveFitConfig cfg;
-    cfg.loss = "none";
+    cfg.loss = RobustLoss::None;
     cfg.scale_covariance_by_chi2 = false;
     const double truth[3] = {kTrue.S0, kTrue.a, kTrue.b};
     const int n = 300;
@@ -78,7 +78,7 @@ TEST(SaturationCurveFit, RobustLossShrugsOffAnOutlier)
     pts[5].saturation += 0.1;  // one bad frame, 25 σ off
     const CurveFitResult robust = fitSaturationCurve(pts);
     CurveFitConfig plain;
-    plain.loss = "none";
+    plain.loss = RobustLoss::None;
     const CurveFitResult ls = fitSaturationCurve(pts, plain);
     EXPECT_LT(std::abs(robust.curve.b - kTrue.b), std::abs(ls.curve.b - kTrue.b));
     EXPECT_NEAR(robust.curve.b, kTrue.b, 3 * robust.std_error[2]);

@@ -67,7 +67,7 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
                         const UrgNoiseFloorResult* physical)
 {
     nlohmann::json j;
-    j["model"] = {{"threshold", "P(error | S) = F((S* - S) / sqrt(w^2 + sigma_S^2)), F = " + cfg.link},
+    j["model"] = {{"threshold", "P(error | S) = F((S* - S) / sqrt(w^2 + sigma_S^2)), F = " + std::string(errorLinkName(cfg.link))},
                   {"penetration_power", "P = rho(S*) * range_m through the calibration curve; tau = sigma_t * P"},
                   {"range", "bias(x) = bias0 + bias_slope*x, noise(x) = noise0 + noise_slope*x, x = S_ref - S [m]"},
                   {"offset", "camera time - laser time [s]"},
@@ -120,7 +120,7 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
                          {"se_calibration", physical->se_calibration}, {"variance_inflation", physical->variance_inflation},
                          {"onset_column_density_m", est(physical->onset_column)}, {"pearson_chi2", physical->pearson_chi2},
                          {"dof", physical->dof}};
-    j["config"] = {{"link", cfg.link}, {"estimate_offset", cfg.estimate_offset}, {"offset_s", cfg.offset_s},
+    j["config"] = {{"link", errorLinkName(cfg.link)}, {"estimate_offset", cfg.estimate_offset}, {"offset_s", cfg.offset_s},
                    {"offset_window_s", cfg.offset_window_s}, {"smooth_s", cfg.smooth_s}, {"clear_quantile", cfg.clear_quantile},
                    {"sigma_t_per_density", cfg.sigma_t_per_density}};
     AtomicFile f(path);
@@ -221,7 +221,7 @@ void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, c
             int px = -1, py = -1;
             for (int x = top.x0; x <= top.x1; ++x) {
                 const double S = smin + (smax - smin) * (x - top.x0) / (top.x1 - top.x0);
-                const double p = w > 0 ? detail::errorProbability(S, t.S_star.value, w, cfg.link == "logistic") : double(S < t.S_star.value);
+                const double p = w > 0 ? detail::errorProbability(S, t.S_star.value, w, cfg.link == ErrorLink::Logistic) : double(S < t.S_star.value);
                 const int y = top.Y(p);
                 if (px >= 0) c.line(px, py, x, y, col);
                 px = x;

@@ -105,9 +105,11 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     ceres::Problem problem;
     for (const auto& q : pts) {
         ceres::LossFunction* loss = nullptr;
-        if (cfg.loss == "huber") loss = new ceres::HuberLoss(cfg.loss_scale);
-        else if (cfg.loss == "cauchy") loss = new ceres::CauchyLoss(cfg.loss_scale);
-        else if (cfg.loss != "none") throw Error("calibration", "unknown loss '" + cfg.loss + "' (none, huber, cauchy)");
+        switch (cfg.loss) {
+        case RobustLoss::None: break;
+        case RobustLoss::Huber: loss = new ceres::HuberLoss(cfg.loss_scale); break;
+        case RobustLoss::Cauchy: loss = new ceres::CauchyLoss(cfg.loss_scale); break;
+        }
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SaturationResidual, 1, 3>(
                                      new SaturationResidual(q.density, q.saturation, q.sigma, cfg.gamma)),
                                  loss, p);

@@ -121,10 +121,14 @@ double saturationAt(const SaturationSeries& s, double t)
     return detail::interpolate(s, t);
 }
 
+const char* errorLinkName(ErrorLink link)
+{
+    return link == ErrorLink::Logistic ? "logistic" : "probit";
+}
+
 SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, const std::vector<BeamGroup>& groups,
                           const LrfSpec& spec, const CurveFitResult* calibration, const SensorFitConfig& cfg)
 {
-    if (cfg.link != "probit" && cfg.link != "logistic") throw Error("--link", "unknown link '" + cfg.link + "' (probit, logistic)");
     if (!(cfg.offset_window_s >= 0) || !(cfg.offset_step_s > 0)) throw Error("--offset-window", "window must be >= 0 and step > 0");
     if (groups.empty()) throw Error("fit", "no beam groups: give --scene or --surface/--surfaces");
     if (!(cfg.smooth_s >= 0)) throw Error("--smooth", "must be >= 0");
@@ -255,7 +259,7 @@ SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, c
     // Sharp steps (errors and clear scans separate) have no width to fit: S* lies in the gap.
     detail::ThresholdProblem prob;
     prob.sat = &sat;
-    prob.logistic = cfg.link == "logistic";
+    prob.logistic = cfg.link == ErrorLink::Logistic;
     prob.fit_offset = fit_offset;
     prob.offset0 = delta0;
     prob.cluster_s = std::max({(2 * h + 2) * frame_s, 2 * spec.scan_period_s, 1e-3});

@@ -291,7 +291,8 @@ void addCalibration(CLI::App& app, Runner& run)
     c->add_option("--seed", a->cfg.seed, "Render seed")->capture_default_str();
     c->add_option("--camera", a->cfg.camera, "Scene camera (default: the first)");
     c->add_option("--target-prefix", a->cfg.target_prefix, "Surface-name prefix of the target's patches")->capture_default_str();
-    c->add_option("--loss", a->cfg.fit.loss, "Robust loss: none, huber, cauchy")->capture_default_str();
+    addChoice(c, "--loss", a->cfg.fit.loss, {{"none", RobustLoss::None}, {"huber", RobustLoss::Huber}, {"cauchy", RobustLoss::Cauchy}},
+              "Robust loss of the curve fit, default huber");
     c->add_option("--out", a->out, "Calibration JSON to write (e.g. calib/bocas.json)")->required();
     c->add_option("--plot", a->plot, "Also write the plot (PNG)");
     c->callback([a, &run] { run = [a] { return runCalibrate(*a); }; });

@@ -2,12 +2,13 @@
 // The CLI's subcommands: each registers its options on the app and runs when chosen.
 #include <CLI/CLI.hpp>
 
-#include "smokescan/sensors/sensor_kind.hpp"
-
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/sensors/sensor_kind.hpp"
 
 namespace smokescan::cli {
 
@@ -26,6 +27,31 @@ CLI::Validator intRange(long long lo, long long hi);
 SensorModel sensorModelOption(const std::string& option, const std::string& value);
 /// The sensor type an option names ("urg04lx", "lms200"); Error(option, ...) otherwise.
 SensorType sensorTypeOption(const std::string& option, const std::string& value);
+
+/// @brief An option whose value is one of a few names, stored as the enum it names; any other
+/// value is a parse error listing the names ("--link: 'x' is not one of probit, logistic").
+template <class E>
+CLI::Option* addChoice(CLI::App* c, const std::string& name, E& target, std::vector<std::pair<std::string, E>> choices,
+                       const std::string& description)
+{
+    std::string names;
+    for (const auto& ch : choices) names += (names.empty() ? "" : ", ") + ch.first;
+    auto* o = c->add_option_function<std::string>(
+        name,
+        [&target, choices](const std::string& v) {
+            for (const auto& ch : choices)
+                if (ch.first == v) target = ch.second;
+        },
+        description + " (" + names + ")");
+    o->check(CLI::Validator(
+        [choices, names](std::string& v) {
+            for (const auto& ch : choices)
+                if (ch.first == v) return std::string();
+            return "'" + v + "' is not one of " + names;
+        },
+        "NAME"));
+    return o;
+}
 
 void addScan(CLI::App& app, Runner& run);
 void addVolume(CLI::App& app, Runner& run);

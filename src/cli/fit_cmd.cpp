@@ -262,7 +262,8 @@ void addFit(CLI::App& app, Runner& run)
     c->add_option("--offset", a->offset, "Clock offset camera - laser [s]: the search centre, or the value with --fixed-offset")->capture_default_str()->check(finite());
     c->add_flag("--fixed-offset", a->fixed_offset, "Do not estimate the offset");
     c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")->capture_default_str()->check(nonnegative());
-    c->add_option("--link", a->cfg.link, "Threshold link: probit or logistic")->capture_default_str();
+    addChoice(c, "--link", a->cfg.link, {{"probit", ErrorLink::Probit}, {"logistic", ErrorLink::Logistic}},
+              "Threshold link, default probit");
     c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")->capture_default_str()->check(nonnegative());
     c->add_option("--model", a->model, "Sensor file model: paper (penetration power) or physical (URG noise floor solved in --scene)")
         ->capture_default_str();

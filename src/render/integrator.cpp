@@ -32,13 +32,25 @@ public:
     explicit LightSet(const Scene& s)
     {
         for (const auto& l : s.lights) {
-            if (l.kind == "ambient")
+            if (l.kind == LightKind::Ambient)
                 ambient_ += l.radiance * l.color.array();
             else
                 lights_.push_back(&l);
         }
     }
     const Rgb& ambient() const { return ambient_; }
+
+    /// A point on an area light seen from p; solid_angle > 0 when sampled by solid angle.
+    static Vec3 sampleArea(const Light& l, const Vec3& p, KeyedRng& rng, double& solid_angle)
+    {
+        const Vec3 ex = l.width_m * l.pose.R.col(1), ey = l.height_m * l.pose.R.col(2);
+        const Vec3 corner = l.pose.t - 0.5 * ex - 0.5 * ey;
+        const SphericalRectangle sr(p, corner, ex, ey);
+        const double u = rng.uniform(), v = rng.uniform();
+        if (!sr.usable()) return corner + u * ex + v * ey;  // too far or too flat for the spherical parametrisation
+        solid_angle = sr.solidAngle();
+        return sr.sample(u, v);
+    }
     bool empty() const { return lights_.empty(); }
 
     /// One light chosen uniformly; the estimate is scaled by the number of lights.
@@ -51,41 +63,36 @@ public:
         const double n = double(lights_.size());
         const double flux = l.power_w * l.efficiency;
         const Vec3 X = l.pose.R.col(0);
-        if (l.kind == "directional") {
+        if (l.kind == LightKind::Directional) {
             ls.wi = -X;
             ls.Li = n * l.irradiance * l.color.array();
             return ls;
         }
         Vec3 q = l.pose.t;
-        double area_term = 1.0;
         double solid_angle = 0;  // > 0 when the area light was sampled by solid angle
-        if (l.kind == "area") {
-            const Vec3 ex = l.width_m * l.pose.R.col(1), ey = l.height_m * l.pose.R.col(2);
-            const Vec3 corner = l.pose.t - 0.5 * ex - 0.5 * ey;
-            const SphericalRectangle sr(p, corner, ex, ey);
-            const double u = rng.uniform(), v = rng.uniform();
-            if (sr.usable()) {
-                q = sr.sample(u, v);
-                solid_angle = sr.solidAngle();
-            } else {
-                q = corner + u * ex + v * ey;  // too far or too flat for the spherical parametrisation
-            }
-        }
+        if (l.kind == LightKind::Area) q = sampleArea(l, p, rng, solid_angle);
         const Vec3 d = q - p;
         ls.dist = d.norm();
         if (!(ls.dist > 1e-9)) return ls;
         ls.wi = d / ls.dist;
         const double cos_l = X.dot(-ls.wi);  // area and spot lights face local +x
         const double inv_d2 = 1.0 / (ls.dist * ls.dist);
-        if (l.kind == "area") {
+        double area_term = 1.0;
+        switch (l.kind) {
+        case LightKind::Area: {
             if (cos_l <= 0) return ls;  // one-sided emitter
             const double A = l.width_m * l.height_m, Le = flux / (M_PI * A);
             area_term = solid_angle > 0 ? Le * solid_angle : Le * cos_l * A * inv_d2;  // radiance / pdf(ω)
-        } else if (l.kind == "point") {
-            area_term = flux / (4 * M_PI) * inv_d2;
-        } else {  // spot: a hard cone of half-angle spot_angle_deg
+            break;
+        }
+        case LightKind::Point: area_term = flux / (4 * M_PI) * inv_d2; break;
+        case LightKind::Spot: {  // a hard cone of half-angle spot_angle_deg
             const double c = std::cos(l.spot_angle_deg * M_PI / 180.0);
             area_term = cos_l >= c ? flux / (2 * M_PI * (1 - c)) * inv_d2 : 0.0;
+            break;
+        }
+        case LightKind::Directional:
+        case LightKind::Ambient: break;  // handled above and in the constructor
         }
         ls.Li = n * area_term * l.color.array();
         return ls;

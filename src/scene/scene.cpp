@@ -2,6 +2,18 @@
 
 namespace smokescan {
 
+std::optional<LightKind> parseLightKind(const std::string& name)
+{
+    static const std::pair<const char*, LightKind> kNames[] = {{"area", LightKind::Area},
+                                                               {"point", LightKind::Point},
+                                                               {"spot", LightKind::Spot},
+                                                               {"directional", LightKind::Directional},
+                                                               {"ambient", LightKind::Ambient}};
+    for (const auto& [n, k] : kNames)
+        if (name == n) return k;
+    return std::nullopt;
+}
+
 int Scene::findSensor(const std::string& key) const
 {
     for (size_t i = 0; i < sensors.size(); ++i)

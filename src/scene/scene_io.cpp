@@ -120,9 +120,10 @@ Light readLight(TomlTable t)
 {
     Light l;
     l.name = t.strReq("name");
-    l.kind = t.strReq("kind");
-    if (l.kind != "area" && l.kind != "point" && l.kind != "spot" && l.kind != "directional" && l.kind != "ambient")
-        t.error("kind", "must be area, point, spot, directional or ambient, got '" + l.kind + "'");
+    const std::string kind = t.strReq("kind");
+    const auto k = parseLightKind(kind);
+    if (!k) t.error("kind", "must be area, point, spot, directional or ambient, got '" + kind + "'");
+    l.kind = *k;
     l.pose = readPose(t);
     l.width_m = t.positive("width", l.width_m);
     l.height_m = t.positive("height", l.height_m);

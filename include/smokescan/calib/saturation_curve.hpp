@@ -42,12 +42,15 @@ struct SaturationPoint {
 
 /// | field                    | default | meaning                                                    |
 /// |--------------------------|---------|------------------------------------------------------------|
-/// | loss                     | "huber" | robust loss: "none", "huber", "cauchy" (scale in units of σ) |
+/// | loss                     | huber   | RobustLoss: none, huber, cauchy (scale in units of σ)      |
 /// | loss_scale               | 2.0     | residual (in σ) where the robust loss departs from least squares |
 /// | scale_covariance_by_chi2 | true    | multiply the covariance by χ²/dof when that exceeds 1 (σ's underestimated) |
 /// | gamma                    | 1/2.2   | display encoding exponent                                   |
+/// The robust loss of the curve fit.
+enum class RobustLoss { None, Huber, Cauchy };
+
 struct CurveFitConfig {
-    std::string loss = "huber";
+    RobustLoss loss = RobustLoss::Huber;
     double loss_scale = 2.0;
     bool scale_covariance_by_chi2 = true;
     double gamma = 1.0 / 2.2;

@@ -16,7 +16,7 @@
 ///
 /// | field            | default  | unit | meaning                                                      |
 /// |------------------|----------|------|--------------------------------------------------------------|
-/// | link             | "probit" | –    | "probit" or "logistic"                                       |
+/// | link             | probit   | –    | ErrorLink: probit or logistic                                |
 /// | estimate_offset  | true     | –    | fit δ; false: δ = offset_s                                   |
 /// | offset_s         | 0        | s    | fixed δ, or the centre of the search                          |
 /// | offset_window_s  | 60       | s    | δ searched in offset_s ± this                                 |
@@ -39,8 +39,13 @@
 
 namespace smokescan {
 
+/// The threshold's link function F in P(error | S) = F((S* − S)/w).
+enum class ErrorLink { Probit, Logistic };
+/// @brief "probit" or "logistic".
+const char* errorLinkName(ErrorLink link);
+
 struct SensorFitConfig {
-    std::string link = "probit";
+    ErrorLink link = ErrorLink::Probit;
     bool estimate_offset = true;
     double offset_s = 0;
     double offset_window_s = 60;

@@ -4,6 +4,7 @@
 /// smoke volumes and the time line. Units: metres, seconds, degrees where named `_deg`.
 /// The file format is documented field by field in docs/scene-format.md.
 #include <cmath>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -58,9 +59,15 @@ struct SensorMount {
     }
 };
 
+/// How a light emits (scene files: kind = "area", "point", "spot", "directional", "ambient").
+enum class LightKind { Area, Point, Spot, Directional, Ambient };
+
+/// @brief The kind a scene file names, or nothing for an unknown name.
+std::optional<LightKind> parseLightKind(const std::string& name);
+
 struct Light {
     std::string name;
-    std::string kind = "area";  ///< "area", "point", "spot", "directional", "ambient"
+    LightKind kind = LightKind::Area;
     Pose pose;                   ///< area: centre, emitting along local +x; spot: axis local +x
     double width_m = 0.6, height_m = 0.04;  ///< area light extent (local y, z)
     double power_w = 70.0;       ///< electrical power; radiant = power_w · efficiency
