@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <unistd.h>
 
-#include "smokescan/calib/saturation.hpp"
+#include "smokescan/camera/saturation.hpp"
 #include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene_io.hpp"
 

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "smokescan/io/recorded.hpp"
-#include "smokescan/render/image.hpp"
+#include "smokescan/io/image.hpp"
 
 #include "cli_run.hpp"
 

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <numeric>
 
-#include "smokescan/calib/beam_groups.hpp"
+#include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/calib/calibration.hpp"
-#include "smokescan/calib/physical_fit.hpp"
-#include "smokescan/calib/plume_fit.hpp"
+#include "smokescan/fit/physical_fit.hpp"
+#include "smokescan/fit/plume_fit.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
-#include "smokescan/calib/sensor_fit.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"

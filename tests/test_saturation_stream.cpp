@@ -7,7 +7,7 @@
 
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
-#include "smokescan/calib/saturation_render.hpp"
+#include "smokescan/camera/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/scene/scene_io.hpp"
 

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "smokescan/core/error.hpp"
-#include "smokescan/io/laser_log.hpp"
+#include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
 

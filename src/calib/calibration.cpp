@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "smokescan/calib/saturation_render.hpp"
+#include "smokescan/camera/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/text_input.hpp"

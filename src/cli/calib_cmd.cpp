@@ -14,7 +14,7 @@
 
 #include "commands.hpp"
 #include "smokescan/calib/calibration.hpp"
-#include "smokescan/calib/saturation_render.hpp"
+#include "smokescan/camera/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"

@@ -7,10 +7,10 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "smokescan/analysis/covariates.hpp"
+#include "smokescan/fit/covariates.hpp"
 #include "smokescan/calib/calibration.hpp"
-#include "smokescan/calib/fit_report.hpp"
-#include "smokescan/calib/plume_fit.hpp"
+#include "smokescan/fit/fit_report.hpp"
+#include "smokescan/fit/plume_fit.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/sensors/sensor_file.hpp"

@@ -4,10 +4,12 @@
 
 #include "commands.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/version.hpp"
 
 int main(int argc, char** argv)
 {
     CLI::App app{"smokescan: laser range finders and cameras in smoke, simulated physically"};
+    app.set_version_flag("--version", std::string("smokescan ") + smokescan::version());
     app.require_subcommand(1);
     smokescan::cli::Runner run;
     smokescan::cli::addScan(app, run);
@@ -22,6 +24,8 @@ int main(int argc, char** argv)
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {  // one line, as every other error
         std::cerr << "smokescan: " << smokescan::printable(e.what()) << " (see --help)\n";

@@ -345,7 +345,7 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
 Scene loadScene(const std::string& name_or_path)
 {
     for (const auto& b : builtinSceneNames())
-        if (b == name_or_path) return parseScene(builtinSceneText(b), "builtin:" + b, SMOKESCAN_SOURCE_DIR);
+        if (b == name_or_path) return parseScene(builtinSceneText(b), "builtin:" + b, "");  // self-contained: no file paths
     if (!fs::exists(name_or_path))
         throw Error(name_or_path, "no such scene file (built-in scenes: " + [] {
             std::string s;

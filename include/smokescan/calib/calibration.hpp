@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "smokescan/calib/saturation.hpp"
+#include "smokescan/camera/saturation.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/scene/scene.hpp"
 

@@ -10,9 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "smokescan/io/laser_log.hpp"
-
 namespace smokescan {
+
+/// One scan of a laser log (the smoke paper's format: sensors/laser_log.hpp).
+struct LaserLogScan {
+    double time_s = 0;
+    std::vector<double> angle_rad;
+    std::vector<double> range;  ///< as written in the file (mm by default)
+};
 
 struct ReadOptions {
     double unit_m = 0.001;

@@ -19,7 +19,7 @@
 #include <string>
 
 #include "smokescan/render/camera.hpp"
-#include "smokescan/render/image.hpp"
+#include "smokescan/io/image.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
 

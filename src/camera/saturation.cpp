@@ -1,4 +1,4 @@
-#include "smokescan/calib/saturation.hpp"
+#include "smokescan/camera/saturation.hpp"
 #include "smokescan/core/order_stats.hpp"
 
 #include <algorithm>

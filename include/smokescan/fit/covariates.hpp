@@ -10,7 +10,7 @@
 /// up to it), tau (optical depth at the laser's wavelength up to it).
 #include <string>
 
-#include "smokescan/calib/sensor_fit.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
 

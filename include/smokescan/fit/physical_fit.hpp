@@ -24,9 +24,9 @@
 /// | iterations   | 50      | –    | Levenberg–Marquardt iterations at most                   |
 #include <string>
 
-#include "smokescan/calib/beam_groups.hpp"
+#include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
-#include "smokescan/calib/sensor_fit.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
 

@@ -7,15 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "smokescan/io/recorded.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 namespace smokescan {
-
-struct LaserLogScan {
-    double time_s = 0;
-    std::vector<double> angle_rad;
-    std::vector<double> range;  ///< as written in the file (mm by default)
-};
 
 /// @brief The log's header: each line becomes a '#' comment.
 void writeLaserLogHeader(std::ostream& out, const std::vector<std::string>& header);

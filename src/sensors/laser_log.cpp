@@ -1,4 +1,4 @@
-#include "smokescan/io/laser_log.hpp"
+#include "smokescan/sensors/laser_log.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/recorded.hpp"
-#include "smokescan/render/image.hpp"
+#include "smokescan/io/image.hpp"
 
 namespace smokescan {
 

@@ -32,7 +32,7 @@
 
 #include <Eigen/Core>
 
-#include "smokescan/calib/beam_groups.hpp"
+#include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/sensors/lrf.hpp"

@@ -1,5 +1,5 @@
 // The fit's report (JSON), aligned streams (CSV) and plots (the smoke paper's Fig. 5 and 9).
-#include "smokescan/calib/fit_report.hpp"
+#include "smokescan/fit/fit_report.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <iomanip>
 
-#include "canvas.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/plot/canvas.hpp"
+#include "smokescan/plot/format.hpp"
+#include "smokescan/plot/palette.hpp"
 #include "threshold_fit.hpp"
 
 namespace smokescan {
@@ -19,24 +21,6 @@ nlohmann::json est(const Estimate& e)
 {
     if (std::isnan(e.value)) return nullptr;
     return {{"value", e.value}, {"std_error", std::isnan(e.se) ? nlohmann::json(nullptr) : nlohmann::json(e.se)}};
-}
-
-std::string fmt(const char* f, double v)
-{
-    char b[64];
-    std::snprintf(b, sizeof b, f, v);
-    return b;
-}
-
-const std::array<Col, 6> kPalette = {{{0.15f, 0.3f, 0.9f}, {0.85f, 0.65f, 0.0f}, {0.6f, 0.4f, 0.05f}, {0.1f, 0.6f, 0.2f}, {0.6f, 0.1f, 0.6f}, {0.3f, 0.3f, 0.3f}}};
-
-/// A group's colour: by its name where it names one, else from the palette.
-Col colourOf(const std::string& name, size_t g)
-{
-    if (name.find("blue") != std::string::npos) return {0.15f, 0.3f, 0.9f};
-    if (name.find("yellow") != std::string::npos) return {0.85f, 0.65f, 0.0f};
-    if (name.find("gold") != std::string::npos) return {0.6f, 0.4f, 0.05f};
-    return kPalette[(g + 3) % kPalette.size()];
 }
 
 /// A plot frame: data ranges mapped into a box of the canvas, with ticks and labels.

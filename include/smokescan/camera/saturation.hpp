@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "smokescan/render/image.hpp"
+#include "smokescan/io/image.hpp"
 
 namespace smokescan {
 

@@ -10,7 +10,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
-#include "smokescan/render/image.hpp"
+#include "smokescan/io/image.hpp"
 
 namespace smokescan {
 namespace fs = std::filesystem;

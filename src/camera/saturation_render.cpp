@@ -1,4 +1,4 @@
-#include "smokescan/calib/saturation_render.hpp"
+#include "smokescan/camera/saturation_render.hpp"
 
 #include <algorithm>
 #include <vector>

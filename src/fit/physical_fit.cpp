@@ -1,4 +1,4 @@
-#include "smokescan/calib/physical_fit.hpp"
+#include "smokescan/fit/physical_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "binomial_deviance.hpp"
-#include "ceres_quiet.hpp"
+#include "../calib/ceres_quiet.hpp"
 
 namespace smokescan {
 namespace {

@@ -1,4 +1,4 @@
-#include "smokescan/analysis/covariates.hpp"
+#include "smokescan/fit/covariates.hpp"
 
 #include <tbb/parallel_for.h>
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "smokescan/calib/saturation.hpp"
+#include "smokescan/camera/saturation.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
 

@@ -1,4 +1,4 @@
-#include "smokescan/calib/beam_groups.hpp"
+#include "smokescan/fit/beam_groups.hpp"
 
 #include <cmath>
 #include <cstdlib>

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "smokescan/calib/sensor_fit.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"

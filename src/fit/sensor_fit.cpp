@@ -1,6 +1,6 @@
 // fitSensor: recorded laser log + saturation series → clock offset, thresholds, penetration power,
 // range bias/noise, with a diagnosis wherever the data cannot support a fit.
-#include "smokescan/calib/sensor_fit.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +9,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
+#include "smokescan/plot/format.hpp"
 #include "threshold_fit.hpp"
 
 namespace smokescan {
@@ -17,13 +18,6 @@ RangeFit fitRangeBiasNoise(const std::string& group, const std::vector<std::vect
                            const std::vector<double>& S, double S_clear_min, const SensorFitConfig& cfg);  // range_fit.cpp
 
 namespace {
-
-std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 0)
-{
-    char buf[256];
-    std::snprintf(buf, sizeof buf, f, a, b, c, d);
-    return buf;
-}
 
 /// The series averaged over a centred window of 2h + 1 samples (shrunk at the ends). The fit needs
 /// the saturation's slope in time to align the clocks; the raw series' slope between frames is

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "smokescan/calib/physical_fit.hpp"
-#include "smokescan/calib/plume_fit.hpp"
-#include "smokescan/calib/sensor_fit.hpp"
+#include "smokescan/fit/physical_fit.hpp"
+#include "smokescan/fit/plume_fit.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 
 namespace smokescan {
 

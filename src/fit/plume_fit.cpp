@@ -1,4 +1,4 @@
-#include "smokescan/calib/plume_fit.hpp"
+#include "smokescan/fit/plume_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "binomial_deviance.hpp"
-#include "ceres_quiet.hpp"
+#include "../calib/ceres_quiet.hpp"
 
 namespace smokescan {
 namespace {

@@ -1,14 +1,13 @@
-// The calibration plot (the smoke paper's Fig. 7), drawn with OpenImageIO's ImageBufAlgo.
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
+// The calibration plot (the smoke paper's Fig. 7).
 #include <cmath>
 #include <cstdio>
 
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/error.hpp"
-#include "smokescan/render/image.hpp"
-#include "canvas.hpp"
+#include "smokescan/io/image.hpp"
+#include "smokescan/plot/canvas.hpp"
+#include "smokescan/plot/format.hpp"
+#include "smokescan/plot/palette.hpp"
 
 namespace smokescan {
 namespace {
@@ -27,13 +26,6 @@ double curveSe(const CurveFitResult& f, double rho)
         g[k] = (up(rho) - dn(rho)) / (2 * h);
     }
     return std::sqrt(std::max(0.0, g.dot(f.covariance * g)));
-}
-
-std::string fmt(const char* f, double v)
-{
-    char b[64];
-    std::snprintf(b, sizeof b, f, v);
-    return b;
 }
 
 }  // namespace
@@ -77,10 +69,9 @@ void writeCalibrationPlot(const std::string& path, const CalibrationResult& r, c
     c.text(12, T - 18, "target HSV saturation", 15);
     c.text(W / 2 - 170, 26, "density vs saturation (smoke paper, Fig. 7)", 16);
     // Patches (small), then the combined points with 95 % error bars.
-    const std::map<std::string, Col> colours = {{"blue", {0.15f, 0.3f, 0.9f}}, {"yellow", {0.85f, 0.7f, 0.0f}}, {"gold", {0.7f, 0.5f, 0.1f}}};
+    size_t patch = 0;
     for (const auto& [name, pts] : r.patches) {
-        const auto it = colours.find(name);
-        const Col col = it != colours.end() ? it->second : Col{0.5f, 0.5f, 0.5f};
+        const Col col = colourOf(name, patch++);
         for (const auto& p : pts) c.box(X(p.density) - 2, Y(p.saturation) - 2, X(p.density) + 2, Y(p.saturation) + 2, col, true);
     }
     for (const auto& p : r.points) {

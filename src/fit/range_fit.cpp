@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ceres_quiet.hpp"
-#include "smokescan/calib/sensor_fit.hpp"
+#include "../calib/ceres_quiet.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/core/order_stats.hpp"
 
 namespace smokescan {

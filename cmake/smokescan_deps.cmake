@@ -1,0 +1,28 @@
+# smokescan's dependencies, from Debian 12's packages. Included by the build and by the installed
+# package config (smokescanConfig.cmake), so that a consumer finds the same targets.
+set(CMAKE_FIND_PACKAGE_PREFER_CONFIG ON)
+find_package(TBB CONFIG REQUIRED)
+# Debian installs FindOpenVDB.cmake under the library directory, not on CMake's module path.
+if(NOT SMOKESCAN_OPENVDB_MODULE_DIR)
+  set(_smokescan_vdb_hints)
+  foreach(prefix ${CMAKE_PREFIX_PATH} ${CMAKE_SYSTEM_PREFIX_PATH})
+    list(APPEND _smokescan_vdb_hints ${prefix}/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB ${prefix}/lib/cmake/OpenVDB
+         ${prefix}/lib64/cmake/OpenVDB)
+  endforeach()
+  find_path(SMOKESCAN_OPENVDB_MODULE_DIR FindOpenVDB.cmake PATHS ${_smokescan_vdb_hints} NO_DEFAULT_PATH)
+endif()
+if(SMOKESCAN_OPENVDB_MODULE_DIR)
+  list(APPEND CMAKE_MODULE_PATH ${SMOKESCAN_OPENVDB_MODULE_DIR})
+endif()
+set(_smokescan_shared ${BUILD_SHARED_LIBS})
+find_package(OpenVDB REQUIRED)
+set(BUILD_SHARED_LIBS ${_smokescan_shared})
+find_package(embree 3 REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET OpenImageIO)
+find_package(Ceres REQUIRED)
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(tomlplusplus REQUIRED)
+find_package(tinyobjloader REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(Threads REQUIRED)

@@ -1,0 +1,47 @@
+#include "smokescan/plot/canvas.hpp"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+
+namespace smokescan {
+
+struct Canvas::Impl {
+    OIIO::ImageBuf buf;
+};
+
+Canvas::Canvas(int w, int h) : impl_(std::make_unique<Impl>())
+{
+    impl_->buf.reset(OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
+    const float white[3] = {1, 1, 1};
+    OIIO::ImageBufAlgo::fill(impl_->buf, white);
+}
+
+Canvas::~Canvas() = default;
+
+void Canvas::line(int x0, int y0, int x1, int y1, const Col& c)
+{
+    OIIO::ImageBufAlgo::render_line(impl_->buf, x0, y0, x1, y1, c);
+}
+
+void Canvas::box(int x0, int y0, int x1, int y1, const Col& c, bool fill)
+{
+    OIIO::ImageBufAlgo::render_box(impl_->buf, x0, y0, x1, y1, c, fill);
+}
+
+void Canvas::text(int x, int y, const std::string& s, int size, const Col& c)
+{
+    OIIO::ImageBufAlgo::render_text(impl_->buf, x, y, s, size, "DejaVuSans", c);
+}
+
+Image Canvas::image() const
+{
+    const OIIO::ImageBuf& b = impl_->buf;
+    Image img(b.spec().width, b.spec().height, 3);
+    b.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, img.data.data());
+    for (float& v : img.data) v = std::clamp(v, 0.0f, 1.0f);
+    return img;
+}
+
+}  // namespace smokescan
