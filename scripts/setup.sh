@@ -19,5 +19,6 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 [ "${1:-}" = "--no-build" ] && exit 0
-cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# SMOKESCAN_CMAKE_ARGS: extra configure options (CI: -DSMOKESCAN_WERROR=ON).
+cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release ${SMOKESCAN_CMAKE_ARGS:-} >/dev/null
 cmake --build "$here/build" -j "$(nproc)"

@@ -10,7 +10,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   "$here/scripts/setup.sh" --no-build
   cmake -S "$here" -B "$here/build-sanitize" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_CXX_COMPILER=clang++ -DSMOKESCAN_SANITIZE=ON -DSMOKESCAN_BUILD_FUZZ=ON \
-    -DSMOKESCAN_BUILD_BENCH=OFF >/dev/null
+    -DSMOKESCAN_BUILD_BENCH=OFF ${SMOKESCAN_CMAKE_ARGS:-} >/dev/null
   cmake --build "$here/build-sanitize" -j "$(nproc)"
   export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:detect_container_overflow=0
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

@@ -22,12 +22,7 @@ SaturationPredictor::SaturationPredictor(const Scene& scene, const SurfaceSet& s
                                          const std::string& camera, const std::string& target_prefix)
     : curve_(curve)
 {
-    const Camera* cam = nullptr;
-    for (const auto& c : scene.cameras)
-        if (camera.empty() || c.name == camera) {
-            cam = &c;
-            break;
-        }
+    const Camera* cam = scene.findCamera(camera);
     if (!cam) throw Error(scene.source, camera.empty() ? "the scene has no camera" : "no camera named '" + camera + "'");
     Vec3 centre = Vec3::Zero();
     int n = 0;

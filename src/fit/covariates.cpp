@@ -32,9 +32,9 @@ void writeCovariates(const std::string& path, const RecordedLog& log, const Sens
             if (group.empty() && !all_beams) return;
             const Ray ray = mount.beamRay(a);
             const SurfaceHit h = surfaces.closest(ray, spec.range_max_m);
-            const BeamSmoke sm = field.trace(ray, 0.0, h.hit ? h.t_m : spec.range_max_m, q);
+            const BeamSmoke sm = field.trace(ray, 0.0, h.endOr(spec.range_max_m), q);
             const double m = s.range[i] * log.unit_m;
-            const bool err = spec.isErrorValue(std::llround(m / spec.unit_m));
+            const bool err = spec.isErrorRange(m);
             std::ostringstream r;
             r << std::setprecision(9) << s.time_s << ',' << i << ',' << a << ',' << group << ',';
             if (!err) r << m;

@@ -213,7 +213,7 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
         if (group.contains(spec.angle(i))) {
             rays.push_back(mount.beamRay(spec.angle(i)));
             const SurfaceHit h = surfaces.closest(rays.back(), spec.range_max_m);
-            L.push_back(h.hit ? h.t_m : spec.range_max_m);
+            L.push_back(h.endOr(spec.range_max_m));
         }
     out.beams = int(rays.size());
     if (rays.empty()) return fail("group '" + group.name + "' has no beam of this sensor in the scene");

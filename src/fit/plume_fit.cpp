@@ -65,7 +65,7 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
             const double a = s.angle_rad[i];
             const Ray ray = mount.beamRay(a);
             const SurfaceHit h = surfaces.closest(ray, spec.range_max_m);
-            const double L = h.hit ? h.t_m : spec.range_max_m;
+            const double L = h.endOr(spec.range_max_m);
             const BeamSmoke sm = field.trace(ray, 0.0, L, q);
             if (sm.sigma_t_profile.empty()) continue;
             double peak = 0;
@@ -82,7 +82,7 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
                     break;
                 }
             const double m = s.range[i] * log.unit_m;
-            if (spec.isErrorValue(std::llround(m / spec.unit_m))) {
+            if (spec.isErrorRange(m)) {
                 o.outcome = PlumeObservation::ErrorValue;
             } else {
                 o.range_m = m;

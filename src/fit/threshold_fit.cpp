@@ -19,14 +19,6 @@
 namespace smokescan::detail {
 namespace {
 
-template <class T>
-T probability(const T& S, const T& S_star, const T& w, bool logistic)
-{
-    const T z = (S_star - S) / w;
-    if (logistic) return T(1) / (T(1) + exp(-z));
-    return T(0.5) * erfc(-z / T(M_SQRT2));
-}
-
 /// The scan's signed deviance residual (binomial_deviance.hpp).
 struct DevianceResidual {
     const SaturationSeries* sat;
@@ -53,7 +45,9 @@ struct PearsonResidual {
     {
         const T S = interpolate(*sat, T(t) + offset[0]);
         const T w = sqrt(sw[1] * sw[1] + T(sigma_S * sigma_S));
-        r[0] = (T(e) - T(n) * probability(S, sw[0], w, logistic)) * T(weight);
+        T p, q;
+        tails((sw[0] - S) / w, logistic, p, q);
+        r[0] = (T(e) - T(n) * p) * T(weight);
         return true;
     }
 };
@@ -62,7 +56,12 @@ double clampP(double p) { return std::clamp(p, 1e-9, 1 - 1e-9); }
 
 }  // namespace
 
-double errorProbability(double S, double S_star, double w, bool logistic) { return probability(S, S_star, w, logistic); }
+double errorProbability(double S, double S_star, double w, bool logistic)
+{
+    double p, q;
+    tails((S_star - S) / w, logistic, p, q);
+    return p;
+}
 
 double noiseOfSeries(const std::vector<double>& y)
 {

@@ -127,7 +127,7 @@ Rgb radiance(const Context& c, Ray ray, KeyedRng& rng)
     Rgb L = Rgb::Zero(), beta = Rgb::Ones();
     for (int depth = 0;;) {
         const SurfaceHit hit = c.surfaces.closest(ray, kInf);
-        const MediumEvent ev = c.medium.empty() ? MediumEvent{} : c.medium.sample(ray, hit.hit ? hit.t_m : kInf, beta, rng);
+        const MediumEvent ev = c.medium.empty() ? MediumEvent{} : c.medium.sample(ray, hit.endOr(kInf), beta, rng);
         if (ev.kind == MediumEvent::Absorb) break;
         if (ev.kind == MediumEvent::Escape && !hit.hit) {
             L += beta * c.lights.ambient();
@@ -202,13 +202,8 @@ private:
 RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& cfg)
 {
     if (scene.cameras.empty()) throw Error(scene.source, "the scene has no camera to render");
-    const Camera* cam = &scene.cameras.front();
-    if (!cfg.camera.empty()) {
-        cam = nullptr;
-        for (const auto& c : scene.cameras)
-            if (c.name == cfg.camera) cam = &c;
-        if (!cam) throw Error(scene.source, "no camera named '" + cfg.camera + "'");
-    }
+    const Camera* cam = scene.findCamera(cfg.camera);
+    if (!cam) throw Error(scene.source, "no camera named '" + cfg.camera + "'");
     Camera c = *cam;
     if (cfg.width < 0 || cfg.height < 0) throw Error("--width", "resolution must be > 0");
     if (cfg.width > 0) c.width = cfg.width;

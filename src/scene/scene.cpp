@@ -14,6 +14,13 @@ std::optional<LightKind> parseLightKind(const std::string& name)
     return std::nullopt;
 }
 
+const Camera* Scene::findCamera(const std::string& name) const
+{
+    for (const auto& c : cameras)
+        if (name.empty() || c.name == name) return &c;
+    return nullptr;
+}
+
 int Scene::findSensor(const std::string& key) const
 {
     for (size_t i = 0; i < sensors.size(); ++i)

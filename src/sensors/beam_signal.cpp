@@ -43,7 +43,7 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
     double t_end = 0;
     for (size_t j = 0; j < dirs.size(); ++j) {
         hits[j] = surfaces.closest(Ray{ray.o, dirs[j]}, reach);
-        blocked[j] = hits[j].hit ? hits[j].t_m : reach;
+        blocked[j] = hits[j].endOr(reach);
         t_end = std::max(t_end, blocked[j]);
         if (hits[j].hit && hits[j].t_m <= spec.range_max_m) sig.surface_in_range = true;
     }
@@ -83,7 +83,7 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
         const double u_max = reach - h.t_m;
         if (u_max <= 0) continue;
         const SurfaceHit mh = surfaces.closest(mray, u_max);
-        const double u_end = mh.hit ? mh.t_m : u_max;
+        const double u_end = mh.endOr(u_max);
         BeamSmoke ms = field.trace(mray, 0.0, u_end, q);
         const TauProfile mtau(ms.sigma_t_profile);
         appendSmokeEchoes(p, mtau, ms.beta_profile, 0.0, u_end, h.t_m, gain, lobe_ratio, {}, EchoSource::Mirror, sig);
@@ -102,7 +102,7 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
     std::sort(sig.echoes.begin(), sig.echoes.end(), [](const Echo& a, const Echo& b) { return a.range_m < b.range_m; });
     if (central_smoke) {
         // The paper model's bookkeeping up to the central surface, for reports and --tau.
-        const double t_c = hits[0].hit ? hits[0].t_m : spec.range_max_m;
+        const double t_c = hits[0].endOr(spec.range_max_m);
         BeamQuery qc;
         qc.wavelength_nm = wl;
         *central_smoke = t_c == t_end ? std::move(smoke) : field.trace(ray, 0.0, t_c, qc);

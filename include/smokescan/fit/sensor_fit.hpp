@@ -35,6 +35,7 @@
 #include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/io/recorded.hpp"
+#include "smokescan/media/medium.hpp"
 #include "smokescan/sensors/lrf.hpp"
 
 namespace smokescan {
@@ -53,7 +54,7 @@ struct SensorFitConfig {
     int min_beams = 2;
     int range_bins = 8;
     double clear_quantile = 0.8;
-    double sigma_t_per_density = 270.0;
+    double sigma_t_per_density = Medium::kCalibratedSigmaT;
     std::string reference;
     double smooth_s = 2.0;
 };

@@ -16,6 +16,7 @@
 /// Noise: the URG-04LX datasheet gives accuracy ±10 mm (60 mm–1 m) and ±1 % (1–4 m); smokescan
 /// takes that band as 2σ. The LMS200's statistical error is taken as 5 mm (1σ, mm mode).
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "smokescan/sensors/sensor_kind.hpp"
@@ -44,6 +45,8 @@ struct LrfSpec {
     }
     /// True when a reported value is an error code, not a range.
     bool isErrorValue(long long value) const;
+    /// True when a logged range [m] is one of the error values (a log gives them in its own unit).
+    bool isErrorRange(double range_m) const { return isErrorValue(std::llround(range_m / unit_m)); }
     /// Which values are error codes, in words (log headers).
     std::string errorValueSummary() const;
 };
