@@ -13,8 +13,9 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "smokescan/calib/calibration.hpp"
-#include "smokescan/camera/saturation_render.hpp"
+#include "smokescan/camera/frame_saturation.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
@@ -26,20 +27,6 @@ namespace smokescan::cli {
 namespace {
 namespace fs = std::filesystem;
 
-std::vector<double> parseList(const std::string& s, const std::string& what)
-{
-    std::vector<double> v;
-    std::stringstream ss(s);
-    std::string tok;
-    while (std::getline(ss, tok, ',')) {
-        char* end = nullptr;
-        const double x = std::strtod(tok.c_str(), &end);
-        if (tok.empty() || *end || !std::isfinite(x)) throw Error(what, "'" + tok + "' is not a finite number");
-        v.push_back(x);
-    }
-    return v;
-}
-
 struct CalibArgs {
     std::string scene = "bocas", out, plot, densities;
     CalibrateConfig cfg;
@@ -48,7 +35,7 @@ struct CalibArgs {
 int runCalibrate(const CalibArgs& a)
 {
     CalibrateConfig cfg = a.cfg;
-    if (!a.densities.empty()) cfg.densities = parseList(a.densities, "--densities");
+    if (!a.densities.empty()) cfg.densities = parseNumberList(a.densities, "--densities");
     if (cfg.densities.size() > size_t(limits::kCalibrationDensities))
         throw Error("--densities", "at most " + std::to_string(limits::kCalibrationDensities) + " densities");
     for (double d : cfg.densities)
@@ -63,16 +50,8 @@ int runCalibrate(const CalibArgs& a)
     files.output(a.plot, "--plot");
     if (!a.plot.empty() && !isImageExtension(a.plot)) throw Error(a.plot, "unknown image format (png, exr, jpg, tif)");
     const Scene scene = loadScene(a.scene);
-    const bool tty = ::isatty(2);
-    const auto t0 = std::chrono::steady_clock::now();
-    const CalibrationResult r = calibrate(scene, cfg, [&](int done, int total) {
-        if (!tty) return;
-        const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const int w = 30, k = w * done / total;
-        std::fprintf(stderr, "\rcalibrate [%.*s%*s] %d/%d frames  %.0f s, ETA %.0f s ", k,
-                     "==============================", w - k, "", done, total, el, el * (total - done) / done);
-        if (done == total) std::fprintf(stderr, "\n");
-    });
+    const Progress progress("calibrate", "frames");
+    const CalibrationResult r = calibrate(scene, cfg, [&](int done, int total) { progress.update(done, total); });
     if (!r.fit.converged)
         throw Error("calibrate", "the curve could not be fitted to these " + std::to_string(cfg.densities.size()) +
                                      " points: " + r.fit.message + " (the default sweep: 14 densities from 0 to 0.012)");
@@ -92,100 +71,7 @@ int runCalibrate(const CalibArgs& a)
     return 0;
 }
 
-// ---- saturation ----
-
-struct Patch {
-    std::string name;
-    std::vector<std::pair<double, double>> polygon;  // pixel coordinates
-};
-
-bool insidePolygon(const std::vector<std::pair<double, double>>& p, double x, double y)
-{
-    bool in = false;
-    for (size_t i = 0, j = p.size() - 1; i < p.size(); j = i++)
-        if ((p[i].second > y) != (p[j].second > y) &&
-            x < (p[j].first - p[i].first) * (y - p[i].second) / (p[j].second - p[i].second) + p[i].first)
-            in = !in;
-    return in;
-}
-
-Patch parsePatch(const std::string& spec, bool rect)
-{
-    const auto eq = spec.find('=');
-    const std::string opt = rect ? "--rect" : "--polygon";
-    if (eq == std::string::npos || eq == 0) throw Error(opt, "expects NAME=numbers, got '" + spec + "'");
-    Patch p;
-    p.name = spec.substr(0, eq);
-    const auto v = parseList(spec.substr(eq + 1), opt);
-    if (rect) {
-        if (v.size() != 4 || v[2] <= 0 || v[3] <= 0) throw Error(opt, "expects NAME=x,y,width,height with a positive size");
-        p.polygon = {{v[0], v[1]}, {v[0] + v[2], v[1]}, {v[0] + v[2], v[1] + v[3]}, {v[0], v[1] + v[3]}};
-    } else {
-        if (v.size() < 6 || v.size() % 2) throw Error(opt, "expects NAME=x1,y1,x2,y2,x3,y3,... (at least 3 points)");
-        for (size_t i = 0; i < v.size(); i += 2) p.polygon.emplace_back(v[i], v[i + 1]);
-    }
-    return p;
-}
-
-std::vector<std::string> framesOf(const std::vector<std::string>& inputs)
-{
-    std::vector<std::string> out;
-    for (const auto& in : inputs) {
-        if (fs::is_directory(in)) {
-            std::vector<std::string> v;
-            for (const auto& e : fs::directory_iterator(in))
-                if (e.is_regular_file() && isImageExtension(e.path().string())) v.push_back(e.path().string());
-            std::sort(v.begin(), v.end());
-            if (v.empty()) throw Error(in, "holds no images");
-            out.insert(out.end(), v.begin(), v.end());
-        } else {
-            if (!fs::exists(in)) throw Error(in, "no such file");
-            out.push_back(in);
-        }
-    }
-    return out;
-}
-
-/// Time of a frame from the last number in its file name (÷ fps when given).
-double timeFromName(const std::string& path, double fps)
-{
-    const std::string stem = fs::path(path).stem().string();
-    static const std::regex num(R"(\d+(\.\d+)?)");
-    std::string last;
-    for (auto it = std::sregex_iterator(stem.begin(), stem.end(), num); it != std::sregex_iterator(); ++it) last = it->str();
-    if (last.empty()) throw Error(path, "has no number in its name to take the time from (use --timestamps)");
-    const double v = std::stod(last);
-    return fps > 0 ? v / fps : v;
-}
-
-std::vector<double> readTimestamps(const std::string& path, const std::vector<std::string>& frames)
-{
-    std::istringstream in(readTextInput(path, "timestamps file"));
-    std::map<std::string, double> by_name;
-    std::vector<double> in_order;
-    std::string line;
-    for (int ln = 1; std::getline(in, line); ++ln) {
-        if (line.empty() || line[0] == '#') continue;
-        const auto comma = line.find(',');
-        const std::string t = comma == std::string::npos ? line : line.substr(comma + 1);
-        char* end = nullptr;
-        const double v = std::strtod(t.c_str(), &end);
-        if (end == t.c_str() || !std::isfinite(v)) {
-            if (ln == 1) continue;  // a header
-            throw Error(path + ":" + std::to_string(ln), "time is not a finite number: '" + t + "'");
-        }
-        if (comma == std::string::npos) in_order.push_back(v);
-        else by_name[fs::path(line.substr(0, comma)).filename().string()] = v;
-    }
-    std::vector<double> out;
-    for (size_t i = 0; i < frames.size(); ++i) {
-        const auto it = by_name.find(fs::path(frames[i]).filename().string());
-        if (it != by_name.end()) out.push_back(it->second);
-        else if (i < in_order.size()) out.push_back(in_order[i]);
-        else throw Error(path, "has no time for " + frames[i]);
-    }
-    return out;
-}
+// ---- saturation: the frames' measurement (camera/frame_saturation.hpp) ----
 
 struct SatArgs {
     std::vector<std::string> inputs, rects, polygons;
@@ -195,85 +81,35 @@ struct SatArgs {
 
 int runSaturation(const SatArgs& a)
 {
-    std::vector<Patch> patches;
-    for (const auto& r : a.rects) patches.push_back(parsePatch(r, true));
-    for (const auto& p : a.polygons) patches.push_back(parsePatch(p, false));
+    FrameRegions regions;
+    for (const auto& r : a.rects) regions.patches.push_back(parseFramePatch(r, true, "--rect"));
+    for (const auto& p : a.polygons) regions.patches.push_back(parseFramePatch(p, false, "--polygon"));
+    const auto& patches = regions.patches;
     for (size_t i = 0; i < patches.size(); ++i)
         for (size_t j = 0; j < i; ++j)
             if (patches[i].name == patches[j].name) throw Error("--rect/--polygon", "patch '" + patches[i].name + "' is named twice");
     if (patches.empty() && a.ids.empty()) throw Error("saturation", "give the target region: --rect/--polygon, or --ids with --scene");
     if (!a.ids.empty() && a.scene.empty()) throw Error("--ids", "needs --scene to name the objects");
-    const auto frames = framesOf(a.inputs);
+    const auto frames = listFrames(a.inputs);
+    const auto id_frames = a.ids.empty() ? std::vector<std::string>{} : listFrames({a.ids});
     RunFiles files;
     for (const auto& f : frames) files.input(f, "the frames");
-    if (!a.ids.empty())
-        for (const auto& f : framesOf({a.ids})) files.input(f, "--ids");
+    for (const auto& f : id_frames) files.input(f, "--ids");
     files.input(a.scene, "--scene");
     files.input(a.timestamps, "--timestamps");
     files.output(a.out, "--out");
-    std::vector<std::string> id_frames;
-    TargetPatches target;  // from the object ids, with --ids
     if (!a.ids.empty()) {
-        id_frames = framesOf({a.ids});
         if (id_frames.size() != frames.size())
             throw Error(a.ids, "holds " + std::to_string(id_frames.size()) + " id images for " + std::to_string(frames.size()) + " frames");
-        target = targetPatches(loadScene(a.scene), a.prefix);
+        regions.target = targetPatches(loadScene(a.scene), a.prefix);
+        regions.by_id = true;
     }
-    const auto times = a.timestamps.empty() ? std::vector<double>{} : readTimestamps(a.timestamps, frames);
-    std::vector<std::string> names;
-    for (const auto& p : patches) names.push_back(p.name);
-    for (const auto& n : target.names)
-        if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
-    AtomicFile f(files.stage(a.out));
-    std::ostream& o = f.stream();
-    o << "time_s,saturation,saturation_median,saturation_sd,pixels";
-    for (const auto& n : names) o << ',' << n << ',' << n << "_median," << n << "_sd";
-    o << '\n';
-    for (size_t k = 0; k < frames.size(); ++k) {
-        const Image img = readImage(frames[k]);
-        if (img.channels < 3) throw Error(frames[k], "is not an RGB image");
-        Image ids;
-        int object_ch = 0;
-        if (!id_frames.empty()) {
-            ids = readImage(id_frames[k]);
-            if (ids.width != img.width || ids.height != img.height) throw Error(id_frames[k], "size differs from " + frames[k]);
-            object_ch = ids.channel("object", 0);
-        }
-        // EXR frames hold linear radiance: encode them as a camera would before measuring.
-        Image disp = img;
-        if (fs::path(frames[k]).extension() == ".exr")
-            for (float& v : disp.data) v = float(std::pow(std::clamp(double(v), 0.0, 1.0), 1 / 2.2));
-        // Each pixel's patch (index into names, −1: none), found once per frame.
-        std::vector<int> label(size_t(img.width) * img.height, -1);
-        for (int y = 0; y < img.height; ++y)
-            for (int x = 0; x < img.width; ++x) {
-                std::string n;
-                for (const auto& p : patches)
-                    if (insidePolygon(p.polygon, x + 0.5, y + 0.5)) {
-                        n = p.name;
-                        break;
-                    }
-                if (n.empty() && !id_frames.empty()) {
-                    const int p = target.of(int(ids.at(x, y, object_ch)));
-                    if (p >= 0) n = target.names[size_t(p)];
-                }
-                if (!n.empty()) label[size_t(y) * img.width + x] = int(std::find(names.begin(), names.end(), n) - names.begin());
-            }
-        auto labelAt = [&](int x, int y) { return label[size_t(y) * img.width + x]; };
-        const auto all = maskedSaturation(disp, [&](int x, int y) { return labelAt(x, y) >= 0; });
-        if (all.pixels == 0) throw Error(frames[k], "the target region holds no pixels");
-        const double t = times.empty() ? timeFromName(frames[k], a.fps) : times[k];
-        o << t << ',' << all.mean << ',' << all.median << ',' << all.stddev << ',' << all.pixels;
-        for (size_t i = 0; i < names.size(); ++i) {
-            const auto s = maskedSaturation(disp, [&](int x, int y) { return labelAt(x, y) == int(i); });
-            if (s.pixels > 0) o << ',' << s.mean << ',' << s.median << ',' << s.stddev;
-            else o << ",,,";
-        }
-        o << '\n';
-    }
-    f.commit();
+    const std::vector<double> stamps = a.timestamps.empty() ? std::vector<double>{} : readFrameTimestamps(a.timestamps, frames);
+    const SaturationSeries s = measureFrames(
+        frames, id_frames, [&](size_t k) { return stamps.empty() ? frameTimeFromName(frames[k], a.fps) : stamps[k]; }, regions);
+    writeSaturationCsv(files.stage(a.out), s);
     files.commit();
-    std::printf("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), frames.size(), names.size());
+    std::printf("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), frames.size(), s.patch_names.size());
     return 0;
 }
 

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/camera/saturation_render.hpp"
@@ -207,20 +208,19 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
     if (renderer) {
         std::snprintf(h, sizeof h, "camera %s, target '%s*': rendered frames %dx%d, %d spp, auto exposure; noise sigma %g; camera clock = scene clock + %g s",
                       cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.spp, ss.sigma, ss.clock_offset_s);
-        const bool tty = ::isatty(2);
+        const Progress progress("rendering", "camera frames");
         const long long total = (long long)std::floor((ss.to_s - ss.from_s) * ss.rate_hz + 1e-9) + 1;
         out.series = simulateSaturation(
             [&](double t, uint64_t k) {
                 Image display, ids;
                 const TargetSaturation m = renderer->measure(t, k, frames ? &display : nullptr, frames ? &ids : nullptr);
                 if (frames) frames->add(k, t + ss.clock_offset_s, display, ids);
-                if (tty) std::fprintf(stderr, "\rrendering camera frames %llu/%lld ", (unsigned long long)k + 1, total);
+                progress.update((long long)k + 1, total);
                 SaturationFrame f{m.all.mean, {}};
                 for (const auto& [name, p] : m.patches) f.patches[name] = p.mean;
                 return f;
             },
             ss);
-        if (tty) std::fprintf(stderr, "\n");
     } else {
         std::snprintf(h, sizeof h, "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
                       cam.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(), ss.sigma, ss.clock_offset_s);

@@ -203,14 +203,31 @@ void writeSaturationCsv(const std::string& path, const SaturationSeries& s, cons
     AtomicFile f(path);
     std::ostream& o = f.stream();
     for (const auto& h : header) o << "# " << h << '\n';
+    const bool spread = !s.median.empty();
     o << "time_s,saturation";
-    for (const auto& n : s.patch_names) o << ',' << n;
+    if (spread) o << ",saturation_median,saturation_sd,pixels";
+    for (const auto& n : s.patch_names) {
+        o << ',' << n;
+        if (spread) o << ',' << n << "_median," << n << "_sd";
+    }
     o << '\n' << std::setprecision(9);
+    auto value = [&](double v) {
+        o << ',';
+        if (std::isfinite(v)) o << v;
+    };
     for (size_t k = 0; k < s.time_s.size(); ++k) {
         o << s.time_s[k] << ',' << s.saturation[k];
-        for (const auto& p : s.patch) {
-            o << ',';
-            if (std::isfinite(p[k])) o << p[k];
+        if (spread) {
+            value(s.median[k]);
+            value(s.sd[k]);
+            value(s.pixels[k]);
+        }
+        for (size_t p = 0; p < s.patch.size(); ++p) {
+            value(s.patch[p][k]);
+            if (spread) {
+                value(s.patch_median[p][k]);
+                value(s.patch_sd[p][k]);
+            }
         }
         o << '\n';
     }

@@ -5,6 +5,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
 #include <cstring>
 
 #include "smokescan/core/error.hpp"
@@ -44,6 +47,20 @@ std::string readTextInput(const std::string& path, const std::string& what, size
     }
     ::close(fd);
     return text;
+}
+
+std::vector<double> parseNumberList(const std::string& text, const std::string& what)
+{
+    std::vector<double> v;
+    std::stringstream ss(text);
+    std::string tok;
+    while (std::getline(ss, tok, ',')) {
+        char* end = nullptr;
+        const double x = std::strtod(tok.c_str(), &end);
+        if (tok.empty() || *end || !std::isfinite(x)) throw Error(what, "'" + tok + "' is not a finite number");
+        v.push_back(x);
+    }
+    return v;
 }
 
 }  // namespace smokescan

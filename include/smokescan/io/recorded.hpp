@@ -56,6 +56,11 @@ struct SaturationSeries {
     std::vector<std::string> patch_names;
     std::vector<std::vector<double>> patch;  ///< patch[p][k]
     std::vector<SkippedLine> skipped;
+    /// Optional spread of each value (a measurement on frames gives them; files may not): the
+    /// median and standard deviation over the pixels, and the pixel count. Empty when absent;
+    /// else the same shapes as saturation and patch.
+    std::vector<double> median, sd, pixels;
+    std::vector<std::vector<double>> patch_median, patch_sd;
 };
 
 /// @brief Reads `time_s,saturation[,…]` CSV: an optional header (columns by name; `*_median`,

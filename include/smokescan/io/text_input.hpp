@@ -4,6 +4,7 @@
 /// limits::kTextInputBytes (or a device or pipe that keeps giving bytes), or binary content
 /// (a NUL byte) is a one-line error naming the file, before anything is parsed.
 #include <string>
+#include <vector>
 
 #include "smokescan/core/limits.hpp"
 
@@ -15,5 +16,10 @@ namespace smokescan {
 /// @throw Error naming `path` for each case above.
 std::string readTextInput(const std::string& path, const std::string& what,
                           size_t max_bytes = limits::kTextInputBytes);
+
+/// @brief Comma-separated finite numbers ("0,0.001,2e-3").
+/// @param what names the text in the error (an option, "FILE:LINE")
+/// @throw Error(what, "'tok' is not a finite number") for an empty or bad item.
+std::vector<double> parseNumberList(const std::string& text, const std::string& what);
 
 }  // namespace smokescan
