@@ -22,6 +22,8 @@
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/camera/frame_folder.hpp"
+#include "smokescan/sensors/scan_summary.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 namespace smokescan::cli {
@@ -37,154 +39,6 @@ struct ScanArgs {
     ScanConfig cfg;
     double from = NAN, to = NAN, bin_s = 0;
     bool quiet = false;
-};
-
-/// The rendered camera frames of --saturation-frames: FOLDER/frame_NNNNNN.png (what the camera
-/// delivers), FOLDER/ids/frame_NNNNNN.exr (object, material, depth) and FOLDER/timestamps.csv
-/// (file, camera-clock time), the input `smokescan saturation --ids --timestamps` reads. Written into
-/// a temporary folder that replaces FOLDER only when the run succeeds.
-class FrameFolder {
-public:
-    explicit FrameFolder(std::string dir) : dir_(std::move(dir))
-    {
-        namespace fs = std::filesystem;
-        struct stat st {};
-        if (::lstat(dir_.c_str(), &st) == 0 && !(S_ISDIR(st.st_mode) && fs::is_empty(dir_)))
-            throw Error(dir_, "exists and is not an empty folder (--saturation-frames writes a new one)");
-        const fs::path parent = fs::path(dir_).parent_path();
-        if (!parent.empty() && !fs::is_directory(parent)) throw Error(dir_, "cannot write (no such directory)");
-        std::string tmpl = dir_ + ".tmpXXXXXX";
-        if (!::mkdtemp(tmpl.data())) throw Error(dir_, "cannot create the frames folder: " + std::string(std::strerror(errno)));
-        tmp_ = tmpl;
-        registerTemporary(tmp_);
-        std::error_code ec;
-        fs::create_directory(fs::path(tmp_) / "ids", ec);
-        if (ec) throw Error(dir_, "cannot create the frames folder: " + ec.message());
-    }
-    ~FrameFolder()
-    {
-        if (done_) return;
-        std::error_code ec;
-        std::filesystem::remove_all(tmp_, ec);
-        releaseTemporary(tmp_);
-    }
-    FrameFolder(const FrameFolder&) = delete;
-    FrameFolder& operator=(const FrameFolder&) = delete;
-
-    void add(uint64_t k, double camera_time_s, const Image& display, const Image& ids)
-    {
-        char name[32];
-        std::snprintf(name, sizeof name, "frame_%06llu", (unsigned long long)k);
-        writeImage(tmp_ + "/" + name + ".png", display);
-        writeImage(tmp_ + "/ids/" + name + ".exr", ids);
-        char line[96];
-        std::snprintf(line, sizeof line, "%s.png,%.9g\n", name, camera_time_s);
-        times_ += line;
-    }
-    void commit()
-    {
-        AtomicFile f(tmp_ + "/timestamps.csv");
-        f.stream() << "file,time_s\n" << times_;
-        f.commit();
-        std::error_code ec;
-        std::filesystem::remove(dir_, ec);  // an empty folder given as the target
-        std::filesystem::rename(tmp_, dir_, ec);
-        if (ec) throw Error(dir_, "cannot move the frames into place: " + ec.message());
-        releaseTemporary(tmp_);
-        done_ = true;
-    }
-
-private:
-    std::string dir_, tmp_, times_;
-    bool done_ = false;
-};
-
-/// The summary, accumulated scan by scan: the error fraction on the beams that hit the target
-/// (surfaces whose name starts with the prefix), and the mean smoke column on them, per time bin.
-class ScanSummary {
-public:
-    ScanSummary(const Scene& scene, const Scanner& sc, const ScanArgs& a, const std::vector<double>& times)
-        : scene_(scene), sc_(sc), a_(a), first_t_(times.empty() ? 0.0 : times.front())
-    {
-        const double span = times.empty() ? 0.0 : times.back() - times.front();
-        bin_ = a.bin_s > 0 ? a.bin_s : std::max(1.0, std::ceil(span / 36.0 / 5.0) * 5.0);
-        if (!a.quiet && span / bin_ + 1 > double(limits::kSummaryRows))
-            throw Error("--bin", "would print " + limits::count(std::floor(span / bin_) + 1) + " rows (at most " +
-                                     std::to_string(limits::kSummaryRows) + "; use a wider bin or --quiet)");
-    }
-
-    void add(const Scan& s)
-    {
-        ++scans_;
-        if (on_target_.empty()) {
-            on_target_.assign(size_t(sc_.spec().n_beams), 0);
-            for (size_t i = 0; i < on_target_.size() && i < s.beams.size(); ++i) {
-                const int surf = s.beams[i].hit.surface;
-                on_target_[i] = surf >= 0 && scene_.surfaces[size_t(surf)].name.rfind(a_.target, 0) == 0;
-                n_target_ += on_target_[i];
-            }
-        }
-        for (long long v : s.value) all_errors_ += sc_.spec().isErrorValue(v);
-        all_beams_ += (long long)s.value.size();
-        if (n_target_ == 0) return;
-        const double t0 = first_t_ + bin_ * std::floor((s.time_s - first_t_) / bin_);
-        if (bin_rows_ == 0 || t0 != bin_t0_) flushBin(t0);
-        for (size_t i = 0; i < on_target_.size(); ++i) {
-            if (!on_target_[i]) continue;
-            const bool err = s.beams[i].error;
-            bin_err_ += err;
-            ++bin_n_;
-            bin_col_ += s.beams[i].smoke.column_regional;
-            if (err) {
-                if (std::isnan(first_err_)) first_err_ = s.time_s;
-                last_err_ = s.time_s;
-            }
-        }
-    }
-
-    void print()
-    {
-        std::printf("sensor %s (%s, model %s): %lld scans, %d beams each, %d on '%s*'\n", sc_.mount().name.c_str(),
-                    sensorTypeName(sc_.spec().type), sensorModelName(sc_.mount().config.model), scans_, sc_.spec().n_beams, n_target_, a_.target.c_str());
-        if (scans_ == 0) return;
-        if (n_target_ == 0) {  // no target in this scene: the error fraction over all beams
-            std::printf("error codes: %.1f %% of all beams\n", 100.0 * all_errors_ / std::max(1LL, all_beams_));
-            return;
-        }
-        flushBin(NAN);
-        std::printf("%10s %10s %22s %12s\n", "t0_s", "t1_s", "column_on_target_d.m", "error_frac");
-        std::fputs(rows_.c_str(), stdout);
-        std::printf("error codes on the target: %.1f %% of beams", 100.0 * errs_ / std::max(1LL, total_));
-        if (!std::isnan(first_err_)) std::printf(", first at %.1f s, last at %.1f s", first_err_, last_err_);
-        std::printf("\n");
-    }
-
-private:
-    void flushBin(double next_t0)
-    {
-        if (bin_rows_ > 0) {
-            char row[96];
-            std::snprintf(row, sizeof row, "%10.1f %10.1f %22.5f %12.3f\n", bin_t0_, bin_t0_ + bin_, bin_n_ ? bin_col_ / bin_n_ : 0.0,
-                          bin_n_ ? double(bin_err_) / bin_n_ : 0.0);
-            rows_ += row;
-            errs_ += bin_err_;
-            total_ += bin_n_;
-        }
-        bin_t0_ = next_t0;
-        bin_err_ = bin_n_ = 0;
-        bin_col_ = 0;
-        ++bin_rows_;
-    }
-
-    const Scene& scene_;
-    const Scanner& sc_;
-    const ScanArgs& a_;
-    double first_t_, bin_ = 1, bin_t0_ = NAN, bin_col_ = 0;
-    double first_err_ = NAN, last_err_ = NAN;
-    std::vector<char> on_target_;
-    int n_target_ = 0;
-    long long scans_ = 0, all_errors_ = 0, all_beams_ = 0, errs_ = 0, total_ = 0, bin_err_ = 0, bin_n_ = 0, bin_rows_ = 0;
-    std::string rows_;
 };
 
 struct CameraStream {
@@ -297,7 +151,7 @@ int runScan(const ScanArgs& a0)
     }
     // Scans are streamed to the outputs' temporaries: memory does not grow with the run's length
     // (only --image keeps each scan's values, within limits::kImageScans).
-    ScanSummary summary(scene, sc, a, times);
+    ScanSummary summary(scene, sc, a.target, a.bin_s, times, a.quiet ? 0 : limits::kSummaryRows);
     AtomicFile log(files.stage(a.out));
     writeLaserLogHeader(log.stream(), logHeader(scene, sc, a));
     std::unique_ptr<AtomicFile> tau;
@@ -323,7 +177,7 @@ int runScan(const ScanArgs& a0)
     }
     files.commit();
     if (frames) frames->commit();
-    if (!a.quiet) summary.print();
+    if (!a.quiet) std::fputs(summary.text().c_str(), stdout);
     std::printf("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), times.size(), a.tau_csv.empty() ? "" : ", ",
                 a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str(), a.saturation_out.empty() ? "" : ", ",
                 a.saturation_out.c_str());
