@@ -9,10 +9,12 @@
 #include "commands.hpp"
 #include "smokescan/fit/covariates.hpp"
 #include "smokescan/calib/calibration.hpp"
+#include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/fit/fit_report.hpp"
 #include "smokescan/fit/plume_fit.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/run_files.hpp"
+#include "smokescan/plot/format.hpp"
 #include "smokescan/sensors/sensor_file.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -58,122 +60,48 @@ int runFit(const FitArgs& a0)
     if (model == SensorModel::Physical && a.scene.empty()) throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
     const int sources = !a.scene.empty() + (!a.surfaces.empty() || !a.surfaces_file.empty());
     if (sources == 0) throw Error("fit", "say which beams see which surface: --scene, --surface or --surfaces");
-    ReadOptions ro;
-    ro.unit_m = parseRangeUnit(a.unit);
-    ro.lenient = a.lenient;
-    const RecordedLog log = readRecordedLog(a.laser, ro);
-    const SaturationSeries sat0 = readSaturationCsv(a.saturation, ro);
-    SaturationSeries sat = sat0;
-    if (!a.patch.empty()) {  // the patch's column as the saturation
-        size_t p = 0;
-        while (p < sat0.patch_names.size() && sat0.patch_names[p] != a.patch) ++p;
-        if (p == sat0.patch_names.size()) throw Error(a.saturation, "has no patch column '" + a.patch + "'");
-        sat.time_s.clear();
-        sat.saturation.clear();
-        for (size_t k = 0; k < sat0.time_s.size(); ++k)
-            if (std::isfinite(sat0.patch[p][k])) {
-                sat.time_s.push_back(sat0.time_s[k]);
-                sat.saturation.push_back(sat0.patch[p][k]);
-            }
-        if (sat.time_s.empty()) throw Error(a.saturation, "patch '" + a.patch + "' has no values");
-    }
-    const CurveFitResult calib = readCalibrationJson(a.calibration, a.patch);
-    // The sensor and its beam groups.
-    SensorMount mount;
-    mount.name = a.sensor_type;
-    mount.config = SensorConfig::defaults(sensorTypeOption("--sensor-type", a.sensor_type));
-    std::unique_ptr<Scene> scene;
-    std::unique_ptr<SurfaceSet> surfaces;
-    std::vector<BeamGroup> groups;
-    FitSources src{a.laser, a.saturation, a.calibration, "", ro.unit_m, {}};
-    if (!a.scene.empty()) {
-        scene = std::make_unique<Scene>(loadScene(a.scene));
-        surfaces = std::make_unique<SurfaceSet>(*scene);
-        const int si = a.sensor.empty() ? scene->findSensor(a.sensor_type) : scene->findSensor(a.sensor);
-        if (si < 0) throw Error(scene->source, "no sensor '" + (a.sensor.empty() ? a.sensor_type : a.sensor) + "'");
-        mount = scene->sensors[size_t(si)];
-        groups = beamGroupsFromScene(*scene, *surfaces, mount, specFor(mount.config), a.prefix);
-        if (groups.empty()) throw Error(scene->source, "no beam of sensor '" + mount.name + "' hits a surface named '" + a.prefix + "*'");
-        for (const auto& v : scene->volumes)
-            if (v.role == SmokeRole::Regional) {
-                a.cfg.sigma_t_per_density = v.medium.sigmaT(specFor(mount.config).wavelength_nm);
-                break;
-            }
-        src.groups_from = scene->source;
-    }
-    if (!a.surfaces_file.empty()) {
-        groups = readBeamGroupFile(a.surfaces_file);
-        src.groups_from = a.surfaces_file;
-    }
-    if (!a.surfaces.empty()) {
-        if (a.surfaces_file.empty()) groups.clear();  // --surface replaces the scene's groups
-        for (const auto& s : a.surfaces) groups.push_back(parseBeamGroup(s));
-        src.groups_from = a.surfaces_file.empty() ? "--surface" : a.surfaces_file + " and --surface";
-    }
-    const LrfSpec spec = specFor(mount.config);
+    FitInputsConfig ic{a.laser, a.saturation, a.calibration, a.patch, a.scene, a.sensor, a.sensor_type, a.prefix, a.surfaces_file,
+                       a.surfaces, {parseRangeUnit(a.unit), a.lenient}};
+    FitInputs in = loadFitInputs(ic);
+    if (std::isfinite(in.sigma_t_per_density)) a.cfg.sigma_t_per_density = in.sigma_t_per_density;
+    const LrfSpec spec = specFor(in.mount.config);
     a.cfg.offset_s = a.offset;
     a.cfg.estimate_offset = !a.fixed_offset;
-    src.skipped = log.skipped;
-    src.skipped.insert(src.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
-
     if (model == SensorModel::Physical && spec.type != SensorType::Urg04lx)
         throw Error("--model physical", std::string("fits the URG-04LX noise floor only; for a ") + sensorTypeName(spec.type) + " in plumes see fit-plume");
-    const SensorFitResult r = fitSensor(log, sat, groups, spec, &calib, a.cfg);
+    const SensorFitResult r = fitSensor(in.log, in.saturation, in.groups, spec, &in.calibration, a.cfg);
     std::unique_ptr<UrgNoiseFloorResult> phys;
     if (model == SensorModel::Physical && r.ok())
-        phys = std::make_unique<UrgNoiseFloorResult>(fitUrgNoiseFloor(*scene, *surfaces, mount, r, size_t(r.reference), calib));
+        phys = std::make_unique<UrgNoiseFloorResult>(
+            fitUrgNoiseFloor(*in.scene, *in.surfaces, in.mount, r, size_t(r.reference), in.calibration));
     // A failed fit writes its report alone (it holds the diagnosis); a fitted one writes everything.
-    writeFitReportJson(files.stage(a.report), r, a.cfg, src, phys.get());
+    writeFitReportJson(files.stage(a.report), r, a.cfg, in.sources, phys.get());
     const bool failed = !r.ok() || (phys && !phys->ok);
     if (failed) files.commit();
     if (!failed && !a.aligned.empty()) writeAlignedCsv(files.stage(a.aligned), r);
     if (!failed && !a.covariates.empty())
-        writeCovariates(files.stage(a.covariates), log, r, *scene, *surfaces, mount, spec, a.covariates_all);
+        writeCovariates(files.stage(a.covariates), in.log, r, *in.scene, *in.surfaces, in.mount, spec, a.covariates_all);
     if (!failed && !r.aligned.empty()) {
         writeFitTimePlot(files.stage(a.plots + "_fig5.png"), r, std::max(0, r.reference));
         writeFitSaturationPlot(files.stage(a.plots + "_fig9.png"), r, a.cfg);
     }
-    // Summary.
-    if (!src.skipped.empty()) std::printf("skipped %zu bad lines (--lenient; listed in the report)\n", src.skipped.size());
-    const auto& o = r.offset;
-    std::printf("clock offset (camera - laser): %.2f +/- %.2f s%s; %d transitions; saturation noise %.4f\n", o.offset_s.value,
-                o.offset_s.se, o.estimated ? "" : " (held)", o.transitions, r.saturation_noise);
-    for (size_t g = 0; g < r.thresholds.size(); ++g) {
-        const auto& t = r.thresholds[g];
-        const auto& q = r.ranges[g];
-        if (t.fitted)
-            std::printf("%-16s %3d beams  S* = %.4f +/- %.4f  w = %.4f  P = %.5f +/- %.5f density.m over %.2f m  tau = %.2f +/- %.2f\n",
-                        t.group.c_str(), t.beams, t.S_star.value, t.S_star.se, t.width.value, t.penetration_power.value,
-                        t.penetration_power.se, t.range_m, t.tau.value, t.tau.se);
-        else
-            std::printf("%-16s %3d beams  not fitted\n", t.group.c_str(), t.beams);
-        if (q.fitted)
-            std::printf("%-16s range bias %.4f + %.4f*(S_ref-S) m (+/- %.4f), noise %.4f + %.4f*(S_ref-S) m\n", "", q.bias0.value,
-                        q.bias_slope.value, q.bias_slope.se, q.noise0.value, q.noise_slope.value);
-        if (!t.diagnosis.empty()) std::printf("%-16s note: %s\n", "", t.diagnosis.c_str());
-    }
-    for (const auto& d : r.diagnoses) std::printf("diagnosis: %s\n", d.c_str());
+    std::fputs(fitSummaryText(r, in.sources.skipped.size()).c_str(), stdout);
     if (!r.ok()) throw Error(a.laser, "no threshold could be fitted: " + (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
     const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
-    mount.config.model = model;
-    mount.config.paper.penetration_power = ref.penetration_power.value;
-    char comment[768];
-    int n = std::snprintf(comment, sizeof comment,
-                          "fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m",
-                          a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
-                          ref.penetration_power.value, ref.penetration_power.se);
-    n = std::clamp(n, 0, int(sizeof comment) - 1);
+    SensorConfig fitted = in.mount.config;
+    fitted.model = model;
+    fitted.paper.penetration_power = ref.penetration_power.value;
+    std::string comment = fmt("fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m",
+                              a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
+                              ref.penetration_power.value, ref.penetration_power.se);
     if (phys) {
         if (!phys->ok) throw Error(a.laser, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
-        mount.config.physical.noise_floor = phys->noise_floor.value;
+        fitted.physical.noise_floor = phys->noise_floor.value;
         std::printf("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n", phys->group.c_str(),
                     phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value, phys->onset_column.se);
-        n += std::snprintf(comment + n, sizeof comment - size_t(n), "; physical noise_floor = %.4g +/- %.2g", phys->noise_floor.value,
-                           phys->noise_floor.se);
-        n = std::clamp(n, 0, int(sizeof comment) - 1);
+        comment += fmt("; physical noise_floor = %.4g +/- %.2g", phys->noise_floor.value, phys->noise_floor.se);
     }
-    std::snprintf(comment + n, sizeof comment - size_t(n), " (report: %s)", a.report.c_str());
-    writeSensorFile(files.stage(a.out), mount.config, comment);
+    writeSensorFile(files.stage(a.out), fitted, comment + " (report: " + a.report + ")");
     files.commit();
     std::printf("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), a.model.c_str(), ref.group.c_str(),
                 a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ", a.aligned.c_str(),

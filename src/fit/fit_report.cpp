@@ -254,4 +254,29 @@ void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const P
     f.commit();
 }
 
+std::string fitSummaryText(const SensorFitResult& r, size_t skipped)
+{
+    std::string out;
+    if (skipped > 0) out += fmt("skipped %zu bad lines (--lenient; listed in the report)\n", skipped);
+    const auto& o = r.offset;
+    out += fmt("clock offset (camera - laser): %.2f +/- %.2f s%s; %d transitions; saturation noise %.4f\n", o.offset_s.value,
+               o.offset_s.se, o.estimated ? "" : " (held)", o.transitions, r.saturation_noise);
+    for (size_t g = 0; g < r.thresholds.size(); ++g) {
+        const auto& t = r.thresholds[g];
+        const auto& q = r.ranges[g];
+        if (t.fitted)
+            out += fmt("%-16s %3d beams  S* = %.4f +/- %.4f  w = %.4f  P = %.5f +/- %.5f density.m over %.2f m  tau = %.2f +/- %.2f\n",
+                       t.group.c_str(), t.beams, t.S_star.value, t.S_star.se, t.width.value, t.penetration_power.value,
+                       t.penetration_power.se, t.range_m, t.tau.value, t.tau.se);
+        else
+            out += fmt("%-16s %3d beams  not fitted\n", t.group.c_str(), t.beams);
+        if (q.fitted)
+            out += fmt("%-16s range bias %.4f + %.4f*(S_ref-S) m (+/- %.4f), noise %.4f + %.4f*(S_ref-S) m\n", "", q.bias0.value,
+                       q.bias_slope.value, q.bias_slope.se, q.noise0.value, q.noise_slope.value);
+        if (!t.diagnosis.empty()) out += "                 note: " + t.diagnosis + "\n";
+    }
+    for (const auto& d : r.diagnoses) out += "diagnosis: " + d + "\n";
+    return out;
+}
+
 }  // namespace smokescan

@@ -25,6 +25,10 @@ struct FitSources {
 void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src,
                         const UrgNoiseFloorResult* physical = nullptr);
 
+/// @brief The fit in words, as `smokescan fit` prints it: the clock offset, each group's threshold,
+/// penetration power and range bias, notes and diagnoses. `skipped`: bad lines left out.
+std::string fitSummaryText(const SensorFitResult& r, size_t skipped);
+
 /// @brief The aligned streams as CSV: time_s, saturation, then per group errors, beams, mean range.
 void writeAlignedCsv(const std::string& path, const SensorFitResult& r);
 

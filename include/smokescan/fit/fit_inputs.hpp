@@ -1,0 +1,63 @@
+#pragma once
+/// @file fit_inputs.hpp
+/// @brief Everything a fit of recorded data reads, assembled once: the laser log, the camera's
+/// saturation (one patch's column when asked), the calibration, the sensor and its beam groups
+/// (from a scene, a groups file or angle ranges). `smokescan fit` and `smokescan diagnose` start here.
+///
+/// | field         | default   | meaning                                                            |
+/// |---------------|-----------|--------------------------------------------------------------------|
+/// | laser         | –         | the recorded laser log (io/recorded.hpp)                           |
+/// | saturation    | –         | the camera's saturation CSV                                        |
+/// | calibration   | "bocas"   | calibration JSON or built-in name                                  |
+/// | patch         | ""        | use this patch's column (and its calibration curve) as the saturation |
+/// | scene         | ""        | scene whose surfaces name the beam groups                           |
+/// | sensor        | ""        | the scene's sensor by name ("" = the first of sensor_type)          |
+/// | sensor_type   | "urg04lx" | the sensor type without a scene                                    |
+/// | prefix        | "target_" | surfaces whose names start with it form the groups                  |
+/// | surfaces_file | ""        | beam groups from a file (beam_groups.hpp)                          |
+/// | surfaces      | –         | beam groups as "name=a0:a1@range" (replace the scene's)            |
+/// | read          | mm, strict| the log's unit and --lenient                                       |
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "smokescan/calib/saturation_curve.hpp"
+#include "smokescan/fit/beam_groups.hpp"
+#include "smokescan/fit/fit_report.hpp"
+#include "smokescan/io/recorded.hpp"
+#include "smokescan/scene/scene.hpp"
+#include "smokescan/scene/surfaces.hpp"
+
+namespace smokescan {
+
+struct FitInputsConfig {
+    std::string laser, saturation, calibration = "bocas", patch;
+    std::string scene, sensor, sensor_type = "urg04lx", prefix = "target_", surfaces_file;
+    std::vector<std::string> surfaces;
+    ReadOptions read;
+};
+
+struct FitInputs {
+    RecordedLog log;
+    SaturationSeries saturation;      ///< the series the fit uses (the patch's column when asked)
+    CurveFitResult calibration;
+    SensorMount mount;                ///< the scene's sensor, or the type's defaults
+    std::unique_ptr<Scene> scene;     ///< null without --scene
+    std::unique_ptr<SurfaceSet> surfaces;
+    std::vector<BeamGroup> groups;
+    FitSources sources;               ///< for the report: files, groups' origin, skipped lines
+    double sigma_t_per_density = NAN; ///< the scene's regional smoke extinction at the laser's wavelength [1/m]; NaN without a scene
+
+    FitInputs() = default;
+    FitInputs(FitInputs&&) = default;
+    FitInputs& operator=(FitInputs&&) = default;
+};
+
+/// @brief The series with one patch's column as its saturation (rows where the patch has no value
+/// left out). @throw Error naming the file when there is no such patch or it has no values.
+SaturationSeries patchSeries(const SaturationSeries& s, const std::string& patch);
+
+/// @brief Reads and assembles the inputs. @throw Error naming the file or option at fault.
+FitInputs loadFitInputs(const FitInputsConfig& cfg);
+
+}  // namespace smokescan

@@ -1,0 +1,90 @@
+#include "smokescan/fit/fit_inputs.hpp"
+
+#include <cmath>
+
+#include "smokescan/calib/calibration.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+namespace smokescan {
+namespace {
+
+/// The sensor: the scene's (by name, else the first of the type), or the type's defaults.
+SensorMount chooseSensor(const FitInputsConfig& cfg, const Scene* scene)
+{
+    SensorMount mount;
+    mount.name = cfg.sensor_type;
+    const auto type = parseSensorType(cfg.sensor_type);
+    if (!type) throw Error("--sensor-type", "unknown sensor type '" + cfg.sensor_type + "' (urg04lx, lms200)");
+    mount.config = SensorConfig::defaults(*type);
+    if (!scene) return mount;
+    const int si = cfg.sensor.empty() ? scene->findSensor(cfg.sensor_type) : scene->findSensor(cfg.sensor);
+    if (si < 0) throw Error(scene->source, "no sensor '" + (cfg.sensor.empty() ? cfg.sensor_type : cfg.sensor) + "'");
+    return scene->sensors[size_t(si)];
+}
+
+/// The beam groups: the scene's target surfaces, then a groups file, then --surface ranges.
+void chooseGroups(const FitInputsConfig& cfg, FitInputs& in)
+{
+    if (in.scene) {
+        in.groups = beamGroupsFromScene(*in.scene, *in.surfaces, in.mount, specFor(in.mount.config), cfg.prefix);
+        if (in.groups.empty())
+            throw Error(in.scene->source, "no beam of sensor '" + in.mount.name + "' hits a surface named '" + cfg.prefix + "*'");
+        in.sources.groups_from = in.scene->source;
+    }
+    if (!cfg.surfaces_file.empty()) {
+        in.groups = readBeamGroupFile(cfg.surfaces_file);
+        in.sources.groups_from = cfg.surfaces_file;
+    }
+    if (!cfg.surfaces.empty()) {
+        if (cfg.surfaces_file.empty()) in.groups.clear();  // --surface replaces the scene's groups
+        for (const auto& s : cfg.surfaces) in.groups.push_back(parseBeamGroup(s));
+        in.sources.groups_from = cfg.surfaces_file.empty() ? "--surface" : cfg.surfaces_file + " and --surface";
+    }
+}
+
+}  // namespace
+
+SaturationSeries patchSeries(const SaturationSeries& s0, const std::string& patch)
+{
+    size_t p = 0;
+    while (p < s0.patch_names.size() && s0.patch_names[p] != patch) ++p;
+    if (p == s0.patch_names.size()) throw Error(s0.path, "has no patch column '" + patch + "'");
+    SaturationSeries s = s0;
+    s.time_s.clear();
+    s.saturation.clear();
+    for (size_t k = 0; k < s0.time_s.size(); ++k)
+        if (std::isfinite(s0.patch[p][k])) {
+            s.time_s.push_back(s0.time_s[k]);
+            s.saturation.push_back(s0.patch[p][k]);
+        }
+    if (s.time_s.empty()) throw Error(s0.path, "patch '" + patch + "' has no values");
+    return s;
+}
+
+FitInputs loadFitInputs(const FitInputsConfig& cfg)
+{
+    FitInputs in;
+    in.log = readRecordedLog(cfg.laser, cfg.read);
+    const SaturationSeries sat0 = readSaturationCsv(cfg.saturation, cfg.read);
+    in.saturation = cfg.patch.empty() ? sat0 : patchSeries(sat0, cfg.patch);
+    in.calibration = readCalibrationJson(cfg.calibration, cfg.patch);
+    in.sources = {cfg.laser, cfg.saturation, cfg.calibration, "", cfg.read.unit_m, {}};
+    if (!cfg.scene.empty()) {
+        in.scene = std::make_unique<Scene>(loadScene(cfg.scene));
+        in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
+    }
+    in.mount = chooseSensor(cfg, in.scene.get());
+    chooseGroups(cfg, in);
+    if (in.scene)
+        for (const auto& v : in.scene->volumes)
+            if (v.role == SmokeRole::Regional) {
+                in.sigma_t_per_density = v.medium.sigmaT(specFor(in.mount.config).wavelength_nm);
+                break;
+            }
+    in.sources.skipped = in.log.skipped;
+    in.sources.skipped.insert(in.sources.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
+    return in;
+}
+
+}  // namespace smokescan
