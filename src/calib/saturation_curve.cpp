@@ -9,7 +9,7 @@
 #include <set>
 
 #include "smokescan/core/error.hpp"
-#include "ceres_quiet.hpp"
+#include "ceres_fit.hpp"
 
 namespace smokescan {
 namespace {

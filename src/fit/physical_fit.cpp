@@ -9,7 +9,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "binomial_deviance.hpp"
-#include "../calib/ceres_quiet.hpp"
+#include "../calib/ceres_fit.hpp"
 
 namespace smokescan {
 namespace {
@@ -141,15 +141,13 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
                                               return detail::signedDeviance(double(obs[k].n), double(obs[k].e), q, 1 - q);
                                           }),
                         nullptr, &theta);
-    detail::quietCeres();
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
     opt.max_num_iterations = iterations;
     opt.function_tolerance = 1e-12;
     opt.parameter_tolerance = 1e-10;
     ceres::Solver::Summary summary;
-    ceres::Solve(opt, &ml, &summary);
-    if (!summary.IsSolutionUsable() || summary.termination_type != ceres::CONVERGENCE) return out;
+    if (!detail::solveQuiet(ml, opt, summary)) return out;
 
     const std::vector<double> P = observationProbabilities(tab, p, obs, theta);
     std::vector<double> inv_sd(obs.size());
@@ -161,29 +159,15 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
     problem.AddResidualBlock(new ScanResiduals(tab, p, obs,
                                                [&obs, inv_sd](size_t k, double pk) { return (obs[k].e - obs[k].n * pk) * inv_sd[k]; }),
                              nullptr, &theta);
-    // Information from Ceres; scores per block for the sandwich.
-    ceres::Covariance::Options co;
-    ceres::Covariance cov(co);
-    std::vector<std::pair<const double*, const double*>> blocks{{&theta, &theta}};
-    if (!cov.Compute(blocks, &problem)) return out;
-    cov.GetCovarianceBlock(&theta, &theta, &out.var_model);
-    ceres::CRSMatrix J;
-    std::vector<double> r;
+    // The Fisher information and the sandwich over the observations' time blocks.
     double cost = 0;
-    problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, &r, nullptr, &J);
+    problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
     out.chi2 = 2 * cost;
-    std::vector<double> U(size_t(obs.back().block + 1), 0.0);
-    for (size_t k = 0; k < obs.size(); ++k)
-        for (int q = J.rows[k]; q < J.rows[k + 1]; ++q) U[size_t(obs[k].block)] += J.values[size_t(q)] * r[k];
-    double meat = 0;
-    int clusters = 0;
-    for (double u : U)
-        if (u != 0) {
-            meat += u * u;
-            ++clusters;
-        }
-    const double corr = clusters > 1 ? clusters / (clusters - 1.0) : 1.0;
-    out.var_robust = corr * out.var_model * meat * out.var_model;
+    std::vector<long long> block_of;
+    for (const Obs& o : obs) block_of.push_back(o.block);
+    const detail::ClusterCovariance cc = detail::clusterRobustCovariance(problem, {&theta}, block_of, detail::ClusterCount::Informative);
+    out.var_model = cc.model(0, 0);
+    out.var_robust = cc.robust(0, 0);
     out.theta = theta;
     out.ok = std::isfinite(theta) && out.var_model > 0;
     return out;

@@ -8,7 +8,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "binomial_deviance.hpp"
-#include "../calib/ceres_quiet.hpp"
+#include "../calib/ceres_fit.hpp"
 
 namespace smokescan {
 namespace {
@@ -43,19 +43,13 @@ struct ShareResidual {
     }
 };
 
-}  // namespace
-
-PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
-                            const PlumeFitConfig& cfg)
+/// Each logged beam that crosses a plume at its scan's time: its peak density, where it enters
+/// the plume, where the surface is, and what the Sick reported.
+std::vector<PlumeObservation> observePlumes(const RecordedLog& log, const std::vector<SmokeVolume>& local, const SurfaceSet& surfaces,
+                                            const SensorMount& mount, const LrfSpec& spec, const PlumeFitConfig& cfg)
 {
-    const LrfSpec spec = specFor(mount.config);
-    if (spec.type != SensorType::Lms200) throw Error("fit-plume", "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + sensorTypeName(spec.type));
-    std::vector<SmokeVolume> local;
-    for (const auto& v : scene.volumes)
-        if (v.role == SmokeRole::Local) local.push_back(v);
-    if (local.empty()) throw Error(scene.source, "has no local smoke (plumes) for the Sick to see");
     const double sigma_per_density = local.front().medium.sigmaT(spec.wavelength_nm);
-    PlumeFitResult res;
+    std::vector<PlumeObservation> obs;
     BeamQuery q;
     q.wavelength_nm = spec.wavelength_nm;
     q.want_profile = true;
@@ -88,20 +82,22 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
                 o.range_m = m;
                 o.outcome = m < L - cfg.surface_margin_m ? PlumeObservation::SmokeEcho : PlumeObservation::Surface;
             }
-            res.obs.push_back(o);
+            obs.push_back(o);
         }
     }
-    if (res.obs.empty()) {
-        res.diagnoses.push_back("no beam of the log crosses the scene's plumes (check the sensor, the times and --time-offset)");
-        return res;
-    }
-    // Density bins (log-spaced over the observed range).
+    return obs;
+}
+
+/// Density bins (log-spaced over the observed range): outcomes and mean depth per bin. Returns
+/// the densities of the smoke echoes.
+std::vector<double> binObservations(PlumeFitResult& res, int bins)
+{
     double lo = kInf, hi = 0;
     for (const auto& o : res.obs) {
         lo = std::min(lo, o.peak_density);
         hi = std::max(hi, o.peak_density);
     }
-    const int B = std::max(1, cfg.bins);
+    const int B = std::max(1, bins);
     const double llo = std::log(lo), lhi = std::log(hi) + 1e-12;
     res.bins.resize(size_t(B));
     std::vector<std::vector<double>> depths(static_cast<size_t>(B));
@@ -133,85 +129,107 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
         res.bins[size_t(b)].mean_depth_m = m;
         res.bins[size_t(b)].se_depth_m = d.size() > 1 ? std::sqrt(v / double(d.size() - 1) / double(d.size())) : NAN;
     }
-    // Depth against density.
+    return echo_rho;
+}
+
+/// Depth against density: ln d = ln D − k·ln(ρ/ρ_ref), least squares, errors scaled by the scatter.
+void fitDepth(PlumeFitResult& res, size_t echoes, const PlumeFitConfig& cfg)
+{
+    double lnD_k[2] = {std::log(std::max(cfg.min_depth_m, 0.1)), 0.5};
+    ceres::Problem problem;
+    for (const auto& o : res.obs)
+        if (o.outcome == PlumeObservation::SmokeEcho)
+            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DepthResidual, 1, 2>(new DepthResidual{
+                                         std::log(o.peak_density / res.rho_ref), std::log(std::max(cfg.min_depth_m, o.range_m - o.entry_m))}),
+                                     nullptr, lnD_k);
+    ceres::Solver::Options opt;
+    opt.linear_solver_type = ceres::DENSE_QR;
+    ceres::Solver::Summary sum;
+    detail::solveQuiet(problem, opt, sum);
+    res.depth_chi2 = 2 * sum.final_cost;
+    res.depth_dof = int(echoes) - 2;
+    double C[4];
+    if (res.depth_dof > 0 && detail::blockCovariance(problem, lnD_k, C)) {
+        const double s2 = res.depth_chi2 / res.depth_dof;  // unknown scatter: scale by the residuals'
+        const double D = std::exp(lnD_k[0]);
+        res.depth_m = {D, D * std::sqrt(C[0] * s2)};
+        res.exponent = {lnD_k[1], std::sqrt(C[3] * s2)};
+        res.cov_lnD_k = C[1] * s2;
+        res.ok = true;
+    } else {
+        res.diagnoses.push_back("the depth fit's covariance could not be computed");
+    }
+}
+
+/// Share of beams that echo from the plume against ln ρ: maximum likelihood over the bins; the
+/// covariance from the Fisher information at the solution (Pearson residuals, variances at the
+/// fitted shares), inflated by the bins' over-dispersion.
+void fitEchoShare(PlumeFitResult& res)
+{
+    std::vector<const PlumeFitResult::Bin*> used;
+    for (const auto& b : res.bins)
+        if (b.n > 0) used.push_back(&b);
+    if (used.size() < 3) return;
+    double xs[2] = {std::log(res.rho_ref), 2.0};
+    auto xOf = [](const PlumeFitResult::Bin* b) { return 0.5 * (std::log(b->rho_lo) + std::log(b->rho_hi)); };
+    ceres::Problem ml;
+    for (const auto* b : used)
+        ml.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(
+                                new ShareResidual{xOf(b), double(b->n), double(b->echo), false, 0.0}),
+                            nullptr, xs);
+    ceres::Solver::Options opt;
+    opt.linear_solver_type = ceres::DENSE_QR;
+    opt.max_num_iterations = 200;
+    ceres::Solver::Summary sum;
+    const bool settled = detail::solveQuiet(ml, opt, sum);
+    ceres::Problem problem;
+    for (const auto* b : used) {
+        const double x = xOf(b);
+        const double p0 = std::clamp(1.0 / (1.0 + std::exp(-xs[1] * (x - xs[0]))), 0.02, 0.98);
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(new ShareResidual{
+                                     x, double(b->n), double(b->echo), true, 1.0 / std::sqrt(p0 * (1 - p0) / b->n)}),
+                                 nullptr, xs);
+    }
+    double cost = 0;
+    problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+    res.share_chi2 = 2 * cost;
+    res.share_dof = int(used.size()) - 2;
+    double C[4];
+    if (settled && detail::blockCovariance(problem, xs, C)) {
+        const double infl = std::max(1.0, res.share_dof > 0 ? res.share_chi2 / res.share_dof : 1.0);
+        const double r50 = std::exp(xs[0]);
+        res.rho_50 = {r50, r50 * std::sqrt(C[0] * infl)};
+        res.slope = {xs[1], std::sqrt(C[3] * infl)};
+    }
+    if (!settled) res.diagnoses.push_back("the echo share fit did not settle");
+}
+
+}  // namespace
+
+PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
+                            const PlumeFitConfig& cfg)
+{
+    const LrfSpec spec = specFor(mount.config);
+    if (spec.type != SensorType::Lms200)
+        throw Error("fit-plume", "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + sensorTypeName(spec.type));
+    std::vector<SmokeVolume> local;
+    for (const auto& v : scene.volumes)
+        if (v.role == SmokeRole::Local) local.push_back(v);
+    if (local.empty()) throw Error(scene.source, "has no local smoke (plumes) for the Sick to see");
+    PlumeFitResult res;
+    res.obs = observePlumes(log, local, surfaces, mount, spec, cfg);
+    if (res.obs.empty()) {
+        res.diagnoses.push_back("no beam of the log crosses the scene's plumes (check the sensor, the times and --time-offset)");
+        return res;
+    }
+    const std::vector<double> echo_rho = binObservations(res, cfg.bins);
     if (echo_rho.size() < 3) {
         res.diagnoses.push_back("fewer than 3 smoke echoes: the Sick saw through or lost every plume");
         return res;
     }
     res.rho_ref = median(echo_rho);
-    double lnD_k[2] = {std::log(std::max(cfg.min_depth_m, 0.1)), 0.5};
-    {
-        ceres::Problem problem;
-        for (const auto& o : res.obs)
-            if (o.outcome == PlumeObservation::SmokeEcho)
-                problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DepthResidual, 1, 2>(new DepthResidual{
-                                             std::log(o.peak_density / res.rho_ref), std::log(std::max(cfg.min_depth_m, o.range_m - o.entry_m))}),
-                                         nullptr, lnD_k);
-        detail::quietCeres();
-        ceres::Solver::Options opt;
-        opt.linear_solver_type = ceres::DENSE_QR;
-        ceres::Solver::Summary sum;
-        ceres::Solve(opt, &problem, &sum);
-        res.depth_chi2 = 2 * sum.final_cost;
-        res.depth_dof = int(echo_rho.size()) - 2;
-        ceres::Covariance cov({});
-        double C[4];
-        if (res.depth_dof > 0 && cov.Compute(std::vector<const double*>{lnD_k}, &problem) &&
-            cov.GetCovarianceMatrix(std::vector<const double*>{lnD_k}, C)) {
-            const double s2 = res.depth_chi2 / res.depth_dof;  // unknown scatter: scale by the residuals'
-            const double D = std::exp(lnD_k[0]);
-            res.depth_m = {D, D * std::sqrt(C[0] * s2)};
-            res.exponent = {lnD_k[1], std::sqrt(C[3] * s2)};
-            res.cov_lnD_k = C[1] * s2;
-            res.ok = true;
-        } else {
-            res.diagnoses.push_back("the depth fit's covariance could not be computed");
-        }
-    }
-    // Share of beams that echo from the plume against ln ρ: maximum likelihood over the bins.
-    std::vector<const PlumeFitResult::Bin*> used;
-    for (const auto& b : res.bins)
-        if (b.n > 0) used.push_back(&b);
-    if (used.size() >= 3) {
-        double xs[2] = {std::log(res.rho_ref), 2.0};
-        auto xOf = [](const PlumeFitResult::Bin* b) { return 0.5 * (std::log(b->rho_lo) + std::log(b->rho_hi)); };
-        ceres::Problem ml;
-        for (const auto* b : used)
-            ml.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(
-                                    new ShareResidual{xOf(b), double(b->n), double(b->echo), false, 0.0}),
-                                nullptr, xs);
-        detail::quietCeres();
-        ceres::Solver::Options opt;
-        opt.linear_solver_type = ceres::DENSE_QR;
-        opt.max_num_iterations = 200;
-        ceres::Solver::Summary sum;
-        ceres::Solve(opt, &ml, &sum);
-        const bool settled = sum.IsSolutionUsable() && sum.termination_type == ceres::CONVERGENCE;
-        // Covariance from the Fisher information at the solution (Pearson residuals, variances at
-        // the fitted shares), inflated by the bins' over-dispersion.
-        ceres::Problem problem;
-        for (const auto* b : used) {
-            const double x = xOf(b);
-            const double p0 = std::clamp(1.0 / (1.0 + std::exp(-xs[1] * (x - xs[0]))), 0.02, 0.98);
-            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ShareResidual, 1, 2>(new ShareResidual{
-                                         x, double(b->n), double(b->echo), true, 1.0 / std::sqrt(p0 * (1 - p0) / b->n)}),
-                                     nullptr, xs);
-        }
-        double cost = 0;
-        problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
-        res.share_chi2 = 2 * cost;
-        res.share_dof = int(used.size()) - 2;
-        ceres::Covariance cov({});
-        double C[4];
-        if (settled && cov.Compute(std::vector<const double*>{xs}, &problem) &&
-            cov.GetCovarianceMatrix(std::vector<const double*>{xs}, C)) {
-            const double infl = std::max(1.0, res.share_dof > 0 ? res.share_chi2 / res.share_dof : 1.0);
-            const double r50 = std::exp(xs[0]);
-            res.rho_50 = {r50, r50 * std::sqrt(C[0] * infl)};
-            res.slope = {xs[1], std::sqrt(C[3] * infl)};
-        }
-        if (!settled) res.diagnoses.push_back("the echo share fit did not settle");
-    }
+    fitDepth(res, echo_rho.size(), cfg);
+    fitEchoShare(res);
     return res;
 }
 

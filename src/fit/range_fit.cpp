@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "../calib/ceres_quiet.hpp"
+#include "../calib/ceres_fit.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/core/order_stats.hpp"
 

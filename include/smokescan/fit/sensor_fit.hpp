@@ -32,6 +32,7 @@
 
 #include <Eigen/Core>
 
+#include "smokescan/core/estimate.hpp"
 #include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/io/recorded.hpp"
@@ -57,11 +58,6 @@ struct SensorFitConfig {
     double sigma_t_per_density = Medium::kCalibratedSigmaT;
     std::string reference;
     double smooth_s = 2.0;
-};
-
-/// A fitted value and its standard error (NaN when not determined).
-struct Estimate {
-    double value = NAN, se = NAN;
 };
 
 struct ThresholdFit {

@@ -1,0 +1,96 @@
+#pragma once
+// Internal: the Ceres side every fit shares (calib/ and fit/; only .cpp files that link Ceres
+// include it): a quiet solver, the solve and its convergence, a parameter block's covariance, and
+// the cluster-robust ("sandwich") covariance.
+//
+// Ceres logs through glog to stderr (rank-deficient covariances, line-search notes). The fits
+// report what matters in their results and diagnoses, and a CLI error is one line, so glog is told
+// to say nothing below FATAL.
+#include <ceres/ceres.h>
+#include <glog/logging.h>
+
+#include <Eigen/Dense>
+#include <map>
+#include <mutex>
+#include <vector>
+
+namespace smokescan::detail {
+
+inline void quietCeres()
+{
+    static std::once_flag once;
+    std::call_once(once, [] {
+        if (!google::IsGoogleLoggingInitialized()) google::InitGoogleLogging("smokescan");
+        FLAGS_minloglevel = google::GLOG_FATAL;
+        FLAGS_stderrthreshold = google::GLOG_FATAL;
+        FLAGS_logtostderr = false;
+    });
+}
+
+/// @brief Solves quietly with the given options; true when the solution is usable and converged.
+inline bool solveQuiet(ceres::Problem& problem, const ceres::Solver::Options& options, ceres::Solver::Summary& summary)
+{
+    quietCeres();
+    ceres::Solve(options, &problem, &summary);
+    return summary.IsSolutionUsable() && summary.termination_type == ceres::CONVERGENCE;
+}
+
+/// @brief The n×n covariance (row-major into C) of one parameter block, from the problem's
+/// Jacobian at the current values; false when Ceres cannot compute it (rank deficient).
+inline bool blockCovariance(ceres::Problem& problem, const double* block, double* C)
+{
+    ceres::Covariance cov(ceres::Covariance::Options{});
+    const std::vector<const double*> b{block};
+    return cov.Compute(b, &problem) && cov.GetCovarianceMatrix(b, C);
+}
+
+/// Which clusters the small-sample correction m/(m − 1) counts: every cluster holding a residual
+/// (the threshold fit), or only those whose score is not zero (the noise-floor fit, whose blocks
+/// without smoke carry no information about it). The two fits have always differed here; which
+/// convention the pull tests support is open (docs/fitting.md).
+enum class ClusterCount { WithData, Informative };
+
+/// Model-based and cluster-robust covariance of a problem's free parameters.
+struct ClusterCovariance {
+    Eigen::MatrixXd model;   ///< (JᵀJ)⁻¹ (pseudo-inverse): the Fisher information's inverse
+    Eigen::MatrixXd robust;  ///< m/(m − 1)·A⁻¹·B·A⁻¹, B = Σ over clusters of their score outer products
+    int clusters = 0;        ///< m, as counted by ClusterCount
+};
+
+/// @brief The covariance at the solution from a problem of Pearson residuals (their JᵀJ is the
+/// Fisher information), robust to correlation within clusters: residual i belongs to cluster
+/// cluster_of[i]. Model-based A⁻¹ alone would count correlated residuals (the beams of one scan,
+/// scans within one camera frame, scans of one time block) as independent and understate the
+/// errors. Columns are ordered as `blocks` (each block's parameters in turn).
+inline ClusterCovariance clusterRobustCovariance(ceres::Problem& problem, const std::vector<double*>& blocks,
+                                                 const std::vector<long long>& cluster_of, ClusterCount count)
+{
+    ceres::Problem::EvaluateOptions eo;
+    eo.parameter_blocks = blocks;
+    std::vector<double> r;
+    ceres::CRSMatrix jac;
+    problem.Evaluate(eo, nullptr, &r, nullptr, &jac);
+    const int P = jac.num_cols;
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jac.num_rows, P);
+    for (int row = 0; row < jac.num_rows; ++row)
+        for (int i = jac.rows[size_t(row)]; i < jac.rows[size_t(row) + 1]; ++i) J(row, jac.cols[size_t(i)]) = jac.values[size_t(i)];
+    std::map<long long, Eigen::VectorXd> score;
+    for (size_t row = 0; row < r.size() && row < cluster_of.size(); ++row) {
+        auto it = score.try_emplace(cluster_of[row], Eigen::VectorXd::Zero(P)).first;
+        it->second += J.row(long(row)).transpose() * r[row];
+    }
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(P, P);
+    ClusterCovariance out;
+    for (const auto& [c, v] : score) {
+        B += v * v.transpose();
+        out.clusters += count == ClusterCount::WithData || !v.isZero(0.0);
+    }
+    out.model = (J.transpose() * J).completeOrthogonalDecomposition().pseudoInverse();
+    // Small-sample correction of the cluster-robust estimator: m/(m − 1) for m clusters.
+    const double m = double(out.clusters), corr = m > 1 ? m / (m - 1) : 1.0;
+    const Eigen::MatrixXd C = out.model * B * out.model;
+    out.robust = corr * C;
+    return out;
+}
+
+}  // namespace smokescan::detail
