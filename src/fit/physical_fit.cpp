@@ -175,6 +175,128 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
 
 }  // namespace
 
+namespace {
+
+/// The group's beams in the scene: their rays and the distances to their surfaces.
+struct GroupBeams {
+    std::vector<Ray> rays;
+    std::vector<double> L;  ///< [m]
+};
+
+GroupBeams groupBeams(const SurfaceSet& surfaces, const SensorMount& mount, const LrfSpec& spec, const BeamGroup& group)
+{
+    GroupBeams gb;
+    for (int i = 0; i < spec.n_beams; ++i)
+        if (group.contains(spec.angle(i))) {
+            gb.rays.push_back(mount.beamRay(spec.angle(i)));
+            gb.L.push_back(surfaces.closest(gb.rays.back(), spec.range_max_m).endOr(spec.range_max_m));
+        }
+    return gb;
+}
+
+/// Observations: each aligned scan's density from its saturation, its beams and errors on the
+/// group, and its time block (the clusters of the covariance).
+std::vector<Obs> densityObservations(const SensorFitResult& fit, size_t g, const CurveFitResult& calib, double block_s)
+{
+    std::vector<Obs> obs;
+    double t_block0 = NAN;
+    for (const AlignedScan& a : fit.aligned) {
+        if (!std::isfinite(a.saturation) || a.beams[g] == 0) continue;
+        double rho = 0;
+        if (a.saturation < calib.curve.S0) {
+            try {
+                rho = calib.curve.invert(a.saturation);
+            } catch (const Error&) {
+                continue;  // at or below the curve's floor: no density
+            }
+        }
+        if (std::isnan(t_block0)) t_block0 = a.time_s;
+        obs.push_back({rho, a.beams[g], a.errors[g], int(std::floor((a.time_s - t_block0) / block_s))});
+    }
+    return obs;
+}
+
+/// The densest regional smoke state of the scene on these beams (its shape is scaled to each
+/// density), its mean density and time; best = 0 when there is no regional smoke on them.
+struct DensestState {
+    SmokeField field;
+    double mean_density = 0, time_s = NAN;
+};
+
+DensestState densestState(const Scene& scene, const GroupBeams& gb, double step_s)
+{
+    DensestState d;
+    for (double t = scene.t_start_s; t <= scene.t_end_s + 1e-9; t += step_s) {
+        SmokeField f = SmokeField::at(scene.volumes, t);
+        double rho_mean = 0;
+        for (size_t b = 0; b < gb.rays.size(); ++b) rho_mean += f.trace(gb.rays[b], 0.0, gb.L[b], BeamQuery{}).column_regional / gb.L[b];
+        rho_mean /= double(gb.rays.size());
+        if (rho_mean > d.mean_density) {
+            d.mean_density = rho_mean;
+            d.field = std::move(f);
+            d.time_s = t;
+        }
+    }
+    return d;
+}
+
+/// The AMCW amplitudes of each beam on a density grid up to rho_max, the smoke state scaled.
+AmplitudeTable amplitudeTable(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount, const LrfSpec& spec,
+                              const GroupBeams& gb, const DensestState& d, double rho_max, int grid)
+{
+    AmplitudeTable tab;
+    tab.n = std::max(3, grid);
+    tab.rho_max = rho_max;
+    tab.beam.assign(gb.rays.size(), std::vector<AmcwAmplitudes>(size_t(tab.n)));
+    const PhysicalParams& p = mount.config.physical;
+    for (int j = 0; j < tab.n; ++j) {
+        const SmokeField scaled = d.field.scaledRegional(tab.rho_max * j / (tab.n - 1) / d.mean_density);
+        for (size_t b = 0; b < gb.rays.size(); ++b)
+            tab.beam[b][size_t(j)] = amcwAmplitudes(p, traceBeamSignal(gb.rays[b], spec, p, scene, surfaces, scaled, nullptr, nullptr));
+    }
+    return tab;
+}
+
+/// The calibration curve's share of θ's error: every density moved by its relative standard
+/// error at S*, θ refitted.
+double calibrationError(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs, const ThetaFit& f,
+                        const ThresholdFit& th, const CurveFitResult& calib, int iterations)
+{
+    try {
+        const auto [rho_s, se_rho] = calib.invert(th.S_star.value, 0.0);
+        if (rho_s > 0 && se_rho > 0) {
+            std::vector<Obs> moved = obs;
+            for (Obs& o : moved) o.rho *= 1 + se_rho / rho_s;
+            const ThetaFit f2 = fitTheta(tab, p, moved, iterations);  // the table holds beyond its end
+            if (f2.ok) return std::abs(f2.theta - f.theta);
+        }
+    } catch (const Error&) {
+    }
+    return 0;
+}
+
+/// Where the fitted model errs half the time, as a column over the group's mean distance, and
+/// its spread over θ ± se.
+Estimate onsetColumn(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<double>& L, double theta, double se_theta)
+{
+    double Lm = 0;
+    for (double l : L) Lm += l / double(L.size());
+    auto rhoAtHalf = [&](double th) {
+        double lo = 0, hi = tab.rho_max;
+        if (groupErrorProbability(tab, p, th, hi) < 0.5) return double(NAN);
+        for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (groupErrorProbability(tab, p, th, mid) < 0.5 ? lo : hi) = mid;
+        }
+        return 0.5 * (lo + hi);
+    };
+    const double c0 = rhoAtHalf(theta) * Lm;
+    const double ca = rhoAtHalf(theta - se_theta) * Lm, cb = rhoAtHalf(theta + se_theta) * Lm;
+    return {c0, 0.5 * std::abs(ca - cb)};
+}
+
+}  // namespace
+
 UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
                                      const SensorFitResult& fit, size_t g, const CurveFitResult& calib,
                                      const UrgNoiseFloorConfig& cfg)
@@ -191,74 +313,22 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
         return out;
     };
     if (!th.fitted) return fail("group '" + group.name + "' has no fitted threshold");
-    std::vector<Ray> rays;
-    std::vector<double> L;
-    for (int i = 0; i < spec.n_beams; ++i)
-        if (group.contains(spec.angle(i))) {
-            rays.push_back(mount.beamRay(spec.angle(i)));
-            const SurfaceHit h = surfaces.closest(rays.back(), spec.range_max_m);
-            L.push_back(h.endOr(spec.range_max_m));
-        }
-    out.beams = int(rays.size());
-    if (rays.empty()) return fail("group '" + group.name + "' has no beam of this sensor in the scene");
-    // Observations: each aligned scan's density from its saturation.
-    std::vector<Obs> obs;
-    double rho_obs_max = 0, t_block0 = NAN;
-    for (const AlignedScan& a : fit.aligned) {
-        if (!std::isfinite(a.saturation) || a.beams[g] == 0) continue;
-        double rho = 0;
-        if (a.saturation < calib.curve.S0) {
-            try {
-                rho = calib.curve.invert(a.saturation);
-            } catch (const Error&) {
-                continue;  // at or below the curve's floor: no density
-            }
-        }
-        if (std::isnan(t_block0)) t_block0 = a.time_s;
-        obs.push_back({rho, a.beams[g], a.errors[g], int(std::floor((a.time_s - t_block0) / cfg.block_s))});
-        rho_obs_max = std::max(rho_obs_max, rho);
-    }
+    const GroupBeams gb = groupBeams(surfaces, mount, spec, group);
+    out.beams = int(gb.rays.size());
+    if (gb.rays.empty()) return fail("group '" + group.name + "' has no beam of this sensor in the scene");
+    const std::vector<Obs> obs = densityObservations(fit, g, calib, cfg.block_s);
+    double rho_obs_max = 0;
+    for (const Obs& o : obs) rho_obs_max = std::max(rho_obs_max, o.rho);
     out.scans = int(obs.size());
     if (obs.size() < 3 || !(rho_obs_max > 0)) return fail("too few aligned scans with smoke for '" + group.name + "'");
-    // The densest regional smoke state of the scene on these beams: its shape, scaled to each ρ.
-    double best = 0;
-    SmokeField field;
-    for (double t = scene.t_start_s; t <= scene.t_end_s + 1e-9; t += cfg.time_step_s) {
-        SmokeField f = SmokeField::at(scene.volumes, t);
-        double rho_mean = 0;
-        for (size_t b = 0; b < rays.size(); ++b) rho_mean += f.trace(rays[b], 0.0, L[b], BeamQuery{}).column_regional / L[b];
-        rho_mean /= double(rays.size());
-        if (rho_mean > best) {
-            best = rho_mean;
-            field = std::move(f);
-            out.scene_time_s = t;
-        }
-    }
-    if (!(best > 0)) return fail("the scene has no regional smoke on the beams of '" + group.name + "'");
-    AmplitudeTable tab;
-    tab.n = std::max(3, cfg.grid);
-    tab.rho_max = 1.05 * rho_obs_max;
-    tab.beam.assign(rays.size(), std::vector<AmcwAmplitudes>(size_t(tab.n)));
-    for (int j = 0; j < tab.n; ++j) {
-        const SmokeField scaled = field.scaledRegional(tab.rho_max * j / (tab.n - 1) / best);
-        for (size_t b = 0; b < rays.size(); ++b)
-            tab.beam[b][size_t(j)] =
-                amcwAmplitudes(mount.config.physical, traceBeamSignal(rays[b], spec, mount.config.physical, scene, surfaces, scaled, nullptr, nullptr));
-    }
-    const ThetaFit f = fitTheta(tab, mount.config.physical, obs, cfg.iterations);
+    const DensestState d = densestState(scene, gb, cfg.time_step_s);
+    out.scene_time_s = d.time_s;
+    if (!(d.mean_density > 0)) return fail("the scene has no regional smoke on the beams of '" + group.name + "'");
+    const PhysicalParams& p = mount.config.physical;
+    const AmplitudeTable tab = amplitudeTable(scene, surfaces, mount, spec, gb, d, 1.05 * rho_obs_max, cfg.grid);
+    const ThetaFit f = fitTheta(tab, p, obs, cfg.iterations);
     if (!f.ok) return fail("the noise floor fit did not converge");
-    // The curve's error: every density moved by its relative standard error at S*.
-    double se_cal = 0;
-    try {
-        const auto [rho_s, se_rho] = calib.invert(th.S_star.value, 0.0);
-        if (rho_s > 0 && se_rho > 0) {
-            std::vector<Obs> moved = obs;
-            for (Obs& o : moved) o.rho *= 1 + se_rho / rho_s;
-            const ThetaFit f2 = fitTheta(tab, mount.config.physical, moved, cfg.iterations);  // the table holds beyond its end
-            if (f2.ok) se_cal = std::abs(f2.theta - f.theta);
-        }
-    } catch (const Error&) {
-    }
+    const double se_cal = calibrationError(tab, p, obs, f, th, calib, cfg.iterations);
     const double nf = std::exp(f.theta);
     const double var_stat = std::max(f.var_model, f.var_robust);
     out.variance_inflation = f.var_robust / f.var_model;
@@ -267,22 +337,7 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
     out.noise_floor = {nf, nf * std::sqrt(var_stat + se_cal * se_cal)};
     out.pearson_chi2 = f.chi2;
     out.dof = int(obs.size()) - 1;
-    // Where the fitted model errs half the time, as a column over the group's mean distance.
-    double Lm = 0;
-    for (double l : L) Lm += l / double(L.size());
-    auto rhoAtHalf = [&](double theta) {
-        double lo = 0, hi = tab.rho_max;
-        if (groupErrorProbability(tab, mount.config.physical, theta, hi) < 0.5) return double(NAN);
-        for (int it = 0; it < 60; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            (groupErrorProbability(tab, mount.config.physical, theta, mid) < 0.5 ? lo : hi) = mid;
-        }
-        return 0.5 * (lo + hi);
-    };
-    const double se_theta = std::sqrt(var_stat + se_cal * se_cal);
-    const double c0 = rhoAtHalf(f.theta) * Lm;
-    const double ca = rhoAtHalf(f.theta - se_theta) * Lm, cb = rhoAtHalf(f.theta + se_theta) * Lm;
-    out.onset_column = {c0, 0.5 * std::abs(ca - cb)};
+    out.onset_column = onsetColumn(tab, p, gb.L, f.theta, std::sqrt(var_stat + se_cal * se_cal));
     out.ok = true;
     return out;
 }
