@@ -206,8 +206,10 @@ void BM_FullScanOneCore(benchmark::State& st, const std::string& model, const st
     const double t = scene_name == "bocas" ? 150.0 : 60.0;
     uint64_t k = 0;
     for (auto _ : st) benchmark::DoNotOptimize(sc.scanAt(t, k++));
-    st.counters["time/beam"] = benchmark::Counter(double(sc.spec().n_beams), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-    st.counters["beams/s"] = benchmark::Counter(double(sc.spec().n_beams), benchmark::Counter::kIsIterationInvariantRate);
+    st.counters["time/beam"] = benchmark::Counter(
+        double(sc.spec().n_beams), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    st.counters["beams/s"] =
+        benchmark::Counter(double(sc.spec().n_beams), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 }  // namespace
@@ -218,17 +220,27 @@ int main(int argc, char** argv)
     // The teapot cloud is a third-party file (no licence to ship it): its case runs only when
     // SMOKESCAN_EXTERNAL_VDB names the folder holding teapot_cloud.vdb.
     const bool teapot = !externalTeapot().empty();
-    if (!teapot) std::fprintf(stderr, "skipping optical_depth/teapot_cloud: set SMOKESCAN_EXTERNAL_VDB to the folder holding teapot_cloud.vdb\n");
+    if (!teapot)
+        std::fprintf(
+            stderr,
+            "skipping optical_depth/teapot_cloud: set SMOKESCAN_EXTERNAL_VDB to the folder holding teapot_cloud.vdb\n");
     for (const std::string n : {"empty_room", "smoke_area", "teapot_cloud", "dense_256", "dense_64"}) {
         if (n == "teapot_cloud" && !teapot) continue;
-        benchmark::RegisterBenchmark(("optical_depth/" + n + "/hierarchical").c_str(), BM_Hierarchical, n)->Unit(benchmark::kMillisecond);
-        benchmark::RegisterBenchmark(("optical_depth/" + n + "/naive_dda").c_str(), BM_Naive, n)->Unit(benchmark::kMillisecond);
-        benchmark::RegisterBenchmark(("optical_depth/" + n + "/speed-up").c_str(), BM_SpeedUp, n)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("optical_depth/" + n + "/hierarchical").c_str(), BM_Hierarchical, n)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("optical_depth/" + n + "/naive_dda").c_str(), BM_Naive, n)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("optical_depth/" + n + "/speed-up").c_str(), BM_SpeedUp, n)
+            ->Unit(benchmark::kMillisecond);
     }
-    benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/paper", BM_FullScanOneCore, "paper", "bocas")->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/physical", BM_FullScanOneCore, "physical", "bocas")->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark("scan/lms200_plume_1core/paper", BM_FullScanOneCore, "paper", "plume")->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark("scan/lms200_plume_1core/physical", BM_FullScanOneCore, "physical", "plume")->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/paper", BM_FullScanOneCore, "paper", "bocas")
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/urg04lx_bocas_smoke_1core/physical", BM_FullScanOneCore, "physical", "bocas")
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/lms200_plume_1core/paper", BM_FullScanOneCore, "paper", "plume")
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("scan/lms200_plume_1core/physical", BM_FullScanOneCore, "physical", "plume")
+        ->Unit(benchmark::kMicrosecond);
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

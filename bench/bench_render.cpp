@@ -4,12 +4,12 @@
 //  2. the teapot cloud with absorption only, smokescan beside OpenVDB's vdb_render at the same
 //     resolution and view: both times, and the mean transmittance difference of each to the exact
 //     per-pixel transmittance (smokescan's optical-depth walk along each pixel's centre ray).
+#include <unistd.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <unistd.h>
 
 #include "smokescan/camera/saturation.hpp"
 #include "smokescan/render/renderer.hpp"
@@ -57,9 +57,10 @@ void bocas(double time_s, int spp, int frames)
     m /= means.size();
     for (double x : means) v += (x - m) * (x - m);
     const double se_frame = std::sqrt(v / (means.size() - 1));  // spread of one frame's mean
-    std::printf("bocas 640x480, t = %.0f s, %d spp: %.2f s/frame, %.3f M samples/s, target saturation %.4f, "
-                "standard error of one frame's mean %.5f (from %d frames)\n",
-                time_s, spp, secs / frames, samples / secs / 1e6, m, se_frame, frames);
+    std::printf(
+        "bocas 640x480, t = %.0f s, %d spp: %.2f s/frame, %.3f M samples/s, target saturation %.4f, "
+        "standard error of one frame's mean %.5f (from %d frames)\n",
+        time_s, spp, secs / frames, samples / secs / 1e6, m, se_frame, frames);
 }
 
 void teapot()
@@ -88,7 +89,8 @@ hfov_deg = 40.0
 [[smoke]]
 name = "teapot"
 type = "vdb"
-file = ")" + vdb + R"("
+file = ")" +
+        vdb + R"("
 scale = 0.02
 medium = { sigma_t_550 = 100.0, angstrom = 0.0, albedo = 0.0 }
 )";
@@ -120,7 +122,8 @@ medium = { sigma_t_550 = 100.0, angstrom = 0.0, albedo = 0.0 }
     // vdb_render: absorption only, same view; alpha is opacity, so T = 1 − alpha. Once with its
     // defaults (which drop densities below a cutoff of 0.005), once with the cutoff off.
     for (const char* extra : {"", " -cutoff 0"}) {
-        const fs::path out = fs::temp_directory_path() / ("smokescan_vdb_render_" + std::to_string(::getpid()) + ".exr");
+        const fs::path out =
+            fs::temp_directory_path() / ("smokescan_vdb_render_" + std::to_string(::getpid()) + ".exr");
         char cmd[1024];
         std::snprintf(cmd, sizeof cmd,
                       "vdb_render %s %s -res %dx%d -fov 40 -translate 0,-4,0 -lookat 0,0,0 -up 0,0,1 -absorb %g,%g,%g "

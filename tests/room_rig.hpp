@@ -40,10 +40,13 @@ nir_785 = 0.6
 nir_905 = 0.6
 [[surfaces]]
 name = "target"
-material = ")" + material + R"("
+material = ")" +
+        material + R"("
 type = "quad"
-corner = [)" + tomlNumber(2.5 + 0.5 * s) + ", " + tomlNumber(-0.5 * c) + R"(, -0.5]
-u = [)" + tomlNumber(-s) + ", " + tomlNumber(c) + R"(, 0.0]
+corner = [)" +
+        tomlNumber(2.5 + 0.5 * s) + ", " + tomlNumber(-0.5 * c) + R"(, -0.5]
+u = [)" +
+        tomlNumber(-s) + ", " + tomlNumber(c) + R"(, 0.0]
 v = [0.0, 0.0, 1.0]
 [[surfaces]]
 name = "room"
@@ -66,7 +69,8 @@ type = "box"
 min = [-5.9, -5.9, -2.9]
 max = [5.9, 5.9, 2.9]
 voxel = 0.1
-density = )" + tomlNumber(density) + "\n";
+density = )" +
+        tomlNumber(density) + "\n";
 }
 
 struct Rig {

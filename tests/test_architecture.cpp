@@ -17,12 +17,12 @@ namespace {
 
 /// Rank of each module: a module may include those of lower rank. sensors and render share a
 /// rank: neither may include the other.
-const std::map<std::string, int> kRank = {{"core", 0},   {"io", 1},     {"media", 2},  {"sensor_config", 3},
+const std::map<std::string, int> kRank = {{"core", 0},   {"io", 1},      {"media", 2},  {"sensor_config", 3},
                                           {"scene", 4},  {"sensors", 5}, {"render", 5}, {"plot", 6},
                                           {"camera", 7}, {"calib", 8},   {"fit", 9},    {"cli", 10}};
 
 /// The sensors module's lower layer: what a sensor is (CMakeLists.txt: sensor_config_names).
-const std::set<std::string> kSensorConfig = {"sensor_kind", "lrf",         "physical_params",
+const std::set<std::string> kSensorConfig = {"sensor_kind",   "lrf",           "physical_params",
                                              "sensor_config", "sensor_tables", "sensor_file"};
 
 /// The module a folder name and file stem belong to.
@@ -42,21 +42,21 @@ std::vector<Violation> violations(const fs::path& root)
     std::vector<Violation> out;
     for (const fs::path base : {root / "src", root / "include" / "smokescan"})
         if (fs::exists(base))
-        for (const auto& e : fs::recursive_directory_iterator(base)) {
-            if (!e.is_regular_file() || !fs::exists(base)) continue;
-            const fs::path rel = fs::relative(e.path(), base);
-            const std::string folder = rel.begin()->string();
-            if (!kRank.count(folder)) continue;
-            const std::string self = moduleOf(folder, e.path().stem().string());
-            std::ifstream in(e.path());
-            for (std::string line; std::getline(in, line);) {
-                std::smatch m;
-                if (!std::regex_search(line, m, inc) || !kRank.count(m[1].str())) continue;
-                const std::string used = moduleOf(m[1].str(), m[2].str());
-                if (used != self && kRank.at(used) >= kRank.at(self))
-                    out.push_back({e.path().string(), line + "   (" + self + " includes " + used + ")"});
+            for (const auto& e : fs::recursive_directory_iterator(base)) {
+                if (!e.is_regular_file() || !fs::exists(base)) continue;
+                const fs::path rel = fs::relative(e.path(), base);
+                const std::string folder = rel.begin()->string();
+                if (!kRank.count(folder)) continue;
+                const std::string self = moduleOf(folder, e.path().stem().string());
+                std::ifstream in(e.path());
+                for (std::string line; std::getline(in, line);) {
+                    std::smatch m;
+                    if (!std::regex_search(line, m, inc) || !kRank.count(m[1].str())) continue;
+                    const std::string used = moduleOf(m[1].str(), m[2].str());
+                    if (used != self && kRank.at(used) >= kRank.at(self))
+                        out.push_back({e.path().string(), line + "   (" + self + " includes " + used + ")"});
+                }
             }
-        }
     return out;
 }
 

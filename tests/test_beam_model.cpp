@@ -46,8 +46,8 @@ double errorShare(const BeamModel& m, const BeamWorld& w, const Ray& ray, int n)
 /// (binomial tolerance; `model_draws` > 0: the probability is itself an estimate from that many
 /// draws; `approx`: allowance for an approximate closed form). Returns how many densities had a
 /// probability strictly between 2 % and 98 % (the informative ones).
-int checkErrorProbability(const std::string& material, const std::string& sensor, SensorModel model,
-                          double rho_max, double approx, int model_draws = 0)
+int checkErrorProbability(const std::string& material, const std::string& sensor, SensorModel model, double rho_max,
+                          double approx, int model_draws = 0)
 {
     Rig rig(roomScene(1.0, material));
     const Ray ray = aheadRay(rig, sensor);
@@ -112,7 +112,8 @@ TEST(BeamModel, ExpectedReadingIsTheMeanOfTheNoisyOnesInClearAir)
                 sum += double(r.value);
             }
             const double sd_units = m->spec().rangeSigma(2.5) / m->spec().unit_m;
-            EXPECT_NEAR(sum / n, double(e.value), 4 * sd_units / std::sqrt(n) + 0.5) << sensor << " " << sensorModelName(mo);
+            EXPECT_NEAR(sum / n, double(e.value), 4 * sd_units / std::sqrt(n) + 0.5)
+                << sensor << " " << sensorModelName(mo);
             EXPECT_LT(m->errorProbability(w, ray), 1e-6) << sensor;
         }
 }

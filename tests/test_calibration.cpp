@@ -185,7 +185,8 @@ TEST(SaturationCli, FramesFolderWithRectsAndFileNameTimes)
         EXPECT_LT(s, prev_s);
         prev_s = s;
     }
-    const Out bad = run("saturation " + (dir / "frames").string() + " --rect blue=2,2,4 --out " + (dir / "x.csv").string());
+    const Out bad =
+        run("saturation " + (dir / "frames").string() + " --rect blue=2,2,4 --out " + (dir / "x.csv").string());
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.err.find("--rect: expects NAME=x,y,width,height"), std::string::npos) << bad.err;
     EXPECT_FALSE(fs::exists(dir / "x.csv"));
@@ -196,8 +197,9 @@ TEST(CalibrateCli, WritesJsonAndPlotAndRefusesDegenerateSweeps)
 {
     const fs::path dir = smokescan::test::scratch("cal");
     const std::string json = (dir / "c.json").string(), png = (dir / "c.png").string();
-    const Out r = run("calibrate bocas --densities 0,0.001,0.002,0.004,0.008,0.012 --spp 1 --width 64 --height 48 --out " +
-                      json + " --plot " + png);
+    const Out r =
+        run("calibrate bocas --densities 0,0.001,0.002,0.004,0.008,0.012 --spp 1 --width 64 --height 48 --out " + json +
+            " --plot " + png);
     ASSERT_EQ(r.status, 0) << r.err;
     std::ifstream in(json);
     const auto j = nlohmann::json::parse(in);
@@ -222,11 +224,12 @@ TEST(SaturationCli, RenderedFramesWithIdMasks)
     const fs::path dir = smokescan::test::scratch("satids");
     fs::create_directories(dir / "f");
     fs::create_directories(dir / "i");
-    const Out r = run("render bocas --time 0 --spp 2 --width 64 --height 48 --out " + (dir / "f" / "t_12.5.png").string() +
-                      " --ids " + (dir / "i" / "t_12.5.exr").string());
+    const Out r = run("render bocas --time 0 --spp 2 --width 64 --height 48 --out " +
+                      (dir / "f" / "t_12.5.png").string() + " --ids " + (dir / "i" / "t_12.5.exr").string());
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string csv = (dir / "s.csv").string();
-    const Out s = run("saturation " + (dir / "f").string() + " --ids " + (dir / "i").string() + " --scene bocas --out " + csv);
+    const Out s =
+        run("saturation " + (dir / "f").string() + " --ids " + (dir / "i").string() + " --scene bocas --out " + csv);
     ASSERT_EQ(s.status, 0) << s.err;
     std::ifstream in(csv);
     std::string header, line;
@@ -241,7 +244,8 @@ TEST(SaturationCli, RenderedFramesWithIdMasks)
     ss >> t >> c >> sat;
     EXPECT_DOUBLE_EQ(t, 12.5);
     EXPECT_GT(sat, 0.4);  // the clear-air target is strongly coloured
-    const Out bad = run("saturation " + (dir / "f").string() + " --ids " + (dir / "i").string() + " --out " + csv + ".x");
+    const Out bad =
+        run("saturation " + (dir / "f").string() + " --ids " + (dir / "i").string() + " --out " + csv + ".x");
     EXPECT_NE(bad.err.find("--ids: needs --scene"), std::string::npos) << bad.err;
     fs::remove_all(dir);
 }

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "smokescan/io/recorded.hpp"
 #include "smokescan/io/image.hpp"
+#include "smokescan/io/recorded.hpp"
 
 #include "cli_run.hpp"
 
@@ -48,14 +48,15 @@ TEST(Cli, ScanImageDrawsTheSeriesLikeFig10)
     const smokescan::Image img = smokescan::readImage(png);
     EXPECT_EQ(img.width, 361 * 2);
     EXPECT_EQ(img.height, 10 * 2);
-    expectBad("scan plume --from 0 --to 1 --out " + file("x.log") + " --image " + file("x.bmpx"), "unknown image format",
-              file("x.log"));
+    expectBad("scan plume --from 0 --to 1 --out " + file("x.log") + " --image " + file("x.bmpx"),
+              "unknown image format", file("x.log"));
 }
 
 TEST(Cli, ScanPhysicalModelAndSensorFiles)
 {
     const std::string log = file("phys.log");
-    const std::string sf = file("hokuyo.toml", "type = \"urg04lx\"\nmodel = \"physical\"\n[physical]\nnoise_floor = 1.675e-4\n");
+    const std::string sf =
+        file("hokuyo.toml", "type = \"urg04lx\"\nmodel = \"physical\"\n[physical]\nnoise_floor = 1.675e-4\n");
     CliRun r = cli("scan bocas --from 0 --to 2 --rate 1 --sensor-file " + sf + " --out " + log);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("model physical"), std::string::npos) << r.out;
@@ -63,16 +64,19 @@ TEST(Cli, ScanPhysicalModelAndSensorFiles)
     r = cli("scan bocas --from 0 --to 2 --rate 1 --model physical --out " + log);
     ASSERT_EQ(r.status, 0) << r.err;
     // In the densest smoke the --tau table names each error's cause and the received power.
-    r = cli("scan bocas --from 125 --to 126 --rate 1 --model physical --quiet --out " + log + " --tau " + file("phys_tau.csv"));
+    r = cli("scan bocas --from 125 --to 126 --rate 1 --model physical --quiet --out " + log + " --tau " +
+            file("phys_tau.csv"));
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string tau = slurp(file("phys_tau.csv"));
-    EXPECT_EQ(tau.substr(0, tau.find('\n')), "time_s,beam,angle_rad,value,error,cause,surface,hit_m,column_regional,column_local,tau,power");
+    EXPECT_EQ(tau.substr(0, tau.find('\n')),
+              "time_s,beam,angle_rad,value,error,cause,surface,hit_m,column_regional,column_local,tau,power");
     EXPECT_NE(tau.find(",1,low_intensity,target_blue,"), std::string::npos);
     expectBad("scan bocas --from 0 --to 1 --model magic --out " + file("m.log"), "unknown sensor model", file("m.log"));
     const std::string bad = file("bad_sensor.toml", "type = \"urg04lx\"\n[physical]\nnoise_floor = \"loud\"\n");
-    expectBad("scan bocas --from 0 --to 1 --sensor-file " + bad + " --out " + file("b.log"), "bad_sensor.toml:3", file("b.log"));
-    expectBad("scan bocas --from 0 --to 1 --sensor-file " + file("none.toml") + " --out " + file("n.log"), "no such sensor file",
-              file("n.log"));
+    expectBad("scan bocas --from 0 --to 1 --sensor-file " + bad + " --out " + file("b.log"), "bad_sensor.toml:3",
+              file("b.log"));
+    expectBad("scan bocas --from 0 --to 1 --sensor-file " + file("none.toml") + " --out " + file("n.log"),
+              "no such sensor file", file("n.log"));
 }
 
 TEST(Cli, VolumeBuildInfoExport)
@@ -92,8 +96,8 @@ TEST(Cli, VolumeBuildInfoExport)
 TEST(Cli, RenderWritesFrameAndAovs)
 {
     const std::string png = file("f.png"), exr = file("f.exr"), ids = file("ids.exr");
-    const CliRun r = cli("render bocas --time 100 --spp 2 --width 32 --height 24 --out " + png + " --exr " + exr +
-                         " --ids " + ids);
+    const CliRun r =
+        cli("render bocas --time 100 --spp 2 --width 32 --height 24 --out " + png + " --exr " + exr + " --ids " + ids);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(fs::exists(png) && fs::exists(exr) && fs::exists(ids));
     const CliRun s = cli("render bocas --from 0 --to 20 --every 10 --spp 1 --width 8 --height 6 --out " +
@@ -128,15 +132,16 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput)
     expectBad("render bocas --width 0 --out " + png, "--width: '0' is outside", png);
     const std::string nan_pose = file("nan.toml", "[[cameras]]\nname = \"c\"\nposition = [nan, 0.0, 0.0]\n");
     expectBad("render " + nan_pose + " --out " + png, "cameras[0].position must be an array of 3 finite numbers", png);
-    expectBad("render bocas --spp 1 --width 8 --height 6 --out /nonexistent/dir/f.png", "/nonexistent/dir/f.png: cannot write",
-              "/nonexistent/dir/f.png");
+    expectBad("render bocas --spp 1 --width 8 --height 6 --out /nonexistent/dir/f.png",
+              "/nonexistent/dir/f.png: cannot write", "/nonexistent/dir/f.png");
     expectBad("render bocas --out " + file("f.bmpx"), "unknown image format", file("f.bmpx"));
     expectBad("render bocas --out " + png + " --exr " + file("lin.png"), "must be an .exr", png);
     expectBad("render bocas --camera nope --spp 1 --out " + png, "no camera named 'nope'", png);
     const std::string vdb_out = file("never.vdb");
     expectBad("volume info volumes/fog_ball_float.vdb --grid smoke", "no grid named 'smoke'", vdb_out);
     expectBad("volume export nothere.vdb --out " + vdb_out, "nothere.vdb: no such file", vdb_out);
-    expectBad("volume export volumes/fog_ball_float.vdb --scale -1 --out " + vdb_out, "--scale: '-1' must be > 0", vdb_out);
+    expectBad("volume export volumes/fog_ball_float.vdb --scale -1 --out " + vdb_out, "--scale: '-1' must be > 0",
+              vdb_out);
 }
 
 // A simulated recorded run (the laser's log and the camera's saturation 3 s ahead) goes through
@@ -148,48 +153,62 @@ TEST(Cli, FitRecoversTheSensorFromASimulatedRun)
     CliRun r = cli("scan bocas --rate 2 --seed 4 --quiet --out " + log + " --saturation-out " + sat +
                    " --saturation-sigma 0.01 --saturation-rate 10 --camera-offset 3");
     ASSERT_EQ(r.status, 0) << r.err;
-    r = cli("fit --laser " + log + " --saturation " + sat + " --scene bocas --out " + toml + " --aligned " + file("aligned.csv"));
+    r = cli("fit --laser " + log + " --saturation " + sat + " --scene bocas --out " + toml + " --aligned " +
+            file("aligned.csv"));
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(r.out.find("clock offset"), std::string::npos);
-    for (const auto& f : {toml, file("fitted_report.json"), file("fitted_fig5.png"), file("fitted_fig9.png"), file("aligned.csv")})
+    for (const auto& f :
+         {toml, file("fitted_report.json"), file("fitted_fig5.png"), file("fitted_fig9.png"), file("aligned.csv")})
         EXPECT_TRUE(fs::exists(f)) << f;
     EXPECT_NE(slurp(toml).find("penetration_power = 0.00"), std::string::npos);
     r = cli("scan bocas --from 95 --to 100 --quiet --sensor-file " + toml + " --out " + file("again.log"));
     EXPECT_EQ(r.status, 0) << r.err;
 
     // The physical model's sensor file: its noise floor fitted in the scene, and used as it is.
-    r = cli("fit --model physical --reference target_blue --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("phys.toml"));
+    r = cli("fit --model physical --reference target_blue --laser " + log + " --saturation " + sat +
+            " --scene bocas --out " + file("phys.toml"));
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(slurp(file("phys.toml")).find("model = \"physical\""), std::string::npos);
     EXPECT_NE(slurp(file("phys_report.json")).find("\"noise_floor\""), std::string::npos);
-    r = cli("scan bocas --from 95 --to 96 --quiet --sensor-file " + file("phys.toml") + " --out " + file("again_phys.log"));
+    r = cli("scan bocas --from 95 --to 96 --quiet --sensor-file " + file("phys.toml") + " --out " +
+            file("again_phys.log"));
     EXPECT_EQ(r.status, 0) << r.err;
-    expectBad("fit --model physical --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --out " + file("nophys.toml"),
+    expectBad("fit --model physical --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --out " +
+                  file("nophys.toml"),
               "needs --scene", file("nophys.toml"));
-    expectBad("fit --model fancy --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("nophys.toml"),
-              "unknown sensor model", file("nophys.toml"));
+    expectBad(
+        "fit --model fancy --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("nophys.toml"),
+        "unknown sensor model", file("nophys.toml"));
 
     // Groups by angle instead of a scene; the offset held.
-    r = cli("fit --laser " + log + " --saturation " + sat + " --surface 'yellow=-3:3@2.5' --fixed-offset --offset 3 --out " + file("f2.toml"));
+    r = cli("fit --laser " + log + " --saturation " + sat +
+            " --surface 'yellow=-3:3@2.5' --fixed-offset --offset 3 --out " + file("f2.toml"));
     EXPECT_EQ(r.status, 0) << r.err << r.out;
 
     // Bad recorded data.
     std::string text = slurp(log);
     const std::string bad_log = file("bad.log", text + "400.0 0.1 2500 0.2\n");
-    expectBad("fit --laser " + bad_log + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"), "bad.log:", file("bad.toml"));
+    expectBad("fit --laser " + bad_log + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"),
+              "bad.log:", file("bad.toml"));
     r = cli("fit --lenient --laser " + bad_log + " --saturation " + sat + " --scene bocas --out " + file("len.toml"));
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("skipped 1 bad lines"), std::string::npos) << r.out;
-    expectBad("fit --laser " + log + " --saturation " + file("bad_sat.csv", "time_s,saturation\n0,0.5\n1,1.5\n") + " --scene bocas --out " + file("bad.toml"),
+    expectBad("fit --laser " + log + " --saturation " + file("bad_sat.csv", "time_s,saturation\n0,0.5\n1,1.5\n") +
+                  " --scene bocas --out " + file("bad.toml"),
               "bad_sat.csv:3: saturation 1.5 is outside [0, 1]", file("bad.toml"));
-    expectBad("fit --laser " + log + " --saturation " + file("nan_sat.csv", "0,0.5\n1,nan\n") + " --scene bocas --out " + file("bad.toml"),
+    expectBad("fit --laser " + log + " --saturation " + file("nan_sat.csv", "0,0.5\n1,nan\n") +
+                  " --scene bocas --out " + file("bad.toml"),
               "nan_sat.csv:2", file("bad.toml"));
-    expectBad("fit --laser " + log + " --saturation " + file("back_sat.csv", "0,0.5\n2,0.5\n1,0.5\n") + " --scene bocas --out " + file("bad.toml"),
+    expectBad("fit --laser " + log + " --saturation " + file("back_sat.csv", "0,0.5\n2,0.5\n1,0.5\n") +
+                  " --scene bocas --out " + file("bad.toml"),
               "time goes backwards", file("bad.toml"));
-    expectBad("fit --unit furlong --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"), "unknown unit", file("bad.toml"));
-    expectBad("fit --laser " + file("odd.log", "0.0 0.1 2500 0.2\n") + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"),
+    expectBad("fit --unit furlong --laser " + log + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"),
+              "unknown unit", file("bad.toml"));
+    expectBad("fit --laser " + file("odd.log", "0.0 0.1 2500 0.2\n") + " --saturation " + sat +
+                  " --scene bocas --out " + file("bad.toml"),
               "odd.log:1: expected a time and (angle, range) pairs", file("bad.toml"));
-    expectBad("fit --laser " + file("word.log", "0.0 0.1 abc\n") + " --saturation " + sat + " --scene bocas --out " + file("bad.toml"),
+    expectBad("fit --laser " + file("word.log", "0.0 0.1 abc\n") + " --saturation " + sat + " --scene bocas --out " +
+                  file("bad.toml"),
               "word.log:1: field 3 is not a number", file("bad.toml"));
     // Degenerate: the camera's clock a day off: a diagnosis, no sensor file.
     const std::string far_sat = file("far_sat.csv", "86400,0.6\n86401,0.6\n86402,0.1\n86403,0.6\n");
@@ -210,8 +229,10 @@ TEST(Cli, FitPlumeReportsTheSickPenetration)
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(r.out.find("penetration depth"), std::string::npos) << r.out;
     EXPECT_NE(slurp(out).find("\"D_m\""), std::string::npos);
-    expectBad("fit-plume --laser " + file("none.log") + " --scene plume --out " + file("np.json"), "none.log", file("np.json"));
-    expectBad("fit-plume --laser " + log + " --scene plume --sensor hokuyo --out " + file("np.json"), "for the Sick LMS200", file("np.json"));
+    expectBad("fit-plume --laser " + file("none.log") + " --scene plume --out " + file("np.json"), "none.log",
+              file("np.json"));
+    expectBad("fit-plume --laser " + log + " --scene plume --sensor hokuyo --out " + file("np.json"),
+              "for the Sick LMS200", file("np.json"));
 }
 
 // `scan --saturation-out --saturation-render`: the camera's stream measured in rendered frames,
@@ -223,9 +244,11 @@ TEST(Cli, ScanSaturationFromRenderedFrames)
     const std::string rs = file("rendered_sat.csv"), ps = file("predicted_sat.csv");
     const std::string common = "scan bocas --from 98 --to 102 --rate 1 --quiet --saturation-rate 0.5 ";
     const std::string frames = file("rendered_frames");
-    CliRun r = cli(common + "--out " + file("rs.log") + " --saturation-out " + rs +
-                   " --saturation-render --saturation-width 120 --saturation-height 90 --saturation-spp 4 --camera-offset 0.5"
-                   " --saturation-frames " + frames);
+    CliRun r =
+        cli(common + "--out " + file("rs.log") + " --saturation-out " + rs +
+            " --saturation-render --saturation-width 120 --saturation-height 90 --saturation-spp 4 --camera-offset 0.5"
+            " --saturation-frames " +
+            frames);
     ASSERT_EQ(r.status, 0) << r.err;
     r = cli(common + "--out " + file("ps.log") + " --saturation-out " + ps);
     ASSERT_EQ(r.status, 0) << r.err;
@@ -248,16 +271,21 @@ TEST(Cli, ScanSaturationFromRenderedFrames)
     ASSERT_EQ(M.patch_names.size(), R.patch_names.size());
     for (size_t k = 0; k < R.time_s.size(); ++k) EXPECT_NEAR(M.saturation[k], R.saturation[k], 1e-6);
     for (size_t p = 0; p < R.patch.size(); ++p) {  // columns by name (`saturation` keeps the scene's order)
-        const size_t q = size_t(std::find(M.patch_names.begin(), M.patch_names.end(), R.patch_names[p]) - M.patch_names.begin());
+        const size_t q =
+            size_t(std::find(M.patch_names.begin(), M.patch_names.end(), R.patch_names[p]) - M.patch_names.begin());
         ASSERT_LT(q, M.patch_names.size()) << R.patch_names[p];
-        for (size_t k = 0; k < R.time_s.size(); ++k) EXPECT_NEAR(M.patch[q][k], R.patch[p][k], 1e-6) << R.patch_names[p];
+        for (size_t k = 0; k < R.time_s.size(); ++k)
+            EXPECT_NEAR(M.patch[q][k], R.patch[p][k], 1e-6) << R.patch_names[p];
     }
-    expectBad(common + "--out " + file("h.log") + " --saturation-out " + file("h.csv") + " --saturation-render --saturation-frames " + frames,
+    expectBad(common + "--out " + file("h.log") + " --saturation-out " + file("h.csv") +
+                  " --saturation-render --saturation-frames " + frames,
               "not an empty folder", file("h.log"));
-    expectBad(common + "--out " + file("h.log") + " --saturation-out " + file("h.csv") + " --saturation-frames " + file("new_frames"),
+    expectBad(common + "--out " + file("h.log") + " --saturation-out " + file("h.csv") + " --saturation-frames " +
+                  file("new_frames"),
               "needs --saturation-render", file("h.log"));
 
-    expectBad("scan bocas --from 0 --to 1 --out " + file("g.log") + " --saturation-render", "needs --saturation-out", file("g.log"));
+    expectBad("scan bocas --from 0 --to 1 --out " + file("g.log") + " --saturation-render", "needs --saturation-out",
+              file("g.log"));
     expectBad("scan bocas --from 0 --to 1 --out " + file("g.log") + " --saturation-out " + file("g.csv") +
                   " --saturation-render --camera nobody",
               "nobody", file("g.log"));

@@ -30,8 +30,9 @@ inline std::string externalVdb(const std::string& name)
 }  // namespace smokescan::test
 
 /// Declares `var` as the path of external file `name`, or skips the test with the reason.
-#define SMOKESCAN_EXTERNAL_VDB_OR_SKIP(var, name)                                                            \
-    const std::string var = ::smokescan::test::externalVdb(name);                                            \
-    if (var.empty())                                                                                          \
-    GTEST_SKIP() << name << " is a third-party file not shipped with smokescan: set SMOKESCAN_EXTERNAL_VDB " \
-                            "to the folder holding it to run this test"
+#define SMOKESCAN_EXTERNAL_VDB_OR_SKIP(var, name)                                                    \
+    const std::string var = ::smokescan::test::externalVdb(name);                                    \
+    if (var.empty())                                                                                 \
+    GTEST_SKIP() << name                                                                             \
+                 << " is a third-party file not shipped with smokescan: set SMOKESCAN_EXTERNAL_VDB " \
+                    "to the folder holding it to run this test"

@@ -6,13 +6,13 @@
 #include <cmath>
 #include <numeric>
 
-#include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/calib/calibration.hpp"
+#include "smokescan/calib/saturation_predict.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/fit/physical_fit.hpp"
 #include "smokescan/fit/plume_fit.hpp"
-#include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
-#include "smokescan/core/error.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
@@ -60,7 +60,7 @@ struct SimRun {
 };
 
 SimRun simulate(uint64_t seed, double P, double offset_s, double sigma_S, double from_s = 0, double to_s = 360,
-             const std::string& model = "paper", double rate_hz = 2, double camera_hz = 10, double noise_floor = 0)
+                const std::string& model = "paper", double rate_hz = 2, double camera_hz = 10, double noise_floor = 0)
 {
     Bocas& b = bocas();
     Scene scene = b.scene;  // the physical model's noise floor, when given, on a copy
@@ -155,7 +155,8 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
     for (uint64_t seed = 1; seed <= 10; ++seed) {
         const SimRun r = simulate(seed, P, offset, 0.01);
         const SensorFitResult f = fitSensor(r.log, r.sat, groups, urg04lx(), &bocas().calib);
-        ASSERT_TRUE(f.ok()) << "seed " << seed << ": " << (f.diagnoses.empty() ? f.thresholds[1].diagnosis : f.diagnoses.front());
+        ASSERT_TRUE(f.ok()) << "seed " << seed << ": "
+                            << (f.diagnoses.empty() ? f.thresholds[1].diagnosis : f.diagnoses.front());
         EXPECT_TRUE(f.diagnoses.empty()) << f.diagnoses.front();
         EXPECT_EQ(f.offset.transitions, 2);
         EXPECT_NEAR(f.saturation_noise, 0.01, 0.001);
@@ -362,10 +363,13 @@ TEST(PlumeFit, SickPenetrationFallsWithDensityAndFindsAPlantedDepthBias)
     ASSERT_TRUE(b.ok);
     const Estimate da = plumeDepthAt(a, a.rho_ref), db = plumeDepthAt(b, a.rho_ref);
     EXPECT_NEAR(da.value, a.depth_m.value, 1e-12);
-    EXPECT_GT(db.value - da.value, 3 * std::hypot(da.se, db.se)) << da.value << " +- " << da.se << " vs " << db.value << " +- " << db.se;
+    EXPECT_GT(db.value - da.value, 3 * std::hypot(da.se, db.se))
+        << da.value << " +- " << da.se << " vs " << db.value << " +- " << db.se;
     EXPECT_LT(db.value - da.value, 0.2);
     // Bad set-ups are errors, not fits: a URG in the plume fit, a scene without plumes.
     const Scene bocas = loadScene("bocas");
-    EXPECT_THROW(fitSickPlume(RecordedLog{}, bocas, SurfaceSet(bocas), bocas.sensors[size_t(bocas.findSensor("lms200"))]), Error);
+    EXPECT_THROW(
+        fitSickPlume(RecordedLog{}, bocas, SurfaceSet(bocas), bocas.sensors[size_t(bocas.findSensor("lms200"))]),
+        Error);
     EXPECT_THROW(fitSickPlume(RecordedLog{}, scene, surfaces, SensorMount{}), Error);
 }

@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
-#include <sys/wait.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -41,7 +41,8 @@ const RecordedRun& smallRun()
 {
     static const RecordedRun r = [] {
         RecordedRun x{file("run.log"), file("run_sat.csv")};
-        const CliRun c = cli("scan bocas --from 80 --to 130 --rate 2 --quiet --out " + x.log + " --saturation-out " + x.sat);
+        const CliRun c =
+            cli("scan bocas --from 80 --to 130 --rate 2 --quiet --out " + x.log + " --saturation-out " + x.sat);
         EXPECT_EQ(c.status, 0) << c.err;
         return x;
     }();
@@ -55,10 +56,7 @@ bool isCharDevice(const std::string& p)
 }
 
 /// The file's bytes, or "(missing)".
-std::string contentOf(const std::string& p)
-{
-    return fs::exists(p) ? slurp(p) : std::string("(missing)");
-}
+std::string contentOf(const std::string& p) { return fs::exists(p) ? slurp(p) : std::string("(missing)"); }
 
 }  // namespace
 
@@ -70,14 +68,15 @@ TEST(Hardening, DevicesAndFifosAreWrittenIntoNeverReplaced)
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(isCharDevice("/dev/null"));
     if (isCharDevice("/dev/full")) {
-        expectBad("scan bocas --to 1 --quiet --out /dev/full", "/dev/full: write failed (No space left on device)", file("nothing"));
+        expectBad("scan bocas --to 1 --quiet --out /dev/full", "/dev/full: write failed (No space left on device)",
+                  file("nothing"));
         EXPECT_TRUE(isCharDevice("/dev/full"));
     }
     // A FIFO gets the log through it, and stays a FIFO.
     const std::string fifo = (dir() / "pipe.log").string(), got = file("from_pipe.log");
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     const std::string cmd = "sh -c 'timeout 60 cat " + fifo + " > " + got + " & p=$!; " + SMOKESCAN_CLI +
-                            " scan bocas --to 1 --quiet --out " + fifo + " >/dev/null; s=$?; wait $p; exit $s'";
+        " scan bocas --to 1 --quiet --out " + fifo + " >/dev/null; s=$?; wait $p; exit $s'";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     struct stat st {};
     ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
@@ -96,7 +95,8 @@ TEST(Hardening, LinksAndPlantedTemporariesAreNeverFollowed)
     // Links planted where a predictable temporary would have been: the run writes its output and
     // touches none of them (temporaries are created exclusively, with random names).
     const std::string out = (dir() / "o.vdb").string();
-    for (const std::string& t : {out + ".tmp", out + ".tmp." + std::to_string(::getpid() + 1), (dir() / "o.tmp.vdb").string()})
+    for (const std::string& t :
+         {out + ".tmp", out + ".tmp." + std::to_string(::getpid() + 1), (dir() / "o.tmp.vdb").string()})
         fs::create_symlink(victim, t);
     const CliRun r = cli("volume build bocas --time 100 --out " + out);
     EXPECT_EQ(r.status, 0) << r.err;
@@ -127,11 +127,14 @@ TEST(Hardening, AnOutputThatIsAnInputIsRefusedByIdentity)
              {fit + "--out " + file("f.toml") + " --report " + run.sat, "is the input of --saturation"},
              {fit + "--out " + file("f.toml") + " --aligned " + run.log, "is the input of --laser"},
              {"volume export " + vdb + " --out " + vdb, "is the input of the input"},
-             {"scan bocas --to 1 --out " + file("x.log") + " --tau " + (dir() / "." / "x.log").string(), "named by both --out and --tau"},
-             {"scan bocas --to 1 --out " + file("x.png") + " --image " + file("x.png"), "named by both --out and --image"},
-             {"render bocas --spp 1 --out " + file("f.exr") + " --exr " + file("f.exr"), "named by both --out and --exr"},
-             {"scan bocas --to 1 --out " + file("x.log") + " --saturation-out " + file("x.csv") + " --saturation-render --saturation-frames " +
-                  file("x.log"),
+             {"scan bocas --to 1 --out " + file("x.log") + " --tau " + (dir() / "." / "x.log").string(),
+              "named by both --out and --tau"},
+             {"scan bocas --to 1 --out " + file("x.png") + " --image " + file("x.png"),
+              "named by both --out and --image"},
+             {"render bocas --spp 1 --out " + file("f.exr") + " --exr " + file("f.exr"),
+              "named by both --out and --exr"},
+             {"scan bocas --to 1 --out " + file("x.log") + " --saturation-out " + file("x.csv") +
+                  " --saturation-render --saturation-frames " + file("x.log"),
               "named by both --out and --saturation-frames"},
          }) {
         const CliRun r = cli(c.args);
@@ -155,7 +158,8 @@ TEST(Hardening, InputsThatCrashedAreOneLineErrors)
     const RecordedRun& run = smallRun();
     const std::string out = file("crash.toml");
     for (const char* smooth : {"3e9", "1e10", "inf"})
-        expectBad("fit --laser " + run.log + " --saturation " + run.sat + " --scene bocas --out " + out + " --smooth " + smooth,
+        expectBad("fit --laser " + run.log + " --saturation " + run.sat + " --scene bocas --out " + out + " --smooth " +
+                      smooth,
                   "--smooth", out);
     expectBad("calibrate bocas --densities 0,0.001,0.002,10 --spp 1 --width 16 --height 12 --out " + file("c.json"),
               "--densities: density 10", file("c.json"));
@@ -164,18 +168,24 @@ TEST(Hardening, InputsThatCrashedAreOneLineErrors)
     expectBad("calibrate bocas --densities 0,0.5,0.8,1 --spp 1 --width 16 --height 12 --out " + file("c.json"),
               "not identifiable from these points", file("c.json"));
     // A mesh smoke area at 0.1 mm voxels (15.6 GB before): refused before any voxel is made.
-    file("cube.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
-                     "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n");
-    const std::string mesh_scene = file("mesh.toml", "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
-                                                     "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"cube.obj\"\nvoxel = 0.0001\n");
-    expectBad("scan " + mesh_scene + " --to 1 --out " + file("m.log"), "makes this mesh over 4000 voxels a side", file("m.log"));
+    file(
+        "cube.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+        "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n");
+    const std::string mesh_scene =
+        file("mesh.toml",
+             "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
+             "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"cube.obj\"\nvoxel = 0.0001\n");
+    expectBad("scan " + mesh_scene + " --to 1 --out " + file("m.log"), "makes this mesh over 4000 voxels a side",
+              file("m.log"));
 }
 
 TEST(Hardening, TheCalibrationFitSurvivesDensitiesFarBeyondItsRange)
 {
     // The curve underflows at density 10: the covariance must not run an SVD on a NaN Jacobian
     // (it crashed), and the fit must say it is not identified instead of reporting numbers.
-    std::vector<smokescan::SaturationPoint> pts = {{0, 0.8, 0.01}, {0.001, 0.6, 0.01}, {0.002, 0.45, 0.01}, {10, 0.0, 0.01}};
+    std::vector<smokescan::SaturationPoint> pts = {
+        {0, 0.8, 0.01}, {0.001, 0.6, 0.01}, {0.002, 0.45, 0.01}, {10, 0.0, 0.01}};
     const smokescan::CurveFitResult r = smokescan::fitSaturationCurve(pts);
     if (r.converged)
         for (double se : r.std_error) EXPECT_TRUE(std::isfinite(se) && se > 0);
@@ -190,8 +200,10 @@ TEST(Hardening, UnboundedRequestsAreRefusedBeforeWork)
 {
     const std::string out = file("u.out.log"), png = file("u.png");
     const auto plume = [](const std::string& extra) {
-        return file("plume.toml", "[[sensors]]\nname = \"s\"\ntype = \"lms200\"\nposition = [0.0, 0.0, 0.5]\n"
-                                  "[[smoke]]\nname = \"p\"\ntype = \"plume\"\nsource = [3.0, 0.0, 0.0]\n" + extra);
+        return file("plume.toml",
+                    "[[sensors]]\nname = \"s\"\ntype = \"lms200\"\nposition = [0.0, 0.0, 0.5]\n"
+                    "[[smoke]]\nname = \"p\"\ntype = \"plume\"\nsource = [3.0, 0.0, 0.0]\n" +
+                        extra);
     };
     expectBad("scan " + plume("radius_m = 1e6\n") + " --to 1 --out " + out, "plume puffs would cover", out);
     expectBad("scan " + plume("voxel = 0.001\n") + " --to 1 --out " + out, "plume puffs would cover", out);
@@ -205,8 +217,10 @@ TEST(Hardening, UnboundedRequestsAreRefusedBeforeWork)
     // Endless or binary text inputs.
     expectBad("scan /dev/zero --out " + out, "is not text", out);
     const RecordedRun& run = smallRun();
-    expectBad("fit --laser /dev/zero --saturation " + run.sat + " --scene bocas --out " + file("z.toml"), "is not text", file("z.toml"));
-    expectBad("fit --laser " + run.log + " --saturation /dev/zero --scene bocas --out " + file("z.toml"), "is not text", file("z.toml"));
+    expectBad("fit --laser /dev/zero --saturation " + run.sat + " --scene bocas --out " + file("z.toml"), "is not text",
+              file("z.toml"));
+    expectBad("fit --laser " + run.log + " --saturation /dev/zero --scene bocas --out " + file("z.toml"), "is not text",
+              file("z.toml"));
 }
 
 TEST(Hardening, ScanMemoryDoesNotGrowWithTheRunsLength)
@@ -215,7 +229,7 @@ TEST(Hardening, ScanMemoryDoesNotGrowWithTheRunsLength)
     // Scans stream to the output: 40× the scans may not cost more than a few MB (each kept scan
     // held ~124 kB before: 4000 scans would have added ~500 MB).
     auto peak_kb = [] {
-        rusage u {};
+        rusage u{};
         ::getrusage(RUSAGE_CHILDREN, &u);
         return long(u.ru_maxrss);
     };
@@ -237,13 +251,15 @@ TEST(Hardening, BadOptionValuesAreOneLineErrors)
         std::string args, needle;
     };
     for (const Case& c : std::vector<Case>{
-             {"scan bocas --to 1 --penetration-power nan --out " + out, "--penetration-power: 'nan' is not a finite number"},
+             {"scan bocas --to 1 --penetration-power nan --out " + out,
+              "--penetration-power: 'nan' is not a finite number"},
              {"scan bocas --to 1 --penetration-power -1 --out " + out, "--penetration-power: '-1' must be > 0"},
              {"scan bocas --from nan --out " + out, "--from: 'nan'"},
              {"scan bocas --to inf --out " + out, "--to: 'inf'"},
              {"scan bocas --to 1 --bin 0 --out " + out, "--bin: '0' must be > 0"},
              {"scan bocas --to 1 --image-range nan --out " + out, "--image-range: 'nan'"},
-             {"scan bocas --to 1 --camera-offset nan --saturation-out " + file("c.csv") + " --out " + out, "--camera-offset: 'nan'"},
+             {"scan bocas --to 1 --camera-offset nan --saturation-out " + file("c.csv") + " --out " + out,
+              "--camera-offset: 'nan'"},
              {"render bocas --from 0 --to 1 --every 0 --out " + png, "--every: '0' must be > 0"},
              {"render bocas --from 0 --to 1 --every -1 --out " + png, "--every: '-1' must be > 0"},
              {"render bocas --max-depth -1 --out " + png, "--max-depth: '-1' is outside"},
@@ -257,9 +273,11 @@ TEST(Hardening, BadOptionValuesAreOneLineErrors)
 TEST(Hardening, BadSceneAndMeshValuesAreOneLineErrorsNamingFileAndKey)
 {
     const std::string out = file("v.log"), vdb = file("v.vdb");
-    const std::string fill = file("fill.toml", "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
-                                               "[[smoke]]\nname = \"room\"\ntype = \"box\"\nmin = [-1.0, -1.0, 0.0]\nmax = [3.0, 1.0, 2.0]\n"
-                                               "timeline = { kind = \"machine\", on = [[0.0, 10.0]], fill_per_s = 1e308 }\n");
+    const std::string fill =
+        file("fill.toml",
+             "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
+             "[[smoke]]\nname = \"room\"\ntype = \"box\"\nmin = [-1.0, -1.0, 0.0]\nmax = [3.0, 1.0, 2.0]\n"
+             "timeline = { kind = \"machine\", on = [[0.0, 10.0]], fill_per_s = 1e308 }\n");
     expectBad("scan " + fill + " --to 5 --out " + out, fill + ":", out);
     expectBad("volume build " + fill + " --time 5 --out " + vdb, fill + ":", vdb);
     EXPECT_NE(cli("volume build " + fill + " --time 5 --out " + vdb).err.find("fill_per_s"), std::string::npos);
@@ -269,13 +287,18 @@ TEST(Hardening, BadSceneAndMeshValuesAreOneLineErrorsNamingFileAndKey)
     };
     expectBad("volume build " + box("min = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\nedge_m = 1e6\n") + " --out " + vdb,
               "smoke[0].edge_m makes this box over 4000 voxels a side", vdb);
-    expectBad("volume build " + box("min = [-1e300, 0.0, 0.0]\nmax = [1e300, 1.0, 1.0]\nvoxel = 1e298\n") + " --out " + vdb,
-              "smoke[0].max the box must lie within 1000 km of the origin", vdb);
+    expectBad(
+        "volume build " + box("min = [-1e300, 0.0, 0.0]\nmax = [1e300, 1.0, 1.0]\nvoxel = 1e298\n") + " --out " + vdb,
+        "smoke[0].max the box must lie within 1000 km of the origin", vdb);
     file("nan.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n");
-    const std::string nan_scene = file("nanmesh.toml", "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"nan.obj\"\n");
-    expectBad("volume build " + nan_scene + " --out " + vdb, "nan.obj:2: vertex coordinate 'nan' is not a finite number", vdb);
-    file("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");  // a tetrahedron without its fourth face
-    const std::string open_scene = file("openmesh.toml", "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"open.obj\"\n");
+    const std::string nan_scene =
+        file("nanmesh.toml", "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"nan.obj\"\n");
+    expectBad("volume build " + nan_scene + " --out " + vdb,
+              "nan.obj:2: vertex coordinate 'nan' is not a finite number", vdb);
+    file("open.obj",
+         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");  // a tetrahedron without its fourth face
+    const std::string open_scene =
+        file("openmesh.toml", "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"open.obj\"\n");
     expectBad("volume build " + open_scene + " --out " + vdb, "is not a closed mesh (3 edges", vdb);
 }
 
@@ -289,9 +312,11 @@ TEST(Hardening, ImplausibleLaserLogsAreRefused)
     expectBad("fit --laser " + file("ang.log", "0 1e10 2500 0.2 2500\n") + fit, "ang.log:1: beam 0: angle", out);
     expectBad("fit --laser " + file("dup.log", "0 0.1 2500\n0 0.1 2501\n") + fit, "dup.log:2: time repeats", out);
     // A URG-04LX log is not an LMS200's.
-    expectBad("fit-plume --laser " + run.log + " --scene plume --out " + file("p.json"), "has 682 beams a scan", file("p.json"));
+    expectBad("fit-plume --laser " + run.log + " --scene plume --out " + file("p.json"), "has 682 beams a scan",
+              file("p.json"));
     // A patch name given twice would duplicate CSV columns.
-    expectBad("saturation volumes --rect a=0,0,1,1 --rect a=1,1,1,1 --out " + file("r.csv"), "patch 'a' is named twice", file("r.csv"));
+    expectBad("saturation volumes --rect a=0,0,1,1 --rect a=1,1,1,1 --out " + file("r.csv"), "patch 'a' is named twice",
+              file("r.csv"));
 }
 
 // ---- messages and partial output ----
@@ -302,11 +327,13 @@ TEST(Hardening, AFailedRunLeavesNoneOfItsOutputs)
     fs::create_directories(folder);
     expectBad("scan bocas --to 1 --out " + log + " --image " + folder, "is a directory", log);
     fs::create_directories(folder + ".exr");
-    expectBad("render bocas --spp 1 --width 8 --height 6 --out " + png + " --exr " + folder + ".exr", "is a directory", png);
+    expectBad("render bocas --spp 1 --width 8 --height 6 --out " + png + " --exr " + folder + ".exr", "is a directory",
+              png);
     // A fit that fails writes its report (the diagnosis) and nothing else.
     const std::string flat_log = file("flat.log", "0 0.1 2500\n1 0.1 2500\n2 0.1 2500\n");
     const std::string flat_sat = file("flat.csv", "time_s,saturation\n0,0.3\n1,0.3\n2,0.3\n");
-    const CliRun r = cli("fit --laser " + flat_log + " --saturation " + flat_sat + " --surface t=0:10 --out " + file("ff.toml"));
+    const CliRun r =
+        cli("fit --laser " + flat_log + " --saturation " + flat_sat + " --surface t=0:10 --out " + file("ff.toml"));
     EXPECT_NE(r.status, 0);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(fs::exists(file("ff.toml")));
@@ -323,8 +350,8 @@ TEST(Hardening, InterruptedRunsRemoveTheirTemporaries)
     for (int sig : {SIGINT, SIGTERM}) {
         const fs::path d = scratch("interrupt_" + std::to_string(sig));
         const std::string log = (d / "long.log").string(), csv = (d / "long.csv").string();
-        std::vector<std::string> args = {SMOKESCAN_CLI, "scan", "bocas", "--from", "0", "--to", "360", "--rate", "20",
-                                         "--quiet", "--out", log, "--tau", csv};
+        std::vector<std::string> args = {SMOKESCAN_CLI, "scan", "bocas",   "--from", "0", "--to",  "360",
+                                         "--rate",      "20",   "--quiet", "--out",  log, "--tau", csv};
         std::vector<char*> argv;
         for (auto& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);
@@ -358,7 +385,8 @@ TEST(Hardening, MessagesAreOneReadableLine)
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     // --lenient skips a non-UTF-8 line and still writes a valid JSON report.
     const std::string bad_utf8 = file("utf8.log", slurp(run.log) + "999.0 \xff\xfe 1\n");
-    const CliRun l = cli("fit --lenient --laser " + bad_utf8 + " --saturation " + run.sat + " --scene bocas --out " + file("u.toml"));
+    const CliRun l = cli("fit --lenient --laser " + bad_utf8 + " --saturation " + run.sat + " --scene bocas --out " +
+                         file("u.toml"));
     EXPECT_EQ(l.err.find("json"), std::string::npos) << l.err;
     EXPECT_NE(slurp(file("u_report.json")).find("\"skipped\""), std::string::npos);
     // A folder as a scene, a truncated PNG, an unparseable option.
@@ -366,13 +394,14 @@ TEST(Hardening, MessagesAreOneReadableLine)
     const std::string png = file("whole.png");
     ASSERT_EQ(cli("render bocas --spp 1 --width 32 --height 24 --out " + png).status, 0);
     const std::string cut = file("cut.png", slurp(png).substr(0, 300));
-    expectBad("saturation " + cut + " --rect a=0,0,4,4 --out " + file("cut.csv"), "cut.png: cannot read pixels", file("cut.csv"));
+    expectBad("saturation " + cut + " --rect a=0,0,4,4 --out " + file("cut.csv"), "cut.png: cannot read pixels",
+              file("cut.csv"));
     expectBad("scan bocas --rate abc --out " + file("t.log"), "--rate: 'abc' is not a number", file("t.log"));
     // Out of memory is a sentence, not "std::bad_alloc" (AddressSanitizer cannot start under a
     // small address-space limit, so the sanitizer build leaves this to the Release build).
     if (kAsan) return;
-    const std::string oom = "sh -c 'ulimit -v 2500000; " + std::string(SMOKESCAN_CLI) + " render bocas --spp 1 --width 8192 --height 8192 --out " +
-                            file("oom.png") + " 2>" + file("oom.err") + "'";
+    const std::string oom = "sh -c 'ulimit -v 2500000; " + std::string(SMOKESCAN_CLI) +
+        " render bocas --spp 1 --width 8192 --height 8192 --out " + file("oom.png") + " 2>" + file("oom.err") + "'";
     EXPECT_NE(std::system(oom.c_str()), 0);
     EXPECT_NE(slurp(file("oom.err")).find("smokescan: out of memory"), std::string::npos) << slurp(file("oom.err"));
 }

@@ -86,7 +86,8 @@ TEST(SmokeField, OverlappingVolumesAddExactly)
     EXPECT_NEAR(from_profile, tau, 1e-6 * tau);
     ASSERT_EQ(s.sigma_t_profile.size(), 3u);
     EXPECT_NEAR(s.sigma_t_profile[1].t0_m, 1.975, 1e-9);
-    EXPECT_NEAR(s.sigma_t_profile[1].density, Medium::kCalibratedSigmaT * 0.002 + Medium::preset("soot").sigmaT(905) * 0.006, 1e-6);
+    EXPECT_NEAR(s.sigma_t_profile[1].density,
+                Medium::kCalibratedSigmaT * 0.002 + Medium::preset("soot").sigmaT(905) * 0.006, 1e-6);
 }
 
 TEST(Plume, DeterministicAndMassConserving)
@@ -102,7 +103,8 @@ TEST(Plume, DeterministicAndMassConserving)
     ASSERT_EQ(b1.size(), size_t(12.0 * c.rate_per_s) + 1);
     for (size_t i = 0; i < b1.size(); ++i) EXPECT_EQ(b1[i].centre_m, b2[i].centre_m);
     // Mass of each puff (before its fade) is constant: peak·σ³ = peak0·r0³.
-    for (const auto& b : b1) EXPECT_NEAR(b.peak * std::pow(b.sigma_m, 3), c.peak_density * std::pow(c.radius_m, 3), 1e-12);
+    for (const auto& b : b1)
+        EXPECT_NEAR(b.peak * std::pow(b.sigma_m, 3), c.peak_density * std::pow(c.radius_m, 3), 1e-12);
     // The grid holds that mass: Σ voxels·h³ ≈ Σ peak·(2π)^{3/2}σ³ · P(χ²₃ ≤ 9) (3σ cut-off).
     const DensityGrid g = rasterisePlume(c, 12.0);
     const double h = c.voxel_m, p3 = 0.97070911346;  // P(|x| ≤ 3σ) for a 3-D Gaussian

@@ -37,10 +37,7 @@ Aabb worldBox(const openvdb::FloatGrid& g, const openvdb::Coord& lo, const openv
     return b;
 }
 
-double chord(const Aabb& b, const Ray& r, double t0, double t1)
-{
-    return b.clip(r, t0, t1) ? t1 - t0 : 0.0;
-}
+double chord(const Aabb& b, const Ray& r, double t0, double t1) { return b.clip(r, t0, t1) ? t1 - t0 : 0.0; }
 
 struct RefPiece {
     double ta, tb, v;
@@ -143,7 +140,8 @@ TEST(OpticalDepth, HomogeneousBoxOfTiles)
     ASSERT_EQ(g->tree().leafCount(), 0u);
     const DensityGrid dg = wrapFloatGrid(g);
     const Aabb b = worldBox(*g, lo, hi);
-    for (const auto& c : boxRays(b, 0.25)) expectRel(dg.integrate(c.r, c.t0, c.t1), 0.002 * chord(b, c.r, c.t0, c.t1), c.name);
+    for (const auto& c : boxRays(b, 0.25))
+        expectRel(dg.integrate(c.r, c.t0, c.t1), 0.002 * chord(b, c.r, c.t0, c.t1), c.name);
 
     auto g2 = makeGrid(0.25, {0, 0, 0});
     const openvdb::Coord lo2(8, -16, 24), hi2(135, 7, 71);  // 8-aligned: lower-node tiles
@@ -151,7 +149,8 @@ TEST(OpticalDepth, HomogeneousBoxOfTiles)
     ASSERT_GT(g2->tree().activeTileCount(), 0u);
     const DensityGrid dg2 = wrapFloatGrid(g2);
     const Aabb b2 = worldBox(*g2, lo2, hi2);
-    for (const auto& c : boxRays(b2, 0.25)) expectRel(dg2.integrate(c.r, c.t0, c.t1), 1.5 * chord(b2, c.r, c.t0, c.t1), c.name);
+    for (const auto& c : boxRays(b2, 0.25))
+        expectRel(dg2.integrate(c.r, c.t0, c.t1), 1.5 * chord(b2, c.r, c.t0, c.t1), c.name);
 }
 
 TEST(OpticalDepth, BoxFromMeshMatchesItsBounds)
@@ -166,7 +165,8 @@ TEST(OpticalDepth, BoxFromMeshMatchesItsBounds)
     expectRel(dg.worldBounds().lo.x(), lo.x(), "bounds lo");
     expectRel(dg.worldBounds().hi.z(), hi.z(), "bounds hi");
     EXPECT_GT(dg.info().active_tiles, 0);
-    for (const auto& c : boxRays(b, h)) expectRel(dg.integrate(c.r, c.t0, c.t1), 0.0028 * chord(b, c.r, c.t0, c.t1), c.name);
+    for (const auto& c : boxRays(b, h))
+        expectRel(dg.integrate(c.r, c.t0, c.t1), 0.0028 * chord(b, c.r, c.t0, c.t1), c.name);
 }
 
 TEST(OpticalDepth, SoftEdgedAreaFromFogVolume)

@@ -15,7 +15,7 @@ TEST(OrderStats, MedianAndQuantilesByHand)
     EXPECT_EQ(median({7.0}), 7.0);
     EXPECT_EQ(quantile({7.0}, 0.9), 7.0);
     EXPECT_EQ(median({5, 1, 3}), 3.0);
-    EXPECT_EQ(median({4, 1, 3, 2}), 2.5);          // mean of the two middle values
+    EXPECT_EQ(median({4, 1, 3, 2}), 2.5);  // mean of the two middle values
     EXPECT_EQ(median({2, 2, 9, 2}), 2.0);
     EXPECT_EQ(quantile({5, 4, 3, 2, 1}, 0.25), 2.0);  // h = 1
     EXPECT_DOUBLE_EQ(quantile({4, 1, 3, 2}, 1.0 / 3.0), 2.0);  // h = 1

@@ -11,10 +11,10 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 
 #include "room_rig.hpp"
 #include "scratch.hpp"
@@ -46,11 +46,13 @@ AheadBeam ahead(Rig& rig, const std::string& sensor, double rho, int n, uint64_t
     }
     AheadBeam a;
     const SmokeField field = SmokeField::at(rig.scene.volumes, 0.0);
-    a.sig = traceBeamSignal(sc.beamRay(i), sc.spec(), sc.mount().config.physical, rig.scene, rig.surfaces, field, &a.hit, nullptr);
+    a.sig = traceBeamSignal(sc.beamRay(i), sc.spec(), sc.mount().config.physical, rig.scene, rig.surfaces, field,
+                            &a.hit, nullptr);
     for (int k = 0; k < n; ++k) {
         KeyedRng rng(seed, uint64_t(k), 0);
-        a.reads.push_back(sc.spec().type == SensorType::Urg04lx ? amcwBeam(sc.spec(), sc.mount().config.physical, a.sig, rng)
-                                                      : pulsedBeam(sc.spec(), sc.mount().config.physical, a.sig, rng));
+        a.reads.push_back(sc.spec().type == SensorType::Urg04lx
+                              ? amcwBeam(sc.spec(), sc.mount().config.physical, a.sig, rng)
+                              : pulsedBeam(sc.spec(), sc.mount().config.physical, a.sig, rng));
     }
     return a;
 }
@@ -160,8 +162,10 @@ TEST(PhysicalModel, HokuyoInHomogeneousSmokeRangesThenErrorsNoShortReadings)
                 EXPECT_NEAR(double(r.value), 2500.0, 4 * std::hypot(sd, phase_sd) + 1) << "rho " << rho;
             }
         }
-        if (rho == 0) for (const auto& r : a.reads) EXPECT_FALSE(r.error);
-        if (rho > 0.0084 - 1e-9) for (const auto& r : a.reads) EXPECT_TRUE(r.error);
+        if (rho == 0)
+            for (const auto& r : a.reads) EXPECT_FALSE(r.error);
+        if (rho > 0.0084 - 1e-9)
+            for (const auto& r : a.reads) EXPECT_TRUE(r.error);
     }
     EXPECT_GT(ranges, 300);
     EXPECT_GT(errors, 300);
@@ -204,7 +208,10 @@ TEST(PhysicalModel, WithoutSmokePaperAndPhysicalAgreeWithTheSurface)
     };
     for (size_t i = 0; i < phys.value.size(); ++i) {
         const BeamResult &a = paper.beams[i], &b = phys.beams[i];
-        if (edge(i) && (a.error != b.error || std::abs(double(a.value - b.value)) > 50)) { ++disagree; continue; }
+        if (edge(i) && (a.error != b.error || std::abs(double(a.value - b.value)) > 50)) {
+            ++disagree;
+            continue;
+        }
         ASSERT_EQ(a.error, b.error) << "beam " << i << " " << b.cause;
         if (a.error) continue;
         ++both;
@@ -228,7 +235,10 @@ TEST(PhysicalModel, SickRangeFallsAsSmokeThickensAndErrorsAtTheEdges)
         double sum = 0;
         int n = 0;
         for (const auto& r : a.reads)
-            if (!r.error && r.value < 2400) { sum += double(r.value); ++n; }
+            if (!r.error && r.value < 2400) {
+                sum += double(r.value);
+                ++n;
+            }
         if (n < 20) continue;
         ++smoke_hits;
         const double mean = sum / n;
@@ -250,13 +260,18 @@ TEST(PhysicalModel, SickRangeFallsAsSmokeThickensAndErrorsAtTheEdges)
         const Scan s = sc.scanAt(times[k], k);
         for (const BeamResult& b : s.beams) {
             if (b.smoke.column_local <= 0) continue;
-            if (b.value == 8189) col_err.push_back(b.smoke.column_local);
-            else if (!b.error && b.hit.hit && b.true_range_m < b.hit.t_m - 0.3) col_obst.push_back(b.smoke.column_local);
+            if (b.value == 8189)
+                col_err.push_back(b.smoke.column_local);
+            else if (!b.error && b.hit.hit && b.true_range_m < b.hit.t_m - 0.3)
+                col_obst.push_back(b.smoke.column_local);
         }
     }
     ASSERT_GT(col_err.size(), 100u);
     ASSERT_GT(col_obst.size(), 100u);
-    auto median = [](std::vector<double> v) { std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end()); return v[v.size() / 2]; };
+    auto median = [](std::vector<double> v) {
+        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+        return v[v.size() / 2];
+    };
     EXPECT_LT(median(col_err), 0.5 * median(col_obst)) << median(col_err) << " vs " << median(col_obst);
 }
 

@@ -3,9 +3,9 @@
 // Monte Carlo results are compared with tolerances of 3 (or 4) standard errors.
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
 #include <cmath>
 #include <numeric>
-#include <tbb/global_control.h>
 
 #include "../src/render/integrator.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -69,7 +69,8 @@ max = [1.025, 1.025, 1.025]
 density = 0.01
 voxel = 0.05
 medium = { preset = "theatrical_fog", albedo = 1.0 }
-)", config(64));
+)",
+                                       config(64));
     for (int k = 0; k < 3; ++k) {
         const auto [m, se] = imageMean(r, k);
         EXPECT_NEAR(m, 1.0, 3 * se + 1e-9);
@@ -99,7 +100,8 @@ type = "vdb"
 file = "volumes/fog_ball_float.vdb"
 scale = 0.4
 medium = { sigma_t_550 = 100.0, angstrom = 2.0, albedo = 1.0, g = 0.6 }
-)", config(256, 1000000));
+)",
+                                       config(256, 1000000));
     for (int k = 0; k < 3; ++k) {
         const auto [m, se] = imageMean(r, k);
         EXPECT_GT(se, 0.0);
@@ -113,7 +115,8 @@ TEST(Render, TransmittanceIsBeerLambert)
     // estimated. Heterogeneous grid: the mean of N estimates matches exp(−τ) from the exact walk.
     SmokeVolume v;
     v.name = "slab";
-    v.source = std::make_shared<const DensityGrid>(DensityGrid::box({-1.025, -1.025, -0.525}, {1.025, 1.025, 0.525}, 0.004, 0.05));
+    v.source = std::make_shared<const DensityGrid>(
+        DensityGrid::box({-1.025, -1.025, -0.525}, {1.025, 1.025, 0.525}, 0.004, 0.05));
     std::vector<SmokeVolume> vols = {v};
     const RenderMedium med(SmokeField::at(vols, 0), 64);
     const Ray r{Vec3(0.1, -0.2, -3), Vec3(0.1, 0.05, 1).normalized()};
@@ -170,9 +173,11 @@ name = "white"
 albedo = [1.0, 1.0, 1.0]
 [[surfaces]]
 name = "target"
-material = ")") + target + R"("
+material = ")") +
+                target + R"("
 type = "quad"
-corner = [)" + std::to_string(x) + R"(, -0.005, -0.005]
+corner = [)" + std::to_string(x) +
+                R"(, -0.005, -0.005]
 u = [0.0, 0.01, 0.0]
 v = [0.0, 0.0, 0.01]
 [[lights]]
@@ -226,7 +231,8 @@ name = "cam"
 width = 16
 height = 8
 hfov_deg = 60
-)", "t.toml", "");
+)",
+                               "t.toml", "");
     const SurfaceSet set(s);
     const auto cam = makeCamera(s.cameras[0]);
     const Vec3 lo(0.475, -0.525, -0.525), hi(1.525, 0.525, 0.525);
@@ -274,7 +280,8 @@ irradiance = 2.0
 [[cameras]]
 name = "cam"
 position = [0.0, 0.0, -0.45]
-look_at = [)" + std::to_string(std::sin(theta)) + ", 0.0, " + std::to_string(-0.45 + std::cos(theta)) + R"(]
+look_at = [)" +
+        std::to_string(std::sin(theta)) + ", 0.0, " + std::to_string(-0.45 + std::cos(theta)) + R"(]
 width = 1
 height = 1
 hfov_deg = 0.05
@@ -289,7 +296,8 @@ medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo
 )";
     const RenderResult r = renderScene(toml, config(40000, 1));
     const double mu = std::cos(theta), d = 1 + g * g - 2 * g * mu, p = (1 - g * g) / (4 * M_PI * d * std::sqrt(d));
-    const double want = albedo * sigma * p * E * std::exp(-sigma * L) * (1 - std::exp(-sigma * L * (1 - mu) / mu)) / (sigma * (1 - mu));
+    const double want =
+        albedo * sigma * p * E * std::exp(-sigma * L) * (1 - std::exp(-sigma * L * (1 - mu) / mu)) / (sigma * (1 - mu));
     const auto [m, se] = imageMean(r, 0);
     EXPECT_NEAR(m, want, 3 * se);
     EXPECT_LT(se, 0.05 * want);
@@ -336,7 +344,8 @@ v = [0.0, 10.0, 0.0]
 [[lights]]
 name = "panel"
 kind = "area"
-position = [0.0, 0.0, )" + std::to_string(c) + R"(]
+position = [0.0, 0.0, )" +
+            std::to_string(c) + R"(]
 rpy_deg = [0.0, 90.0, 0.0]
 width = 0.6
 height = 0.3
@@ -353,7 +362,8 @@ hfov_deg = 0.01
         const RenderResult r = renderScene(toml, config(4000, 1));
         const double X = a / (2 * c), Y = b / (2 * c);
         const double Fq = (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
-                           Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) / (2 * M_PI);
+                           Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
+            (2 * M_PI);
         const auto [m, se] = imageMean(r, 1);
         EXPECT_NEAR(m, Le * 4 * Fq, 3 * se + 1e-6 * m) << "height " << c;
     }

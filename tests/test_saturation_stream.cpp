@@ -34,7 +34,8 @@ TEST(SaturationStream, RenderedFramesMeasureWhatTheCalibrationMeasured)
     cc.height = rc.height;
     cc.seed = 3;
     cc.densities.clear();
-    for (double t : times) cc.densities.push_back(predictor.column(SmokeField::at(scene.volumes, t)) / predictor.path_m());
+    for (double t : times)
+        cc.densities.push_back(predictor.column(SmokeField::at(scene.volumes, t)) / predictor.path_m());
     EXPECT_EQ(cc.densities[0], 0.0);
     for (size_t k = 1; k < times.size(); ++k) ASSERT_GT(cc.densities[k], cc.densities[k - 1]);
     const CalibrationResult cal = calibrate(scene, cc);
@@ -44,8 +45,9 @@ TEST(SaturationStream, RenderedFramesMeasureWhatTheCalibrationMeasured)
         const SaturationPoint& c = cal.points[k];
         const double se_r = m.all.stddev / std::sqrt(double(m.all.pixels));
         const double tol = 4 * std::hypot(se_r, c.sigma);
-        std::printf("t = %5.0f s  rho = %.5f  rendered %.4f ± %.4f  calibration %.4f ± %.4f  predicted %.4f\n", times[k],
-                    c.density, m.all.mean, se_r, c.saturation, c.sigma, predictor.saturation(SmokeField::at(scene.volumes, times[k])));
+        std::printf("t = %5.0f s  rho = %.5f  rendered %.4f ± %.4f  calibration %.4f ± %.4f  predicted %.4f\n",
+                    times[k], c.density, m.all.mean, se_r, c.saturation, c.sigma,
+                    predictor.saturation(SmokeField::at(scene.volumes, times[k])));
         EXPECT_NEAR(m.all.mean, c.saturation, tol) << "t = " << times[k];
         EXPECT_NEAR(m.all.mean, predictor.saturation(SmokeField::at(scene.volumes, times[k])), 0.015 + tol);
         EXPECT_LT(m.all.mean, prev) << "saturation must fall as the smoke thickens";
@@ -121,7 +123,8 @@ TEST(SaturationStream, RendererRefusesACameraThatMissesTheTarget)
     small.width = 80;
     small.height = 60;
     EXPECT_NO_THROW(SaturationRenderer(scene, surfaces, small));
-    scene.cameras[0].pose.R = scene.cameras[0].pose.R * Pose::fromRpyDeg(Vec3::Zero(), Vec3(0, 0, 180)).R;  // facing away
+    scene.cameras[0].pose.R =
+        scene.cameras[0].pose.R * Pose::fromRpyDeg(Vec3::Zero(), Vec3(0, 0, 180)).R;  // facing away
     EXPECT_THROW(SaturationRenderer(scene, surfaces, small), Error);
     small.spp = 0;
     EXPECT_THROW(SaturationRenderer(scene, surfaces, small), Error);

@@ -7,8 +7,8 @@
 #include <fstream>
 
 #include "smokescan/core/error.hpp"
-#include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 #include "scene_text.hpp"
@@ -46,7 +46,8 @@ type = "box"
 min = [0.475, -0.525, -0.525]
 max = [2.025, 0.525, 0.525]
 voxel = 0.05
-density = )" + tomlNumber(density) + "\n" + extra;
+density = )" +
+        tomlNumber(density) + "\n" + extra;
 }
 
 struct Rig {

@@ -141,12 +141,15 @@ TEST(SceneErrors, OneLineWithFileAndLine)
     EXPECT_EQ(errorOf(std::string("colour = 1\n") + kMinimal), "s.toml:1: unknown key 'colour'");
     EXPECT_EQ(errorOf("[[materials]]\nname = \"a\"\nalbdo = [1,1,1]\n"), "s.toml:3: unknown key 'materials[0].albdo'");
     EXPECT_EQ(errorOf("[[materials]]\nname = 3\n"), "s.toml:2: materials[0].name must be a string");
-    EXPECT_EQ(errorOf("[[materials]]\nname = \"a\"\nnir_785 = \"high\"\n"), "s.toml:3: materials[0].nir_785 must be a number");
+    EXPECT_EQ(errorOf("[[materials]]\nname = \"a\"\nnir_785 = \"high\"\n"),
+              "s.toml:3: materials[0].nir_785 must be a number");
     EXPECT_EQ(errorOf("[[materials]]\nnir_785 = 0.3\n"), "s.toml:1: missing field 'materials[0].name'");
-    EXPECT_NE(errorOf("[[surfaces]]\nname = \"w\"\nmaterial = \"nope\"\n").find("names no material: 'nope'"), std::string::npos);
-    EXPECT_NE(errorOf("[[sensors]]\ntype = \"velodyne\"\n").find("must be urg04lx or lms200"), std::string::npos);
-    EXPECT_NE(errorOf("[[smoke]]\nname = \"x\"\ntype = \"vdb\"\nfile = \"missing.vdb\"\n").find("missing.vdb: no such file"),
+    EXPECT_NE(errorOf("[[surfaces]]\nname = \"w\"\nmaterial = \"nope\"\n").find("names no material: 'nope'"),
               std::string::npos);
+    EXPECT_NE(errorOf("[[sensors]]\ntype = \"velodyne\"\n").find("must be urg04lx or lms200"), std::string::npos);
+    EXPECT_NE(
+        errorOf("[[smoke]]\nname = \"x\"\ntype = \"vdb\"\nfile = \"missing.vdb\"\n").find("missing.vdb: no such file"),
+        std::string::npos);
     EXPECT_NE(errorOf("[[smoke]]\nname = \"x\"\ntype = \"box\"\nmin = [0,0,0]\nmax = [1,1,-1]\n").find("s.toml:5"),
               std::string::npos);
     EXPECT_NE(errorOf("[[smoke]]\nname = \"x\"\ntype = \"box\"\nmin = [0,0,0]\nmax = [1,1,1]\n"

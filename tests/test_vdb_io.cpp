@@ -4,11 +4,11 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <iterator>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <functional>
+#include <iterator>
+#include <sstream>
 
 #include "../src/media/vdb_grid.hpp"
 #include "../src/media/vdb_header.hpp"
@@ -22,10 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path tmpDir()
-{
-    return smokescan::test::scratch("vdb_io");
-}
+fs::path tmpDir() { return smokescan::test::scratch("vdb_io"); }
 
 std::string writeGrid(const std::string& name, openvdb::GridBase::Ptr g)
 {
@@ -132,10 +129,14 @@ TEST(VdbLoad, BadInputsGiveOneLineErrors)
     ensureOpenVdb();
     EXPECT_NE(errorOf([] { DensityGrid::loadVdb("/nonexistent/x.vdb"); }).find("no such file"), std::string::npos);
     const std::string txt = (tmpDir() / "not_a_grid.vdb").string();
-    { std::ofstream(txt) << "hello"; }
-    EXPECT_NE(errorOf([&] { DensityGrid::loadVdb(txt); }).find("not a valid VDB file: no VDB magic number"), std::string::npos);
-    EXPECT_NE(errorOf([] { DensityGrid::loadVdb(test::projectVolume("fog_ball_float.vdb"), {"temperature", 1}); })
-                  .find("no grid named 'temperature' (grids: density)"),
+    {
+        std::ofstream(txt) << "hello";
+    }
+    EXPECT_NE(errorOf([&] { DensityGrid::loadVdb(txt); }).find("not a valid VDB file: no VDB magic number"),
+              std::string::npos);
+    EXPECT_NE(errorOf([] {
+                  DensityGrid::loadVdb(test::projectVolume("fog_ball_float.vdb"), {"temperature", 1});
+              }).find("no grid named 'temperature' (grids: density)"),
               std::string::npos);
 
     auto vec = openvdb::Vec3SGrid::create();
@@ -220,7 +221,8 @@ TEST(VdbHeader, RefusesDamagedFilesBeforeOpenVdbReadsThem)
     EXPECT_EQ(grids[0].voxels, 33371);  // lattice points with i² + j² + k² < 20², from the grid's own metadata
 
     // Every truncation is refused, by the check alone.
-    for (size_t n : {size_t(0), size_t(7), size_t(56), size_t(64), size_t(100), size_t(200), good.size() / 2, good.size() - 1})
+    for (size_t n :
+         {size_t(0), size_t(7), size_t(56), size_t(64), size_t(100), size_t(200), good.size() / 2, good.size() - 1})
         EXPECT_NE(headerError(good.substr(0, n)).find("not a valid VDB file"), std::string::npos) << n;
 
     // The type string edited (float → vec3s): refused with the loader's own message, at once.

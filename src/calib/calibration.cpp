@@ -53,7 +53,8 @@ SaturationPoint toPoint(double rho, const SaturationStats& s)
 
 }  // namespace
 
-CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg, const std::function<void(int, int)>& progress)
+CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg,
+                            const std::function<void(int, int)>& progress)
 {
     const auto t0 = std::chrono::steady_clock::now();
     if (scene0.cameras.empty()) throw Error(scene0.source, "the scene has no camera to calibrate with");
@@ -112,7 +113,8 @@ nlohmann::json fitJson(const CurveFitResult& f, const std::vector<SaturationPoin
     j["r2"] = f.r2;
     j["solver"] = f.message;
     nlohmann::json p = nlohmann::json::array();
-    for (const auto& q : pts) p.push_back({{"density", q.density}, {"saturation", q.saturation}, {"std_error", q.sigma}});
+    for (const auto& q : pts)
+        p.push_back({{"density", q.density}, {"saturation", q.saturation}, {"std_error", q.sigma}});
     j["points"] = p;
     return j;
 }
@@ -135,10 +137,16 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
                       {"paper_density", cfg.paper_density},
                       {"engine_unit_factor", r.engine_unit_factor},
                       {"engine_unit_factor_meaning", "smokescan density units per unit of the paper's engine density"}};
-    j["render"] = {{"scene", scene_source}, {"spp", cfg.spp},        {"width", cfg.width},
-                   {"height", cfg.height},  {"seed", cfg.seed},      {"densities", cfg.densities},
-                   {"camera", cfg.camera},  {"target_prefix", cfg.target_prefix},
-                   {"exposure", "auto (average metering)"}, {"seconds", r.seconds}};
+    j["render"] = {{"scene", scene_source},
+                   {"spp", cfg.spp},
+                   {"width", cfg.width},
+                   {"height", cfg.height},
+                   {"seed", cfg.seed},
+                   {"densities", cfg.densities},
+                   {"camera", cfg.camera},
+                   {"target_prefix", cfg.target_prefix},
+                   {"exposure", "auto (average metering)"},
+                   {"seconds", r.seconds}};
     AtomicFile f(path);
     f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     f.commit();
@@ -170,7 +178,8 @@ CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::s
         r.curve.b = p.at("b").get<double>();
         r.curve.gamma = p.at("gamma").get<double>();
         for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) r.covariance(a, b) = f.at("covariance").at(size_t(a)).at(size_t(b)).get<double>();
+            for (int b = 0; b < 3; ++b)
+                r.covariance(a, b) = f.at("covariance").at(size_t(a)).at(size_t(b)).get<double>();
         for (int k = 0; k < 3; ++k) r.std_error[size_t(k)] = std::sqrt(std::max(0.0, r.covariance(k, k)));
         r.converged = f.at("converged").get<bool>();
         r.chi2 = f.value("chi2", 0.0);

@@ -12,7 +12,6 @@
 namespace smokescan {
 namespace {
 
-
 /// Standard error of the fitted curve at ρ (delta method with the parameters' covariance).
 double curveSe(const CurveFitResult& f, double rho)
 {
@@ -72,7 +71,8 @@ void writeCalibrationPlot(const std::string& path, const CalibrationResult& r, c
     size_t patch = 0;
     for (const auto& [name, pts] : r.patches) {
         const Col col = colourOf(name, patch++);
-        for (const auto& p : pts) c.box(X(p.density) - 2, Y(p.saturation) - 2, X(p.density) + 2, Y(p.saturation) + 2, col, true);
+        for (const auto& p : pts)
+            c.box(X(p.density) - 2, Y(p.saturation) - 2, X(p.density) + 2, Y(p.saturation) + 2, col, true);
     }
     for (const auto& p : r.points) {
         const int x = X(p.density);
@@ -85,8 +85,8 @@ void writeCalibrationPlot(const std::string& path, const CalibrationResult& r, c
     for (int y = T; y < H - B; y += 12) c.line(xs, y, xs, std::min(H - B, y + 6), {0.8f, 0.1f, 0.1f});
     c.box(xs - 5, ys - 5, xs + 5, ys + 5, {0.8f, 0.1f, 0.1f}, false);
     c.text(std::min(xs + 10, W - 330), ys - 10,
-           "S = " + fmt("%.2f", cfg.threshold_saturation) + " at density " + fmt("%.5f", r.threshold_density) + " +/- " +
-               fmt("%.5f", r.threshold_density_se),
+           "S = " + fmt("%.2f", cfg.threshold_saturation) + " at density " + fmt("%.5f", r.threshold_density) +
+               " +/- " + fmt("%.5f", r.threshold_density_se),
            14, {0.8f, 0.1f, 0.1f});
     writeImage(path, c.image());
 }

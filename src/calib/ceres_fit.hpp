@@ -52,9 +52,9 @@ enum class ClusterCount { WithData, Informative };
 
 /// Model-based and cluster-robust covariance of a problem's free parameters.
 struct ClusterCovariance {
-    Eigen::MatrixXd model;   ///< (JᵀJ)⁻¹ (pseudo-inverse): the Fisher information's inverse
+    Eigen::MatrixXd model;  ///< (JᵀJ)⁻¹ (pseudo-inverse): the Fisher information's inverse
     Eigen::MatrixXd robust;  ///< m/(m − 1)·A⁻¹·B·A⁻¹, B = Σ over clusters of their score outer products
-    int clusters = 0;        ///< m, as counted by ClusterCount
+    int clusters = 0;  ///< m, as counted by ClusterCount
 };
 
 /// @brief The covariance at the solution from a problem of Pearson residuals (their JᵀJ is the
@@ -73,7 +73,8 @@ inline ClusterCovariance clusterRobustCovariance(ceres::Problem& problem, const 
     const int P = jac.num_cols;
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jac.num_rows, P);
     for (int row = 0; row < jac.num_rows; ++row)
-        for (int i = jac.rows[size_t(row)]; i < jac.rows[size_t(row) + 1]; ++i) J(row, jac.cols[size_t(i)]) = jac.values[size_t(i)];
+        for (int i = jac.rows[size_t(row)]; i < jac.rows[size_t(row) + 1]; ++i)
+            J(row, jac.cols[size_t(i)]) = jac.values[size_t(i)];
     std::map<long long, Eigen::VectorXd> score;
     for (size_t row = 0; row < r.size() && row < cluster_of.size(); ++row) {
         auto it = score.try_emplace(cluster_of[row], Eigen::VectorXd::Zero(P)).first;

@@ -8,8 +8,8 @@
 #include <mutex>
 #include <set>
 
-#include "smokescan/core/error.hpp"
 #include "ceres_fit.hpp"
+#include "smokescan/core/error.hpp"
 
 namespace smokescan {
 namespace {
@@ -25,7 +25,10 @@ T curveValue(const T& rho, const T& S0, const T& a, const T& b, double gamma)
 
 /// Residual of one point, in units of its standard error.
 struct SaturationResidual {
-    SaturationResidual(double rho, double S, double sigma, double gamma) : rho_(rho), S_(S), sigma_(sigma), gamma_(gamma) {}
+    SaturationResidual(double rho, double S, double sigma, double gamma)
+        : rho_(rho), S_(S), sigma_(sigma), gamma_(gamma)
+    {
+    }
     template <class T>
     bool operator()(const T* const p, T* r) const
     {
@@ -51,8 +54,12 @@ double SaturationCurve::operator()(double rho) const { return curveValue(rho, S0
 
 double SaturationCurve::invert(double S) const
 {
-    if (!std::isfinite(S) || S <= 0) throw Error("", "saturation " + std::to_string(S) + " is never reached (the curve only tends to 0)");
-    if (S >= (*this)(0.0)) throw Error("", "saturation " + std::to_string(S) + " is at or above the clear-air value " + std::to_string((*this)(0.0)));
+    if (!std::isfinite(S) || S <= 0)
+        throw Error("", "saturation " + std::to_string(S) + " is never reached (the curve only tends to 0)");
+    if (S >= (*this)(0.0))
+        throw Error(
+            "",
+            "saturation " + std::to_string(S) + " is at or above the clear-air value " + std::to_string((*this)(0.0)));
     return inverseValue(S, S0, a, b, gamma);
 }
 
@@ -78,7 +85,9 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
         const auto& p = pts[i];
         const std::string where = "calibration point " + std::to_string(i + 1);
         if (!std::isfinite(p.density) || !std::isfinite(p.saturation) || !std::isfinite(p.sigma))
-            throw Error(where, "is not finite (density " + std::to_string(p.density) + ", saturation " + std::to_string(p.saturation) + ")");
+            throw Error(where,
+                        "is not finite (density " + std::to_string(p.density) + ", saturation " +
+                            std::to_string(p.saturation) + ")");
         if (p.density < 0) throw Error(where, "has a negative density");
         if (p.saturation < 0 || p.saturation > 1) throw Error(where, "has a saturation outside [0, 1]");
         if (!(p.sigma > 0)) throw Error(where, "has a standard error <= 0");
@@ -87,13 +96,15 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
         smax = std::max(smax, p.saturation);
     }
     if (distinct.size() < 4)
-        throw Error("calibration", "needs at least 4 distinct densities to fit 3 parameters, got " + std::to_string(distinct.size()));
+        throw Error("calibration",
+                    "needs at least 4 distinct densities to fit 3 parameters, got " + std::to_string(distinct.size()));
     if (!(smax - smin > 1e-6)) throw Error("calibration", "saturation does not change with density: nothing to fit");
-    
+
     // Start: S0 from the clearest point, b from where the saturation halves, a = 1.
     std::vector<SaturationPoint> sorted = pts;
     std::sort(sorted.begin(), sorted.end(), [](auto& x, auto& y) { return x.density < y.density; });
-    double p[3] = {std::min(0.99, std::max(0.05, 1 - std::pow(1 - sorted.front().saturation, 1 / cfg.gamma))), 1.0, 0.0};
+    double p[3] = {std::min(0.99, std::max(0.05, 1 - std::pow(1 - sorted.front().saturation, 1 / cfg.gamma))), 1.0,
+                   0.0};
     double rho_half = sorted.back().density;
     for (const auto& q : sorted)
         if (q.saturation < 0.5 * sorted.front().saturation) {
@@ -106,9 +117,14 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     for (const auto& q : pts) {
         ceres::LossFunction* loss = nullptr;
         switch (cfg.loss) {
-        case RobustLoss::None: break;
-        case RobustLoss::Huber: loss = new ceres::HuberLoss(cfg.loss_scale); break;
-        case RobustLoss::Cauchy: loss = new ceres::CauchyLoss(cfg.loss_scale); break;
+        case RobustLoss::None:
+            break;
+        case RobustLoss::Huber:
+            loss = new ceres::HuberLoss(cfg.loss_scale);
+            break;
+        case RobustLoss::Cauchy:
+            loss = new ceres::CauchyLoss(cfg.loss_scale);
+            break;
         }
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SaturationResidual, 1, 3>(
                                      new SaturationResidual(q.density, q.saturation, q.sigma, cfg.gamma)),
@@ -150,7 +166,7 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     ceres::CRSMatrix jac;
     double cost = 0;
     const bool finite_jacobian = problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &jac) &&
-                                 std::all_of(jac.values.begin(), jac.values.end(), [](double v) { return std::isfinite(v); });
+        std::all_of(jac.values.begin(), jac.values.end(), [](double v) { return std::isfinite(v); });
     ceres::Covariance::Options copt;
     copt.algorithm_type = ceres::DENSE_SVD;
     copt.null_space_rank = -1;

@@ -23,7 +23,8 @@ SaturationPredictor::SaturationPredictor(const Scene& scene, const SurfaceSet& s
     : curve_(curve)
 {
     const Camera* cam = scene.findCamera(camera);
-    if (!cam) throw Error(scene.source, camera.empty() ? "the scene has no camera" : "no camera named '" + camera + "'");
+    if (!cam)
+        throw Error(scene.source, camera.empty() ? "the scene has no camera" : "no camera named '" + camera + "'");
     Vec3 centre = Vec3::Zero();
     int n = 0;
     for (const auto& s : scene.surfaces)
@@ -75,17 +76,22 @@ SaturationSeries simulateSaturation(const SaturationFrameFn& frame, const Satura
         for (size_t p = 0; p < s.patch_names.size(); ++p) {
             const auto it = f.patches.find(s.patch_names[p]);
             if (it == f.patches.end())
-                throw Error("saturation", "frame at t = " + std::to_string(t) + " s does not show patch '" + s.patch_names[p] + "'");
+                throw Error("saturation",
+                            "frame at t = " + std::to_string(t) + " s does not show patch '" + s.patch_names[p] + "'");
             s.patch[p].push_back(noisy(it->second, 1 + p, k));
         }
     }
     return s;
 }
 
-SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor, const SaturationSimConfig& cfg)
+SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor,
+                                    const SaturationSimConfig& cfg)
 {
     return simulateSaturation(
-        [&](double t, uint64_t) { return SaturationFrame{predictor.saturation(SmokeField::at(scene.volumes, t)), {}}; }, cfg);
+        [&](double t, uint64_t) {
+            return SaturationFrame{predictor.saturation(SmokeField::at(scene.volumes, t)), {}};
+        },
+        cfg);
 }
 
 }  // namespace smokescan

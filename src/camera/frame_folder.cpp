@@ -22,7 +22,8 @@ FrameFolder::FrameFolder(std::string dir) : dir_(std::move(dir))
     const fs::path parent = fs::path(dir_).parent_path();
     if (!parent.empty() && !fs::is_directory(parent)) throw Error(dir_, "cannot write (no such directory)");
     std::string tmpl = dir_ + ".tmpXXXXXX";
-    if (!::mkdtemp(tmpl.data())) throw Error(dir_, "cannot create the frames folder: " + std::string(std::strerror(errno)));
+    if (!::mkdtemp(tmpl.data()))
+        throw Error(dir_, "cannot create the frames folder: " + std::string(std::strerror(errno)));
     tmp_ = tmpl;
     registerTemporary(tmp_);
     std::error_code ec;

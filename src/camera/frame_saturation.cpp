@@ -24,7 +24,8 @@ double frameTimeFromName(const std::string& path, double fps)
     const std::string stem = fs::path(path).stem().string();
     static const std::regex num(R"(\d+(\.\d+)?)");
     std::string last;
-    for (auto it = std::sregex_iterator(stem.begin(), stem.end(), num); it != std::sregex_iterator(); ++it) last = it->str();
+    for (auto it = std::sregex_iterator(stem.begin(), stem.end(), num); it != std::sregex_iterator(); ++it)
+        last = it->str();
     if (last.empty()) throw Error(path, "has no number in its name to take the time from (use --timestamps)");
     const double v = std::stod(last);
     return fps > 0 ? v / fps : v;
@@ -46,15 +47,20 @@ std::vector<double> readFrameTimestamps(const std::string& path, const std::vect
             if (ln == 1) continue;  // a header
             throw Error(path + ":" + std::to_string(ln), "time is not a finite number: '" + t + "'");
         }
-        if (comma == std::string::npos) in_order.push_back(v);
-        else by_name[fs::path(line.substr(0, comma)).filename().string()] = v;
+        if (comma == std::string::npos)
+            in_order.push_back(v);
+        else
+            by_name[fs::path(line.substr(0, comma)).filename().string()] = v;
     }
     std::vector<double> out;
     for (size_t i = 0; i < frames.size(); ++i) {
         const auto it = by_name.find(fs::path(frames[i]).filename().string());
-        if (it != by_name.end()) out.push_back(it->second);
-        else if (i < in_order.size()) out.push_back(in_order[i]);
-        else throw Error(path, "has no time for " + frames[i]);
+        if (it != by_name.end())
+            out.push_back(it->second);
+        else if (i < in_order.size())
+            out.push_back(in_order[i]);
+        else
+            throw Error(path, "has no time for " + frames[i]);
     }
     return out;
 }
@@ -104,7 +110,8 @@ FramePatch parseFramePatch(const std::string& spec, bool rect, const std::string
     p.name = spec.substr(0, eq);
     const auto v = parseNumberList(spec.substr(eq + 1), option);
     if (rect) {
-        if (v.size() != 4 || v[2] <= 0 || v[3] <= 0) throw Error(option, "expects NAME=x,y,width,height with a positive size");
+        if (v.size() != 4 || v[2] <= 0 || v[3] <= 0)
+            throw Error(option, "expects NAME=x,y,width,height with a positive size");
         p.polygon_px = {{v[0], v[1]}, {v[0] + v[2], v[1]}, {v[0] + v[2], v[1] + v[3]}, {v[0], v[1] + v[3]}};
     } else {
         if (v.size() < 6 || v.size() % 2) throw Error(option, "expects NAME=x1,y1,x2,y2,x3,y3,... (at least 3 points)");
@@ -172,7 +179,8 @@ SaturationSeries measureFrames(const std::vector<std::string>& frames, const std
         Image ids;
         if (regions.by_id) {
             ids = readImage(id_frames[k]);
-            if (ids.width != img.width || ids.height != img.height) throw Error(id_frames[k], "size differs from " + frames[k]);
+            if (ids.width != img.width || ids.height != img.height)
+                throw Error(id_frames[k], "size differs from " + frames[k]);
         }
         const bool linear = fs::path(frames[k]).extension() == ".exr";
         const FrameSaturation m = measureFrame(img, linear, regions.by_id ? &ids : nullptr, regions, s.patch_names);

@@ -58,8 +58,8 @@ RenderConfig renderConfigOf(const SaturationRenderConfig& c, double time_s, uint
 }
 }  // namespace
 
-SaturationRenderer::SaturationRenderer(const Scene& scene, const SurfaceSet& surfaces, const SaturationRenderConfig& cfg,
-                                       double t_check_s)
+SaturationRenderer::SaturationRenderer(const Scene& scene, const SurfaceSet& surfaces,
+                                       const SaturationRenderConfig& cfg, double t_check_s)
     : scene_(scene), surfaces_(surfaces), cfg_(cfg)
 {
     if (cfg.spp < 1) throw Error("--saturation-spp", "must be >= 1");

@@ -20,8 +20,8 @@
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/run_files.hpp"
-#include "smokescan/scene/scene_io.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -40,10 +40,13 @@ int runCalibrate(const CalibArgs& a)
         throw Error("--densities", "at most " + std::to_string(limits::kCalibrationDensities) + " densities");
     for (double d : cfg.densities)
         if (d < 0 || d > limits::kCalibrationDensityMax)
-            throw Error("--densities", "density " + std::to_string(d) + " is outside [0, " + std::to_string(limits::kCalibrationDensityMax) +
-                                           "] (the calibration's range; 0.0028 is the paper's threshold)");
+            throw Error("--densities",
+                        "density " + std::to_string(d) + " is outside [0, " +
+                            std::to_string(limits::kCalibrationDensityMax) +
+                            "] (the calibration's range; 0.0028 is the paper's threshold)");
     if (double(cfg.width) * cfg.height * cfg.spp > double(limits::kFrameSamples))
-        throw Error("--spp", "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
+        throw Error("--spp",
+                    "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
     RunFiles files;
     files.input(a.scene, "the scene");
     files.output(a.out, "--out");
@@ -53,8 +56,9 @@ int runCalibrate(const CalibArgs& a)
     const Progress progress("calibrate", "frames");
     const CalibrationResult r = calibrate(scene, cfg, [&](int done, int total) { progress.update(done, total); });
     if (!r.fit.converged)
-        throw Error("calibrate", "the curve could not be fitted to these " + std::to_string(cfg.densities.size()) +
-                                     " points: " + r.fit.message + " (the default sweep: 14 densities from 0 to 0.012)");
+        throw Error("calibrate",
+                    "the curve could not be fitted to these " + std::to_string(cfg.densities.size()) +
+                        " points: " + r.fit.message + " (the default sweep: 14 densities from 0 to 0.012)");
     writeCalibrationJson(files.stage(a.out), r, cfg, scene.source);
     if (!a.plot.empty()) writeCalibrationPlot(files.stage(a.plot), r, cfg);
     files.commit();
@@ -62,10 +66,11 @@ int runCalibrate(const CalibArgs& a)
     std::printf("fit: S0 = %.4f ± %.4f, a = %.4f ± %.4f, b = %.1f ± %.1f /density; chi2/dof = %.2f, R² = %.5f%s\n",
                 f.curve.S0, f.std_error[0], f.curve.a, f.std_error[1], f.curve.b, f.std_error[2],
                 f.dof > 0 ? f.chi2 / f.dof : 0.0, f.r2, f.converged ? "" : " (NOT CONVERGED)");
-    std::printf("saturation %.2f at density %.5f ± %.5f; penetration power over %.2f m = %.5f ± %.5f density·m "
-                "(paper: 0.0028, 0.007); engine unit factor %.3f\n",
-                cfg.threshold_saturation, r.threshold_density, r.threshold_density_se, cfg.path_m, r.penetration_power,
-                r.penetration_power_se, r.engine_unit_factor);
+    std::printf(
+        "saturation %.2f at density %.5f ± %.5f; penetration power over %.2f m = %.5f ± %.5f density·m "
+        "(paper: 0.0028, 0.007); engine unit factor %.3f\n",
+        cfg.threshold_saturation, r.threshold_density, r.threshold_density_se, cfg.path_m, r.penetration_power,
+        r.penetration_power_se, r.engine_unit_factor);
     std::printf("wrote %s%s%s (%zu frames, %.1f s)\n", a.out.c_str(), a.plot.empty() ? "" : " and ", a.plot.c_str(),
                 cfg.densities.size(), r.seconds);
     return 0;
@@ -87,8 +92,10 @@ int runSaturation(const SatArgs& a)
     const auto& patches = regions.patches;
     for (size_t i = 0; i < patches.size(); ++i)
         for (size_t j = 0; j < i; ++j)
-            if (patches[i].name == patches[j].name) throw Error("--rect/--polygon", "patch '" + patches[i].name + "' is named twice");
-    if (patches.empty() && a.ids.empty()) throw Error("saturation", "give the target region: --rect/--polygon, or --ids with --scene");
+            if (patches[i].name == patches[j].name)
+                throw Error("--rect/--polygon", "patch '" + patches[i].name + "' is named twice");
+    if (patches.empty() && a.ids.empty())
+        throw Error("saturation", "give the target region: --rect/--polygon, or --ids with --scene");
     if (!a.ids.empty() && a.scene.empty()) throw Error("--ids", "needs --scene to name the objects");
     const auto frames = listFrames(a.inputs);
     const auto id_frames = a.ids.empty() ? std::vector<std::string>{} : listFrames({a.ids});
@@ -100,13 +107,17 @@ int runSaturation(const SatArgs& a)
     files.output(a.out, "--out");
     if (!a.ids.empty()) {
         if (id_frames.size() != frames.size())
-            throw Error(a.ids, "holds " + std::to_string(id_frames.size()) + " id images for " + std::to_string(frames.size()) + " frames");
+            throw Error(a.ids,
+                        "holds " + std::to_string(id_frames.size()) + " id images for " +
+                            std::to_string(frames.size()) + " frames");
         regions.target = targetPatches(loadScene(a.scene), a.prefix);
         regions.by_id = true;
     }
-    const std::vector<double> stamps = a.timestamps.empty() ? std::vector<double>{} : readFrameTimestamps(a.timestamps, frames);
+    const std::vector<double> stamps =
+        a.timestamps.empty() ? std::vector<double>{} : readFrameTimestamps(a.timestamps, frames);
     const SaturationSeries s = measureFrames(
-        frames, id_frames, [&](size_t k) { return stamps.empty() ? frameTimeFromName(frames[k], a.fps) : stamps[k]; }, regions);
+        frames, id_frames, [&](size_t k) { return stamps.empty() ? frameTimeFromName(frames[k], a.fps) : stamps[k]; },
+        regions);
     writeSaturationCsv(files.stage(a.out), s);
     files.commit();
     std::printf("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), frames.size(), s.patch_names.size());
@@ -118,16 +129,23 @@ int runSaturation(const SatArgs& a)
 void addCalibration(CLI::App& app, Runner& run)
 {
     auto a = std::make_shared<CalibArgs>();
-    auto* c = app.add_subcommand("calibrate", "Density ↔ saturation calibration (the paper's Fig. 7) from rendered frames, fitted with Ceres");
+    auto* c = app.add_subcommand(
+        "calibrate", "Density ↔ saturation calibration (the paper's Fig. 7) from rendered frames, fitted with Ceres");
     c->add_option("scene", a->scene, "Built-in scene name or scene file")->capture_default_str();
     c->add_option("--densities", a->densities, "Comma-separated densities (default: 14 from 0 to 0.012)");
     c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
-    c->add_option("--width", a->cfg.width, "Frame width [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
-    c->add_option("--height", a->cfg.height, "Frame height [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
+    c->add_option("--width", a->cfg.width, "Frame width [px]")
+        ->capture_default_str()
+        ->check(intRange(1, limits::kFrameSide));
+    c->add_option("--height", a->cfg.height, "Frame height [px]")
+        ->capture_default_str()
+        ->check(intRange(1, limits::kFrameSide));
     c->add_option("--seed", a->cfg.seed, "Render seed")->capture_default_str();
     c->add_option("--camera", a->cfg.camera, "Scene camera (default: the first)");
-    c->add_option("--target-prefix", a->cfg.target_prefix, "Surface-name prefix of the target's patches")->capture_default_str();
-    addChoice(c, "--loss", a->cfg.fit.loss, {{"none", RobustLoss::None}, {"huber", RobustLoss::Huber}, {"cauchy", RobustLoss::Cauchy}},
+    c->add_option("--target-prefix", a->cfg.target_prefix, "Surface-name prefix of the target's patches")
+        ->capture_default_str();
+    addChoice(c, "--loss", a->cfg.fit.loss,
+              {{"none", RobustLoss::None}, {"huber", RobustLoss::Huber}, {"cauchy", RobustLoss::Cauchy}},
               "Robust loss of the curve fit, default huber");
     c->add_option("--out", a->out, "Calibration JSON to write (e.g. calib/bocas.json)")->required();
     c->add_option("--plot", a->plot, "Also write the plot (PNG)");

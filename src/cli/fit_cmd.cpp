@@ -7,16 +7,16 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "smokescan/fit/covariates.hpp"
 #include "smokescan/calib/calibration.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/fit/covariates.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/fit/fit_report.hpp"
 #include "smokescan/fit/plume_fit.hpp"
-#include "smokescan/core/limits.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/plot/format.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -55,20 +55,33 @@ int runFit(const FitArgs& a0)
     files.output(a.plots + "_fig9.png", "--plots");
     files.output(a.aligned, "--aligned");
     files.output(a.covariates, "--covariates");
-    if (!a.covariates.empty() && a.scene.empty()) throw Error("--covariates", "needs --scene (the simulation's side of the table)");
+    if (!a.covariates.empty() && a.scene.empty())
+        throw Error("--covariates", "needs --scene (the simulation's side of the table)");
     const SensorModel model = sensorModelOption("--model", a.model);
-    if (model == SensorModel::Physical && a.scene.empty()) throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
+    if (model == SensorModel::Physical && a.scene.empty())
+        throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
     const int sources = !a.scene.empty() + (!a.surfaces.empty() || !a.surfaces_file.empty());
     if (sources == 0) throw Error("fit", "say which beams see which surface: --scene, --surface or --surfaces");
-    FitInputsConfig ic{a.laser, a.saturation, a.calibration, a.patch, a.scene, a.sensor, a.sensor_type, a.prefix, a.surfaces_file,
-                       a.surfaces, {parseRangeUnit(a.unit), a.lenient}};
+    FitInputsConfig ic{a.laser,
+                       a.saturation,
+                       a.calibration,
+                       a.patch,
+                       a.scene,
+                       a.sensor,
+                       a.sensor_type,
+                       a.prefix,
+                       a.surfaces_file,
+                       a.surfaces,
+                       {parseRangeUnit(a.unit), a.lenient}};
     FitInputs in = loadFitInputs(ic);
     if (std::isfinite(in.sigma_t_per_density)) a.cfg.sigma_t_per_density = in.sigma_t_per_density;
     const LrfSpec spec = specFor(in.mount.config);
     a.cfg.offset_s = a.offset;
     a.cfg.estimate_offset = !a.fixed_offset;
     if (model == SensorModel::Physical && spec.type != SensorType::Urg04lx)
-        throw Error("--model physical", std::string("fits the URG-04LX noise floor only; for a ") + sensorTypeName(spec.type) + " in plumes see fit-plume");
+        throw Error("--model physical",
+                    std::string("fits the URG-04LX noise floor only; for a ") + sensorTypeName(spec.type) +
+                        " in plumes see fit-plume");
     const SensorFitResult r = fitSensor(in.log, in.saturation, in.groups, spec, &in.calibration, a.cfg);
     std::unique_ptr<UrgNoiseFloorResult> phys;
     if (model == SensorModel::Physical && r.ok())
@@ -80,32 +93,40 @@ int runFit(const FitArgs& a0)
     if (failed) files.commit();
     if (!failed && !a.aligned.empty()) writeAlignedCsv(files.stage(a.aligned), r);
     if (!failed && !a.covariates.empty())
-        writeCovariates(files.stage(a.covariates), in.log, r, *in.scene, *in.surfaces, in.mount, spec, a.covariates_all);
+        writeCovariates(files.stage(a.covariates), in.log, r, *in.scene, *in.surfaces, in.mount, spec,
+                        a.covariates_all);
     if (!failed && !r.aligned.empty()) {
         writeFitTimePlot(files.stage(a.plots + "_fig5.png"), r, std::max(0, r.reference));
         writeFitSaturationPlot(files.stage(a.plots + "_fig9.png"), r, a.cfg);
     }
     std::fputs(fitSummaryText(r, in.sources.skipped.size()).c_str(), stdout);
-    if (!r.ok()) throw Error(a.laser, "no threshold could be fitted: " + (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
+    if (!r.ok())
+        throw Error(a.laser,
+                    "no threshold could be fitted: " +
+                        (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
     const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
     SensorConfig fitted = in.mount.config;
     fitted.model = model;
     fitted.paper.penetration_power = ref.penetration_power.value;
-    std::string comment = fmt("fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m",
-                              a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
-                              ref.penetration_power.value, ref.penetration_power.se);
+    std::string comment =
+        fmt("fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m",
+            a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
+            ref.penetration_power.value, ref.penetration_power.se);
     if (phys) {
-        if (!phys->ok) throw Error(a.laser, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
+        if (!phys->ok)
+            throw Error(a.laser, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
         fitted.physical.noise_floor = phys->noise_floor.value;
-        std::printf("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n", phys->group.c_str(),
-                    phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value, phys->onset_column.se);
+        std::printf("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n",
+                    phys->group.c_str(), phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value,
+                    phys->onset_column.se);
         comment += fmt("; physical noise_floor = %.4g +/- %.2g", phys->noise_floor.value, phys->noise_floor.se);
     }
     writeSensorFile(files.stage(a.out), fitted, comment + " (report: " + a.report + ")");
     files.commit();
-    std::printf("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), a.model.c_str(), ref.group.c_str(),
-                a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ", a.aligned.c_str(),
-                a.covariates.empty() ? "" : ", ", a.covariates.c_str());
+    std::printf("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(),
+                a.model.c_str(), ref.group.c_str(), a.report.c_str(), a.plots.c_str(), a.plots.c_str(),
+                a.aligned.empty() ? "" : ", ", a.aligned.c_str(), a.covariates.empty() ? "" : ", ",
+                a.covariates.c_str());
     return 0;
 }
 
@@ -132,22 +153,28 @@ int runFitPlume(const PlumeArgs& a)
     const SensorMount& mount = scene.sensors[size_t(si)];
     const size_t beams = log.scans.front().range.size(), expected = size_t(specFor(mount.config).n_beams);
     if (mount.config.type == SensorType::Lms200 && beams != expected)
-        throw Error(a.laser, "has " + std::to_string(beams) + " beams a scan; the scene's sensor '" + mount.name + "' (" + sensorTypeName(mount.config.type) +
-                                 ") has " + std::to_string(expected) + " (a log of another sensor?)");
+        throw Error(a.laser,
+                    "has " + std::to_string(beams) + " beams a scan; the scene's sensor '" + mount.name + "' (" +
+                        sensorTypeName(mount.config.type) + ") has " + std::to_string(expected) +
+                        " (a log of another sensor?)");
     const PlumeFitResult r = fitSickPlume(log, scene, surfaces, mount, a.cfg);
     writePlumeFitJson(files.stage(a.out), r, a.cfg, a.laser, a.scene);
     std::printf("%zu beams crossed a plume (%zu bad lines skipped)\n", r.obs.size(), log.skipped.size());
     std::printf("%-22s %6s %6s %6s %6s %12s\n", "peak density", "beams", "echo", "wall", "error", "depth [m]");
     for (const auto& b : r.bins)
         if (b.n)
-            std::printf("%9.3g - %9.3g  %6d %6d %6d %6d %12.3f\n", b.rho_lo, b.rho_hi, b.n, b.echo, b.surface, b.error, b.mean_depth_m);
+            std::printf("%9.3g - %9.3g  %6d %6d %6d %6d %12.3f\n", b.rho_lo, b.rho_hi, b.n, b.echo, b.surface, b.error,
+                        b.mean_depth_m);
     for (const auto& d : r.diagnoses) std::printf("diagnosis: %s\n", d.c_str());
-    if (!r.ok) throw Error(a.laser, "no plume penetration could be fitted: " + (r.diagnoses.empty() ? std::string("see ") + a.out : r.diagnoses.front()));
-    std::printf("penetration depth D = %.3f +/- %.3f m at density %.5f, falling as density^-k, k = %.2f +/- %.2f\n", r.depth_m.value,
-                r.depth_m.se, r.rho_ref, r.exponent.value, r.exponent.se);
+    if (!r.ok)
+        throw Error(a.laser,
+                    "no plume penetration could be fitted: " +
+                        (r.diagnoses.empty() ? std::string("see ") + a.out : r.diagnoses.front()));
+    std::printf("penetration depth D = %.3f +/- %.3f m at density %.5f, falling as density^-k, k = %.2f +/- %.2f\n",
+                r.depth_m.value, r.depth_m.se, r.rho_ref, r.exponent.value, r.exponent.se);
     if (std::isfinite(r.rho_50.value))
-        std::printf("half the beams echo from the plume at peak density %.5f +/- %.5f (slope %.2f +/- %.2f)\n", r.rho_50.value, r.rho_50.se,
-                    r.slope.value, r.slope.se);
+        std::printf("half the beams echo from the plume at peak density %.5f +/- %.5f (slope %.2f +/- %.2f)\n",
+                    r.rho_50.value, r.rho_50.se, r.slope.value, r.slope.se);
     files.commit();
     std::printf("wrote %s\n", a.out.c_str());
     return 0;
@@ -158,14 +185,18 @@ int runFitPlume(const PlumeArgs& a)
 void addFitPlume(CLI::App& app, Runner& run)
 {
     auto a = std::make_shared<PlumeArgs>();
-    auto* c = app.add_subcommand("fit-plume", "Fit a Sick LMS200's penetration into smoke plumes: reported distance against the scene's plume density");
+    auto* c = app.add_subcommand(
+        "fit-plume",
+        "Fit a Sick LMS200's penetration into smoke plumes: reported distance against the scene's plume density");
     c->add_option("--laser", a->laser, "Sick laser log (the paper's format)")->required();
     c->add_option("--scene", a->scene, "Scene with the plumes and the Sick (built-in name or file)")->required();
     c->add_option("--out", a->out, "JSON report to write")->required();
     c->add_option("--sensor", a->sensor, "Sensor in the scene (default: the first lms200)");
     c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
     c->add_flag("--lenient", a->lenient, "Skip bad lines instead of failing");
-    c->add_option("--time-offset", a->cfg.time_offset_s, "Scene time - log time [s]")->capture_default_str()->check(finite());
+    c->add_option("--time-offset", a->cfg.time_offset_s, "Scene time - log time [s]")
+        ->capture_default_str()
+        ->check(finite());
     c->add_option("--bins", a->cfg.bins, "Density bins")->capture_default_str()->check(intRange(1, limits::kPlumeBins));
     c->callback([a, &run] { run = [a] { return runFitPlume(*a); }; });
 }
@@ -173,33 +204,48 @@ void addFitPlume(CLI::App& app, Runner& run)
 void addFit(CLI::App& app, Runner& run)
 {
     auto a = std::make_shared<FitArgs>();
-    auto* c = app.add_subcommand("fit", "Fit a laser's smoke thresholds from a recorded log and the camera's saturation; write a sensor file");
+    auto* c = app.add_subcommand(
+        "fit", "Fit a laser's smoke thresholds from a recorded log and the camera's saturation; write a sensor file");
     c->add_option("--laser", a->laser, "Laser log (the paper's format, as `scan` writes it)")->required();
-    c->add_option("--saturation", a->saturation, "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it)")->required();
+    c->add_option("--saturation", a->saturation,
+                  "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it)")
+        ->required();
     c->add_option("--out", a->out, "Sensor file to write (TOML, for `scan --sensor-file`)")->required();
     c->add_option("--scene", a->scene, "Scene whose surfaces name the beam groups (built-in name or file)");
     c->add_option("--sensor", a->sensor, "Sensor in the scene (default: the first of --sensor-type)");
-    c->add_option("--target-prefix", a->prefix, "With --scene: surfaces whose names start with it form the groups")->capture_default_str();
+    c->add_option("--target-prefix", a->prefix, "With --scene: surfaces whose names start with it form the groups")
+        ->capture_default_str();
     c->add_option("--surface", a->surfaces, "A beam group: NAME=A0:A1[,A2:A3][@RANGE_M], degrees (repeatable)");
     c->add_option("--surfaces", a->surfaces_file, "Beam groups file: lines NAME A0_DEG A1_DEG [RANGE_M]");
     c->add_option("--sensor-type", a->sensor_type, "urg04lx or lms200 (without --scene)")->capture_default_str();
     c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
     c->add_flag("--lenient", a->lenient, "Skip bad lines (counted and listed in the report) instead of failing");
-    c->add_option("--calibration", a->calibration, "Density-saturation calibration JSON, or a built-in name")->capture_default_str();
+    c->add_option("--calibration", a->calibration, "Density-saturation calibration JSON, or a built-in name")
+        ->capture_default_str();
     c->add_option("--patch", a->patch, "Use this patch's saturation column and calibration curve");
-    c->add_option("--offset", a->offset, "Clock offset camera - laser [s]: the search centre, or the value with --fixed-offset")->capture_default_str()->check(finite());
+    c->add_option("--offset", a->offset,
+                  "Clock offset camera - laser [s]: the search centre, or the value with --fixed-offset")
+        ->capture_default_str()
+        ->check(finite());
     c->add_flag("--fixed-offset", a->fixed_offset, "Do not estimate the offset");
-    c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")->capture_default_str()->check(nonnegative());
+    c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")
+        ->capture_default_str()
+        ->check(nonnegative());
     addChoice(c, "--link", a->cfg.link, {{"probit", ErrorLink::Probit}, {"logistic", ErrorLink::Logistic}},
               "Threshold link, default probit");
-    c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")->capture_default_str()->check(nonnegative());
-    c->add_option("--model", a->model, "Sensor file model: paper (penetration power) or physical (URG noise floor solved in --scene)")
+    c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")
+        ->capture_default_str()
+        ->check(nonnegative());
+    c->add_option("--model", a->model,
+                  "Sensor file model: paper (penetration power) or physical (URG noise floor solved in --scene)")
         ->capture_default_str();
-    c->add_option("--reference", a->cfg.reference, "Group whose penetration power goes into the sensor file (default: most beams)");
+    c->add_option("--reference", a->cfg.reference,
+                  "Group whose penetration power goes into the sensor file (default: most beams)");
     c->add_option("--report", a->report, "JSON report (default: OUT's name + _report.json)");
     c->add_option("--plots", a->plots, "Plot path prefix: PREFIX_fig5.png, PREFIX_fig9.png (default: OUT's name)");
     c->add_option("--aligned", a->aligned, "Also write the aligned streams (CSV)");
-    c->add_option("--covariates", a->covariates, "Also write per-beam, per-scan covariates from the scene (CSV; needs --scene)");
+    c->add_option("--covariates", a->covariates,
+                  "Also write per-beam, per-scan covariates from the scene (CSV; needs --scene)");
     c->add_flag("--covariates-all", a->covariates_all, "Covariates for every beam, not only the groups'");
     c->callback([a, &run] { run = [a] { return runFit(*a); }; });
 }

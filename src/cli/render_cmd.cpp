@@ -55,8 +55,9 @@ int runRender(const RenderArgs& a)
     if (series) {
         if (std::isnan(a.from) || std::isnan(a.to) || a.to < a.from) throw Error("--every", "needs --from <= --to");
         if ((a.to - a.from) / a.every + 1 > double(limits::kFrames))
-            throw Error("--every", "would render " + limits::count(std::floor((a.to - a.from) / a.every) + 1) + " frames (at most " +
-                                       std::to_string(limits::kFrames) + ")");
+            throw Error("--every",
+                        "would render " + limits::count(std::floor((a.to - a.from) / a.every) + 1) +
+                            " frames (at most " + std::to_string(limits::kFrames) + ")");
         times.clear();
         for (int k = 0; a.from + k * a.every <= a.to + 1e-9; ++k) times.push_back(a.from + k * a.every);
         for (const std::string* p : {&a.out, &a.exr, &a.ids})
@@ -110,8 +111,11 @@ void addRender(CLI::App& app, Runner& run)
     c->add_option("--width", a->width, "Override the camera's width [px]")->check(intRange(1, limits::kFrameSide));
     c->add_option("--height", a->height, "Override the camera's height [px]")->check(intRange(1, limits::kFrameSide));
     c->add_option("--seed", a->cfg.seed, "Random seed")->capture_default_str();
-    c->add_option("--max-depth", a->cfg.max_depth, "Scattering/bounce events per path")->capture_default_str()->check(intRange(0, limits::kPathDepth));
-    c->add_option("--exposure", a->exposure, "'auto' (average metering to 18 % grey) or a radiance scale")->capture_default_str();
+    c->add_option("--max-depth", a->cfg.max_depth, "Scattering/bounce events per path")
+        ->capture_default_str()
+        ->check(intRange(0, limits::kPathDepth));
+    c->add_option("--exposure", a->exposure, "'auto' (average metering to 18 % grey) or a radiance scale")
+        ->capture_default_str();
     c->add_option("--from", a->from, "Time series: first time [s]")->check(finite());
     c->add_option("--to", a->to, "Time series: last time [s]")->check(finite());
     c->add_option("--every", a->every, "Time series: interval [s]")->check(positive());

@@ -14,15 +14,15 @@
 #include "progress.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
+#include "smokescan/camera/frame_folder.hpp"
 #include "smokescan/camera/saturation_render.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
-#include "smokescan/sensors/laser_log.hpp"
-#include "smokescan/io/run_files.hpp"
 #include "smokescan/io/image.hpp"
+#include "smokescan/io/run_files.hpp"
 #include "smokescan/scene/scene_io.hpp"
-#include "smokescan/camera/frame_folder.hpp"
+#include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/sensors/scan_summary.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
@@ -60,14 +60,17 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
     char h[320];
     CameraStream out;
     if (renderer) {
-        std::snprintf(h, sizeof h, "camera %s, target '%s*': rendered frames %dx%d, %d spp, auto exposure; noise sigma %g; camera clock = scene clock + %g s",
-                      cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.spp, ss.sigma, ss.clock_offset_s);
+        std::snprintf(
+            h, sizeof h,
+            "camera %s, target '%s*': rendered frames %dx%d, %d spp, auto exposure; noise sigma %g; camera clock = scene clock + %g s",
+            cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.spp, ss.sigma, ss.clock_offset_s);
         const Progress progress("rendering", "camera frames");
         const long long total = (long long)std::floor((ss.to_s - ss.from_s) * ss.rate_hz + 1e-9) + 1;
         out.series = simulateSaturation(
             [&](double t, uint64_t k) {
                 Image display, ids;
-                const TargetSaturation m = renderer->measure(t, k, frames ? &display : nullptr, frames ? &ids : nullptr);
+                const TargetSaturation m =
+                    renderer->measure(t, k, frames ? &display : nullptr, frames ? &ids : nullptr);
                 if (frames) frames->add(k, t + ss.clock_offset_s, display, ids);
                 progress.update((long long)k + 1, total);
                 SaturationFrame f{m.all.mean, {}};
@@ -76,11 +79,14 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
             },
             ss);
     } else {
-        std::snprintf(h, sizeof h, "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
-                      cam.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(), ss.sigma, ss.clock_offset_s);
+        std::snprintf(
+            h, sizeof h,
+            "camera %s looking at '%s*' over %.3f m; calibration %s; noise sigma %g; camera clock = scene clock + %g s",
+            cam.c_str(), a.target.c_str(), predictor->path_m(), a.calibration.c_str(), ss.sigma, ss.clock_offset_s);
         out.series = simulateSaturation(scene, *predictor, ss);
     }
-    out.header = {"smokescan scan " + scene.source + (renderer ? ": rendered" : ": predicted") + " target saturation", h};
+    out.header = {"smokescan scan " + scene.source + (renderer ? ": rendered" : ": predicted") + " target saturation",
+                  h};
     return out;
 }
 
@@ -114,7 +120,8 @@ int runScan(const ScanArgs& a0)
     ScanArgs a = a0;
     RunFiles files;
     recordFiles(files, a);
-    if (!a.image.empty() && !isImageExtension(a.image)) throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
+    if (!a.image.empty() && !isImageExtension(a.image))
+        throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
     const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
@@ -123,15 +130,19 @@ int runScan(const ScanArgs& a0)
     const Scanner sc(scene, surfaces, a.cfg);
     const auto times = sc.times();
     if (!a.image.empty() && (long long)times.size() > limits::kImageScans)
-        throw Error("--image", "would draw " + std::to_string(times.size()) + " scans (at most " + std::to_string(limits::kImageScans) +
-                                   "; draw a shorter span or a lower --rate)");
+        throw Error("--image",
+                    "would draw " + std::to_string(times.size()) + " scans (at most " +
+                        std::to_string(limits::kImageScans) + "; draw a shorter span or a lower --rate)");
     if (!a.saturation_out.empty() && !times.empty()) {
         const double frames_wanted = (times.back() - times.front()) * a.sat.rate_hz + 1;
         if (frames_wanted > double(limits::kFrames))
-            throw Error("--saturation-rate", "would make " + limits::count(std::floor(frames_wanted)) + " camera frames (at most " +
-                                                 std::to_string(limits::kFrames) + ")");
-        if (a.saturation_render && double(a.render.width) * a.render.height * a.render.spp > double(limits::kFrameSamples))
-            throw Error("--saturation-spp", "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
+            throw Error("--saturation-rate",
+                        "would make " + limits::count(std::floor(frames_wanted)) + " camera frames (at most " +
+                            std::to_string(limits::kFrames) + ")");
+        if (a.saturation_render &&
+            double(a.render.width) * a.render.height * a.render.spp > double(limits::kFrameSamples))
+            throw Error("--saturation-spp",
+                        "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
     }
     if (a.saturation_render && a.saturation_out.empty()) throw Error("--saturation-render", "needs --saturation-out");
     if (!a.frames_dir.empty() && !a.saturation_render) throw Error("--saturation-frames", "needs --saturation-render");
@@ -147,7 +158,8 @@ int runScan(const ScanArgs& a0)
         rc.seed = a.cfg.seed;
         renderer = std::make_unique<SaturationRenderer>(scene, surfaces, rc, times.empty() ? 0.0 : times.front());
     } else if (!a.saturation_out.empty()) {
-        predictor = std::make_unique<SaturationPredictor>(scene, surfaces, readCalibrationJson(a.calibration).curve, a.camera, a.target + "_");
+        predictor = std::make_unique<SaturationPredictor>(scene, surfaces, readCalibrationJson(a.calibration).curve,
+                                                          a.camera, a.target + "_");
     }
     // Scans are streamed to the outputs' temporaries: memory does not grow with the run's length
     // (only --image keeps each scan's values, within limits::kImageScans).
@@ -170,7 +182,8 @@ int runScan(const ScanArgs& a0)
     log.commit();
     if (tau) tau->commit();
     if (!a.image.empty())
-        writeScanImage(files.stage(a.image), drawn, sc.spec(), a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
+        writeScanImage(files.stage(a.image), drawn, sc.spec(),
+                       a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
     if (!a.saturation_out.empty()) {
         const CameraStream stream = cameraStream(scene, a, times, predictor.get(), renderer.get(), frames.get());
         writeSaturationCsv(files.stage(a.saturation_out), stream.series, stream.header);
@@ -197,26 +210,50 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--rate", a->cfg.rate_hz, "Scans per second [Hz]")->capture_default_str()->check(positive());
     c->add_option("--out", a->out, "Laser log to write")->required();
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
-    c->add_option("--image", a->image, "Also draw the scan series as the paper's Fig. 10 (PNG): angle across, time down, shade = range, red = error");
-    c->add_option("--image-range", a->image_range_m, "Range [m] drawn white in --image (default: the sensor's maximum)")->check(positive());
+    c->add_option(
+        "--image", a->image,
+        "Also draw the scan series as the paper's Fig. 10 (PNG): angle across, time down, shade = range, red = error");
+    c->add_option("--image-range", a->image_range_m, "Range [m] drawn white in --image (default: the sensor's maximum)")
+        ->check(positive());
     c->add_option("--model", a->model, "Sensor model: paper or physical (default: the scene's or sensor file's)");
-    c->add_option("--sensor-file", a->cfg.sensor_file, "Sensor file (TOML) with the model and its parameters (docs/sensors.md)");
-    c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]")->check(positive());
+    c->add_option("--sensor-file", a->cfg.sensor_file,
+                  "Sensor file (TOML) with the model and its parameters (docs/sensors.md)");
+    c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]")
+        ->check(positive());
     c->add_option("--seed", a->cfg.seed, "Noise seed")->capture_default_str();
     c->add_option("--target", a->target, "Surface-name prefix the summary counts as the target")->capture_default_str();
     c->add_option("--bin", a->bin_s, "Summary time bin [s] (default: automatic)")->check(positive());
     c->add_flag("--quiet", a->quiet, "No summary");
-    c->add_option("--saturation-out", a->saturation_out, "Also write the camera's target saturation over time (CSV), predicted from the smoke on its line of sight");
-    c->add_flag("--saturation-render", a->saturation_render, "Measure --saturation-out in rendered camera frames instead (slow: 2–3 s per 320x240 frame)");
-    c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")->capture_default_str()->check(intRange(1, limits::kSpp));
-    c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
-    c->add_option("--saturation-height", a->render.height, "Height of those frames [px]")->capture_default_str()->check(intRange(1, limits::kFrameSide));
-    c->add_option("--saturation-frames", a->frames_dir, "Also keep those frames: a new folder of PNG frames, id AOVs (EXR) and timestamps.csv for `smokescan saturation`");
-    c->add_option("--calibration", a->calibration, "Density-saturation calibration for the predicted --saturation-out (JSON or built-in name)")->capture_default_str();
+    c->add_option(
+        "--saturation-out", a->saturation_out,
+        "Also write the camera's target saturation over time (CSV), predicted from the smoke on its line of sight");
+    c->add_flag("--saturation-render", a->saturation_render,
+                "Measure --saturation-out in rendered camera frames instead (slow: 2–3 s per 320x240 frame)");
+    c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")
+        ->capture_default_str()
+        ->check(intRange(1, limits::kSpp));
+    c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")
+        ->capture_default_str()
+        ->check(intRange(1, limits::kFrameSide));
+    c->add_option("--saturation-height", a->render.height, "Height of those frames [px]")
+        ->capture_default_str()
+        ->check(intRange(1, limits::kFrameSide));
+    c->add_option(
+        "--saturation-frames", a->frames_dir,
+        "Also keep those frames: a new folder of PNG frames, id AOVs (EXR) and timestamps.csv for `smokescan saturation`");
+    c->add_option("--calibration", a->calibration,
+                  "Density-saturation calibration for the predicted --saturation-out (JSON or built-in name)")
+        ->capture_default_str();
     c->add_option("--camera", a->camera, "Scene camera for --saturation-out (default: the first)");
-    c->add_option("--saturation-rate", a->sat.rate_hz, "Camera frames per second for --saturation-out [Hz]")->capture_default_str()->check(positive());
-    c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")->capture_default_str()->check(nonnegative());
-    c->add_option("--camera-offset", a->sat.clock_offset_s, "Camera clock - laser clock [s] in --saturation-out")->capture_default_str()->check(finite());
+    c->add_option("--saturation-rate", a->sat.rate_hz, "Camera frames per second for --saturation-out [Hz]")
+        ->capture_default_str()
+        ->check(positive());
+    c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")
+        ->capture_default_str()
+        ->check(nonnegative());
+    c->add_option("--camera-offset", a->sat.clock_offset_s, "Camera clock - laser clock [s] in --saturation-out")
+        ->capture_default_str()
+        ->check(finite());
     c->callback([a, &run] { run = [a] { return runScan(*a); }; });
 }
 

@@ -36,19 +36,22 @@ CLI::Validator numberRule(const char* name, bool (*ok)(double), const char* rule
 
 const CLI::Validator& finite()
 {
-    static const CLI::Validator v = numberRule("FINITE", [](double) { return true; }, "");
+    static const CLI::Validator v = numberRule(
+        "FINITE", [](double) { return true; }, "");
     return v;
 }
 
 const CLI::Validator& positive()
 {
-    static const CLI::Validator v = numberRule("POSITIVE", [](double x) { return x > 0; }, "must be > 0");
+    static const CLI::Validator v = numberRule(
+        "POSITIVE", [](double x) { return x > 0; }, "must be > 0");
     return v;
 }
 
 const CLI::Validator& nonnegative()
 {
-    static const CLI::Validator v = numberRule("NONNEGATIVE", [](double x) { return x >= 0; }, "must be >= 0");
+    static const CLI::Validator v = numberRule(
+        "NONNEGATIVE", [](double x) { return x >= 0; }, "must be >= 0");
     return v;
 }
 
@@ -60,7 +63,8 @@ CLI::Validator intRange(long long lo, long long hi)
             errno = 0;
             const long long v = std::strtoll(text.c_str(), &end, 10);
             if (text.empty() || *end || errno == ERANGE) return "'" + text + "' is not an integer";
-            if (v < lo || v > hi) return "'" + text + "' is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+            if (v < lo || v > hi)
+                return "'" + text + "' is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
             return std::string();
         },
         "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");

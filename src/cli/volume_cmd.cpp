@@ -107,7 +107,8 @@ void addVolume(CLI::App& app, Runner& run)
     build->add_option("--out", a->out, "Output .vdb")->required();
     build->callback([a, &run] { run = [a] { return runBuild(*a); }; });
 
-    auto* exp = v->add_subcommand("export", "Read a grid made elsewhere, validate it, write it as a float density grid");
+    auto* exp =
+        v->add_subcommand("export", "Read a grid made elsewhere, validate it, write it as a float density grid");
     exp->add_option("input", a->input, "Input .vdb")->required();
     exp->add_option("--grid", a->grid, "Grid name (\"\" = first scalar grid)")->capture_default_str();
     exp->add_option("--scale", a->scale, "Stored value × scale = density")->capture_default_str()->check(positive());

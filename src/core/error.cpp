@@ -11,10 +11,14 @@ size_t utf8Length(const std::string& s, size_t i)
     const auto c = static_cast<unsigned char>(s[i]);
     size_t n = 0;
     unsigned min = 0;
-    if (c >= 0xC2 && c <= 0xDF) n = 2, min = 0x80;
-    else if (c >= 0xE0 && c <= 0xEF) n = 3, min = 0x800;
-    else if (c >= 0xF0 && c <= 0xF4) n = 4, min = 0x10000;
-    else return 0;
+    if (c >= 0xC2 && c <= 0xDF)
+        n = 2, min = 0x80;
+    else if (c >= 0xE0 && c <= 0xEF)
+        n = 3, min = 0x800;
+    else if (c >= 0xF0 && c <= 0xF4)
+        n = 4, min = 0x10000;
+    else
+        return 0;
     if (i + n > s.size()) return 0;
     unsigned cp = c & (0xFF >> (n + 1));
     for (size_t k = 1; k < n; ++k) {

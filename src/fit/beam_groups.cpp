@@ -75,7 +75,8 @@ std::vector<BeamGroup> readBeamGroupFile(const std::string& path)
         std::vector<std::string> f;
         for (std::string t; ss >> t;) f.push_back(t);
         if (f.empty()) continue;
-        if (f.size() != 3 && f.size() != 4) throw Error(where, "expected NAME A0_DEG A1_DEG [RANGE_M], got " + std::to_string(f.size()) + " fields");
+        if (f.size() != 3 && f.size() != 4)
+            throw Error(where, "expected NAME A0_DEG A1_DEG [RANGE_M], got " + std::to_string(f.size()) + " fields");
         auto [it, added] = index.emplace(f[0], out.size());
         if (added) out.push_back(BeamGroup{f[0], {}, 0, ""});
         BeamGroup& g = out[it->second];
@@ -122,8 +123,10 @@ std::vector<BeamGroup> beamGroupsFromScene(const Scene& scene, const SurfaceSet&
         BeamGroup& g = out[it->second];
         const double a = spec.angle(i), h = 0.5 * std::abs(spec.dangle_rad);
         // Extend the last interval when this beam continues it, else open a new one.
-        if (!g.intervals_rad.empty() && std::abs(g.intervals_rad.back().second - (a - h)) < 1e-9) g.intervals_rad.back().second = a + h;
-        else g.intervals_rad.emplace_back(a - h, a + h);
+        if (!g.intervals_rad.empty() && std::abs(g.intervals_rad.back().second - (a - h)) < 1e-9)
+            g.intervals_rad.back().second = a + h;
+        else
+            g.intervals_rad.emplace_back(a - h, a + h);
         ranges[s].push_back(range[size_t(i)]);
     }
     for (auto& [s, r] : ranges) out[index[s]].range_m = median(std::move(r));

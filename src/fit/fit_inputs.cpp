@@ -29,7 +29,8 @@ void chooseGroups(const FitInputsConfig& cfg, FitInputs& in)
     if (in.scene) {
         in.groups = beamGroupsFromScene(*in.scene, *in.surfaces, in.mount, specFor(in.mount.config), cfg.prefix);
         if (in.groups.empty())
-            throw Error(in.scene->source, "no beam of sensor '" + in.mount.name + "' hits a surface named '" + cfg.prefix + "*'");
+            throw Error(in.scene->source,
+                        "no beam of sensor '" + in.mount.name + "' hits a surface named '" + cfg.prefix + "*'");
         in.sources.groups_from = in.scene->source;
     }
     if (!cfg.surfaces_file.empty()) {

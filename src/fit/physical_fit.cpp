@@ -6,10 +6,10 @@
 
 #include <ceres/ceres.h>
 
+#include "../calib/ceres_fit.hpp"
+#include "binomial_deviance.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/sensors/physical_model.hpp"
-#include "binomial_deviance.hpp"
-#include "../calib/ceres_fit.hpp"
 
 namespace smokescan {
 namespace {
@@ -53,7 +53,8 @@ double groupErrorProbability(const AmplitudeTable& tab, PhysicalParams p, double
 std::vector<double> probabilityTable(const AmplitudeTable& tab, const PhysicalParams& p, double theta)
 {
     std::vector<double> out(size_t(tab.n));
-    for (int j = 0; j < tab.n; ++j) out[size_t(j)] = groupErrorProbability(tab, p, theta, tab.rho_max * j / (tab.n - 1));
+    for (int j = 0; j < tab.n; ++j)
+        out[size_t(j)] = groupErrorProbability(tab, p, theta, tab.rho_max * j / (tab.n - 1));
     return out;
 }
 
@@ -65,8 +66,8 @@ double interpolateTable(const AmplitudeTable& tab, const std::vector<double>& P,
 }
 
 /// Error probability of each observation for noise floor exp(θ).
-std::vector<double> observationProbabilities(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs,
-                                             double theta)
+std::vector<double> observationProbabilities(const AmplitudeTable& tab, const PhysicalParams& p,
+                                             const std::vector<Obs>& obs, double theta)
 {
     const std::vector<double> P = probabilityTable(tab, p, theta);
     std::vector<double> out(obs.size());
@@ -138,7 +139,8 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
     ml.AddResidualBlock(new ScanResiduals(tab, p, obs,
                                           [&obs, clampP](size_t k, double pk) {
                                               const double q = clampP(pk);
-                                              return detail::signedDeviance(double(obs[k].n), double(obs[k].e), q, 1 - q);
+                                              return detail::signedDeviance(double(obs[k].n), double(obs[k].e), q,
+                                                                            1 - q);
                                           }),
                         nullptr, &theta);
     ceres::Solver::Options opt;
@@ -156,16 +158,18 @@ ThetaFit fitTheta(const AmplitudeTable& tab, const PhysicalParams& p, const std:
         inv_sd[k] = 1 / std::sqrt(obs[k].n * pk * (1 - pk));
     }
     ceres::Problem problem;
-    problem.AddResidualBlock(new ScanResiduals(tab, p, obs,
-                                               [&obs, inv_sd](size_t k, double pk) { return (obs[k].e - obs[k].n * pk) * inv_sd[k]; }),
-                             nullptr, &theta);
+    problem.AddResidualBlock(
+        new ScanResiduals(tab, p, obs,
+                          [&obs, inv_sd](size_t k, double pk) { return (obs[k].e - obs[k].n * pk) * inv_sd[k]; }),
+        nullptr, &theta);
     // The Fisher information and the sandwich over the observations' time blocks.
     double cost = 0;
     problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
     out.chi2 = 2 * cost;
     std::vector<long long> block_of;
     for (const Obs& o : obs) block_of.push_back(o.block);
-    const detail::ClusterCovariance cc = detail::clusterRobustCovariance(problem, {&theta}, block_of, detail::ClusterCount::Informative);
+    const detail::ClusterCovariance cc =
+        detail::clusterRobustCovariance(problem, {&theta}, block_of, detail::ClusterCount::Informative);
     out.var_model = cc.model(0, 0);
     out.var_robust = cc.robust(0, 0);
     out.theta = theta;
@@ -229,7 +233,8 @@ DensestState densestState(const Scene& scene, const GroupBeams& gb, double step_
     for (double t = scene.t_start_s; t <= scene.t_end_s + 1e-9; t += step_s) {
         SmokeField f = SmokeField::at(scene.volumes, t);
         double rho_mean = 0;
-        for (size_t b = 0; b < gb.rays.size(); ++b) rho_mean += f.trace(gb.rays[b], 0.0, gb.L[b], BeamQuery{}).column_regional / gb.L[b];
+        for (size_t b = 0; b < gb.rays.size(); ++b)
+            rho_mean += f.trace(gb.rays[b], 0.0, gb.L[b], BeamQuery{}).column_regional / gb.L[b];
         rho_mean /= double(gb.rays.size());
         if (rho_mean > d.mean_density) {
             d.mean_density = rho_mean;
@@ -241,8 +246,9 @@ DensestState densestState(const Scene& scene, const GroupBeams& gb, double step_
 }
 
 /// The AMCW amplitudes of each beam on a density grid up to rho_max, the smoke state scaled.
-AmplitudeTable amplitudeTable(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount, const LrfSpec& spec,
-                              const GroupBeams& gb, const DensestState& d, double rho_max, int grid)
+AmplitudeTable amplitudeTable(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
+                              const LrfSpec& spec, const GroupBeams& gb, const DensestState& d, double rho_max,
+                              int grid)
 {
     AmplitudeTable tab;
     tab.n = std::max(3, grid);
@@ -252,15 +258,16 @@ AmplitudeTable amplitudeTable(const Scene& scene, const SurfaceSet& surfaces, co
     for (int j = 0; j < tab.n; ++j) {
         const SmokeField scaled = d.field.scaledRegional(tab.rho_max * j / (tab.n - 1) / d.mean_density);
         for (size_t b = 0; b < gb.rays.size(); ++b)
-            tab.beam[b][size_t(j)] = amcwAmplitudes(p, traceBeamSignal(gb.rays[b], spec, p, scene, surfaces, scaled, nullptr, nullptr));
+            tab.beam[b][size_t(j)] =
+                amcwAmplitudes(p, traceBeamSignal(gb.rays[b], spec, p, scene, surfaces, scaled, nullptr, nullptr));
     }
     return tab;
 }
 
 /// The calibration curve's share of θ's error: every density moved by its relative standard
 /// error at S*, θ refitted.
-double calibrationError(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs, const ThetaFit& f,
-                        const ThresholdFit& th, const CurveFitResult& calib, int iterations)
+double calibrationError(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<Obs>& obs,
+                        const ThetaFit& f, const ThresholdFit& th, const CurveFitResult& calib, int iterations)
 {
     try {
         const auto [rho_s, se_rho] = calib.invert(th.S_star.value, 0.0);
@@ -277,7 +284,8 @@ double calibrationError(const AmplitudeTable& tab, const PhysicalParams& p, cons
 
 /// Where the fitted model errs half the time, as a column over the group's mean distance, and
 /// its spread over θ ± se.
-Estimate onsetColumn(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<double>& L, double theta, double se_theta)
+Estimate onsetColumn(const AmplitudeTable& tab, const PhysicalParams& p, const std::vector<double>& L, double theta,
+                     double se_theta)
 {
     double Lm = 0;
     for (double l : L) Lm += l / double(L.size());
@@ -303,7 +311,9 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
 {
     const LrfSpec spec = specFor(mount.config);
     if (spec.type != SensorType::Urg04lx)
-        throw Error("--model physical", std::string("the noise floor fit is for the URG-04LX (AMCW); not for the ") + sensorTypeName(spec.type));
+        throw Error(
+            "--model physical",
+            std::string("the noise floor fit is for the URG-04LX (AMCW); not for the ") + sensorTypeName(spec.type));
     UrgNoiseFloorResult out;
     const BeamGroup& group = fit.groups.at(g);
     const ThresholdFit& th = fit.thresholds.at(g);

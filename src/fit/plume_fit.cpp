@@ -5,10 +5,10 @@
 
 #include <ceres/ceres.h>
 
+#include "../calib/ceres_fit.hpp"
+#include "binomial_deviance.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
-#include "binomial_deviance.hpp"
-#include "../calib/ceres_fit.hpp"
 
 namespace smokescan {
 namespace {
@@ -37,16 +37,19 @@ struct ShareResidual {
         const T z = x50_s[1] * (T(x) - x50_s[0]);
         T p, q;
         detail::tails(z, /*logistic=*/true, p, q);
-        if (pearson) r[0] = (T(echo / n) - p) * T(inv_sd);
-        else r[0] = detail::signedDeviance(n, echo, p, q);
+        if (pearson)
+            r[0] = (T(echo / n) - p) * T(inv_sd);
+        else
+            r[0] = detail::signedDeviance(n, echo, p, q);
         return true;
     }
 };
 
 /// Each logged beam that crosses a plume at its scan's time: its peak density, where it enters
 /// the plume, where the surface is, and what the Sick reported.
-std::vector<PlumeObservation> observePlumes(const RecordedLog& log, const std::vector<SmokeVolume>& local, const SurfaceSet& surfaces,
-                                            const SensorMount& mount, const LrfSpec& spec, const PlumeFitConfig& cfg)
+std::vector<PlumeObservation> observePlumes(const RecordedLog& log, const std::vector<SmokeVolume>& local,
+                                            const SurfaceSet& surfaces, const SensorMount& mount, const LrfSpec& spec,
+                                            const PlumeFitConfig& cfg)
 {
     const double sigma_per_density = local.front().medium.sigmaT(spec.wavelength_nm);
     std::vector<PlumeObservation> obs;
@@ -139,8 +142,9 @@ void fitDepth(PlumeFitResult& res, size_t echoes, const PlumeFitConfig& cfg)
     ceres::Problem problem;
     for (const auto& o : res.obs)
         if (o.outcome == PlumeObservation::SmokeEcho)
-            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DepthResidual, 1, 2>(new DepthResidual{
-                                         std::log(o.peak_density / res.rho_ref), std::log(std::max(cfg.min_depth_m, o.range_m - o.entry_m))}),
+            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DepthResidual, 1, 2>(
+                                         new DepthResidual{std::log(o.peak_density / res.rho_ref),
+                                                           std::log(std::max(cfg.min_depth_m, o.range_m - o.entry_m))}),
                                      nullptr, lnD_k);
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
@@ -206,12 +210,14 @@ void fitEchoShare(PlumeFitResult& res)
 
 }  // namespace
 
-PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
-                            const PlumeFitConfig& cfg)
+PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces,
+                            const SensorMount& mount, const PlumeFitConfig& cfg)
 {
     const LrfSpec spec = specFor(mount.config);
     if (spec.type != SensorType::Lms200)
-        throw Error("fit-plume", "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + sensorTypeName(spec.type));
+        throw Error(
+            "fit-plume",
+            "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + sensorTypeName(spec.type));
     std::vector<SmokeVolume> local;
     for (const auto& v : scene.volumes)
         if (v.role == SmokeRole::Local) local.push_back(v);
@@ -219,7 +225,8 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
     PlumeFitResult res;
     res.obs = observePlumes(log, local, surfaces, mount, spec, cfg);
     if (res.obs.empty()) {
-        res.diagnoses.push_back("no beam of the log crosses the scene's plumes (check the sensor, the times and --time-offset)");
+        res.diagnoses.push_back(
+            "no beam of the log crosses the scene's plumes (check the sensor, the times and --time-offset)");
         return res;
     }
     const std::vector<double> echo_rho = binObservations(res, cfg.bins);

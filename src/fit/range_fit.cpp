@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "../calib/ceres_fit.hpp"
-#include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/core/order_stats.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
 
 namespace smokescan {
 namespace {
@@ -34,7 +34,8 @@ Line fitLine(const std::vector<double>& x, const std::vector<double>& y, const s
     double p[2] = {0, 0};
     ceres::Problem problem;
     for (size_t i = 0; i < x.size(); ++i)
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{x[i], y[i], se[i]}), nullptr, p);
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{x[i], y[i], se[i]}), nullptr, p);
     detail::quietCeres();
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
@@ -79,7 +80,8 @@ RangeFit fitRangeBiasNoise(const std::string& group, const std::vector<std::vect
     for (size_t k = 0; k < K; ++k)
         if (!std::isnan(S[k]))
             for (size_t i = 0; i < B; ++i)
-                if (!std::isnan(range_m[k][i]) && !std::isnan(ref[i])) obs.emplace_back(f.S_ref - S[k], range_m[k][i] - ref[i]);
+                if (!std::isnan(range_m[k][i]) && !std::isnan(ref[i]))
+                    obs.emplace_back(f.S_ref - S[k], range_m[k][i] - ref[i]);
     f.observations = (long long)obs.size();
     if (obs.size() < 30) {
         f.diagnosis = "too few valid ranges with a clear-air reference (" + std::to_string(obs.size()) + ")";

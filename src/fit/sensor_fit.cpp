@@ -15,7 +15,8 @@
 namespace smokescan {
 
 RangeFit fitRangeBiasNoise(const std::string& group, const std::vector<std::vector<double>>& range_m,
-                           const std::vector<double>& S, double S_clear_min, const SensorFitConfig& cfg);  // range_fit.cpp
+                           const std::vector<double>& S, double S_clear_min,
+                           const SensorFitConfig& cfg);  // range_fit.cpp
 
 namespace {
 
@@ -38,13 +39,14 @@ SaturationSeries movingAverage(const SaturationSeries& s, int h)
 /// Per group: the beams of the log it holds, and per scan the errors and valid ranges.
 struct GroupData {
     std::vector<int> beams;
-    detail::GroupCounts counts;                 ///< all scans
-    std::vector<std::vector<double>> range_m;   ///< [scan][beam in group], NaN = error
+    detail::GroupCounts counts;  ///< all scans
+    std::vector<std::vector<double>> range_m;  ///< [scan][beam in group], NaN = error
 };
 
 /// Fraction of beams classified right by the best split of saturation, uncovered scans counting
 /// one half (so a δ that pushes scans out of the camera's span gains nothing).
-double agreement(const std::vector<GroupData>& gd, const SaturationSeries& sat, double delta, std::vector<double>* split)
+double agreement(const std::vector<GroupData>& gd, const SaturationSeries& sat, double delta,
+                 std::vector<double>* split)
 {
     double correct = 0, total = 0;
     std::vector<std::pair<double, size_t>> order;
@@ -54,8 +56,10 @@ double agreement(const std::vector<GroupData>& gd, const SaturationSeries& sat, 
         for (size_t k = 0; k < c.t.size(); ++k) {
             total += c.n[k];
             const double S = saturationAt(sat, c.t[k] + delta);
-            if (std::isnan(S)) correct += 0.5 * c.n[k];
-            else order.emplace_back(S, k);
+            if (std::isnan(S))
+                correct += 0.5 * c.n[k];
+            else
+                order.emplace_back(S, k);
         }
         std::sort(order.begin(), order.end());
         // Split after position i: scans below are predicted error, above clear.
@@ -115,10 +119,7 @@ double saturationAt(const SaturationSeries& s, double t)
     return detail::interpolate(s, t);
 }
 
-const char* errorLinkName(ErrorLink link)
-{
-    return link == ErrorLink::Logistic ? "logistic" : "probit";
-}
+const char* errorLinkName(ErrorLink link) { return link == ErrorLink::Logistic ? "logistic" : "probit"; }
 
 namespace {
 
@@ -157,18 +158,18 @@ private:
     const SensorFitConfig& cfg_;
     const size_t K_;
     SensorFitResult res_;
-    SaturationSeries sat_;               ///< the saturation, smoothed over 2h + 1 frames
+    SaturationSeries sat_;  ///< the saturation, smoothed over 2h + 1 frames
     int h_ = 0;
     double frame_s_ = 0, S_min_ = 0, S_max_ = 0;
-    std::vector<GroupData> gd_;          ///< per group: beams, counts, ranges
-    std::vector<size_t> usable_;         ///< groups with enough beams
-    std::vector<size_t> fit_groups_;     ///< usable groups with both errors and clear readings
-    std::vector<double> trans_;          ///< onset and recovery times [s]
-    std::vector<double> split_;          ///< per fit group: the best-splitting saturation
+    std::vector<GroupData> gd_;  ///< per group: beams, counts, ranges
+    std::vector<size_t> usable_;  ///< groups with enough beams
+    std::vector<size_t> fit_groups_;  ///< usable groups with both errors and clear readings
+    std::vector<double> trans_;  ///< onset and recovery times [s]
+    std::vector<double> split_;  ///< per fit group: the best-splitting saturation
     bool fit_offset_ = false;
-    double delta0_ = 0;                  ///< the offset the thresholds start from [s]
-    double sigma_S_ = 0;                 ///< the smoothed saturation's noise
-    std::vector<double> S_at_;           ///< saturation at each scan (offset applied)
+    double delta0_ = 0;  ///< the offset the thresholds start from [s]
+    double sigma_S_ = 0;  ///< the smoothed saturation's noise
+    std::vector<double> S_at_;  ///< saturation at each scan (offset applied)
 
     /// The saturation, smoothed: its noise σ_S shrinks by √(2h + 1) and enters the width.
     void smoothSaturation(const SaturationSeries& raw)
@@ -178,8 +179,9 @@ private:
         frame_s_ = std::max(quantile(dt, 0.5), 1e-6);
         const double span_s = raw.time_s.empty() ? 0.0 : raw.time_s.back() - raw.time_s.front();
         if (cfg_.smooth_s > span_s)
-            throw Error("--smooth", "a window of " + fmt("%g", cfg_.smooth_s) + " s is longer than the saturation series (" +
-                                        fmt("%g", span_s) + " s)");
+            throw Error("--smooth",
+                        "a window of " + fmt("%g", cfg_.smooth_s) + " s is longer than the saturation series (" +
+                            fmt("%g", span_s) + " s)");
         h_ = int(std::min(std::floor(0.5 * cfg_.smooth_s / frame_s_ + 1e-9), double(raw.time_s.size())));
         sat_ = movingAverage(raw, h_);
         res_.saturation_noise = detail::noiseOfSeries(raw.saturation);
@@ -225,8 +227,10 @@ private:
                 th.errors += gd_[g].counts.e[k];
                 th.observations += gd_[g].counts.n[k];
             }
-            if (th.beams < cfg_.min_beams) th.diagnosis = "only " + std::to_string(th.beams) + " beams of the log fall in its angles";
-            else usable_.push_back(g);
+            if (th.beams < cfg_.min_beams)
+                th.diagnosis = "only " + std::to_string(th.beams) + " beams of the log fall in its angles";
+            else
+                usable_.push_back(g);
         }
     }
 
@@ -238,10 +242,11 @@ private:
         const double lo = cfg_.estimate_offset ? cfg_.offset_s - cfg_.offset_window_s : cfg_.offset_s;
         const double hi = cfg_.estimate_offset ? cfg_.offset_s + cfg_.offset_window_s : cfg_.offset_s;
         if (t1 + hi >= c0 && t0 + lo <= c1) return true;
-        res_.diagnoses.push_back(fmt("time spans do not overlap: laser %.1f-%.1f s, camera %.1f-%.1f s", t0, t1, c0, c1) +
-                                 (cfg_.estimate_offset ? fmt(" for any offset within %.1f +/- %.1f s", cfg_.offset_s, cfg_.offset_window_s)
-                                                       : fmt(" at offset %.1f s", cfg_.offset_s)) +
-                                 "; give --offset (camera time - laser time)");
+        res_.diagnoses.push_back(
+            fmt("time spans do not overlap: laser %.1f-%.1f s, camera %.1f-%.1f s", t0, t1, c0, c1) +
+            (cfg_.estimate_offset ? fmt(" for any offset within %.1f +/- %.1f s", cfg_.offset_s, cfg_.offset_window_s)
+                                  : fmt(" at offset %.1f s", cfg_.offset_s)) +
+            "; give --offset (camera time - laser time)");
         return false;
     }
 
@@ -253,19 +258,28 @@ private:
         S_max_ = *std::max_element(sat_.saturation.begin(), sat_.saturation.end());
         for (size_t g : usable_) {
             auto& th = res_.thresholds[g];
-            if (th.errors == 0) th.diagnosis = fmt("no error codes: the threshold lies below the lowest saturation seen (%.3f)", S_min_);
+            if (th.errors == 0)
+                th.diagnosis =
+                    fmt("no error codes: the threshold lies below the lowest saturation seen (%.3f)", S_min_);
             else if (th.errors == th.observations)
-                th.diagnosis = fmt("every beam returned an error code: the threshold lies above the highest saturation seen (%.3f)", S_max_);
-            else fit_groups_.push_back(g);
+                th.diagnosis = fmt(
+                    "every beam returned an error code: the threshold lies above the highest saturation seen (%.3f)",
+                    S_max_);
+            else
+                fit_groups_.push_back(g);
         }
         long long errs = 0, obs = 0;
         for (size_t g : usable_) {
             errs += res_.thresholds[g].errors;
             obs += res_.thresholds[g].observations;
         }
-        if (usable_.empty()) res_.diagnoses.push_back("no beam group has enough beams in the log");
-        else if (errs == 0) res_.diagnoses.push_back("no smoke event: no beam of any group returned an error code, so no threshold can be fitted");
-        else if (errs == obs) res_.diagnoses.push_back("all-error log: every beam returned an error code, so no threshold can be fitted");
+        if (usable_.empty())
+            res_.diagnoses.push_back("no beam group has enough beams in the log");
+        else if (errs == 0)
+            res_.diagnoses.push_back(
+                "no smoke event: no beam of any group returned an error code, so no threshold can be fitted");
+        else if (errs == obs)
+            res_.diagnoses.push_back("all-error log: every beam returned an error code, so no threshold can be fitted");
         return !fit_groups_.empty();
     }
 
@@ -289,17 +303,20 @@ private:
         fit_offset_ = cfg_.estimate_offset;
         if (fit_offset_ && res_.offset.transitions < 2) {
             fit_offset_ = false;
-            res_.offset.diagnosis =
-                res_.offset.transitions == 1
-                    ? fmt("errors change state once only (at %.1f s) and never return: one crossing cannot tell the clock offset from the "
-                          "threshold, so the offset is held at %.2f s (give --offset)", first_t, cfg_.offset_s)
-                    : fmt("the error state never settles into an onset and a recovery: the offset is held at %.2f s (give --offset)", cfg_.offset_s);
+            res_.offset.diagnosis = res_.offset.transitions == 1
+                ? fmt("errors change state once only (at %.1f s) and never return: one crossing cannot tell the clock offset from the "
+                      "threshold, so the offset is held at %.2f s (give --offset)",
+                      first_t, cfg_.offset_s)
+                : fmt("the error state never settles into an onset and a recovery: the offset is held at %.2f s (give --offset)",
+                      cfg_.offset_s);
             res_.diagnoses.push_back(res_.offset.diagnosis);
         }
         split_.assign(fg.size(), NAN);
         delta0_ = cfg_.offset_s;
-        if (fit_offset_) searchOffset(fg);
-        else res_.offset.offset_s = {cfg_.offset_s, 0.0};
+        if (fit_offset_)
+            searchOffset(fg);
+        else
+            res_.offset.offset_s = {cfg_.offset_s, 0.0};
         agreement(fg, sat_, delta0_, &split_);
     }
 
@@ -315,13 +332,15 @@ private:
             if (a > best + 1e-12) {
                 best = a;
                 best_i = best_j = i;
-            } else if (a > best - 1e-12 && best_j == i - 1) best_j = i;
+            } else if (a > best - 1e-12 && best_j == i - 1)
+                best_j = i;
         }
         delta0_ = cfg_.offset_s + 0.5 * (best_i + best_j) * cfg_.offset_step_s;
         res_.offset.offset_s = {delta0_, (best_j - best_i + 1) * cfg_.offset_step_s / std::sqrt(12.0)};
         res_.offset.estimated = true;  // refined below unless every group's step is sharp
         if (best_i == -steps || best_j == steps)
-            res_.diagnoses.push_back(fmt("the best clock offset lies at the edge of the search (%.1f s): widen --offset-window", delta0_));
+            res_.diagnoses.push_back(
+                fmt("the best clock offset lies at the edge of the search (%.1f s): widen --offset-window", delta0_));
     }
 
     /// Sharp steps (errors and clear scans separate) have no width to fit: S* lies in the gap.
@@ -359,8 +378,10 @@ private:
                 th.fitted = th.sharp = true;
                 th.S_star = {0.5 * (err_max + clean_min), (clean_min - err_max) / std::sqrt(12.0)};
                 th.width = {0.0, NAN};
-                th.diagnosis = fmt("sharp step: every scan below saturation %.4f had errors, none above %.4f; the width is below the "
-                                   "saturation's resolution", err_max, clean_min);
+                th.diagnosis = fmt(
+                    "sharp step: every scan below saturation %.4f had errors, none above %.4f; the width is below the "
+                    "saturation's resolution",
+                    err_max, clean_min);
                 continue;
             }
             prob.groups.push_back(std::move(c));
@@ -374,7 +395,12 @@ private:
     /// The likelihood fit's thresholds and offset into the result.
     void takeSolution(const detail::ThresholdSolution& sol, const std::vector<size_t>& smooth)
     {
-        if (fit_offset_) res_.offset = {true, {sol.offset, sol.offset_se}, res_.offset.transitions, res_.offset.agreement, res_.offset.diagnosis};
+        if (fit_offset_)
+            res_.offset = {true,
+                           {sol.offset, sol.offset_se},
+                           res_.offset.transitions,
+                           res_.offset.agreement,
+                           res_.offset.diagnosis};
         for (size_t j = 0; j < smooth.size(); ++j) {
             auto& th = res_.thresholds[smooth[j]];
             th.fitted = sol.converged;
@@ -400,7 +426,8 @@ private:
     void floorErrors()
     {
         const double delta = res_.offset.offset_s.value;
-        const double dt_scan = K_ > 1 ? (log_.scans.back().time_s - log_.scans.front().time_s) / double(K_ - 1) : spec_.scan_period_s;
+        const double dt_scan =
+            K_ > 1 ? (log_.scans.back().time_s - log_.scans.front().time_s) / double(K_ - 1) : spec_.scan_period_s;
         const double half = std::max(1.0, 0.5 * cfg_.smooth_s);
         double info_S = 0, info_t = 0;
         for (double t : trans_) {
@@ -507,7 +534,8 @@ private:
 SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, const std::vector<BeamGroup>& groups,
                           const LrfSpec& spec, const CurveFitResult* calibration, const SensorFitConfig& cfg)
 {
-    if (!(cfg.offset_window_s >= 0) || !(cfg.offset_step_s > 0)) throw Error("--offset-window", "window must be >= 0 and step > 0");
+    if (!(cfg.offset_window_s >= 0) || !(cfg.offset_step_s > 0))
+        throw Error("--offset-window", "window must be >= 0 and step > 0");
     if (groups.empty()) throw Error("fit", "no beam groups: give --scene or --surface/--surfaces");
     if (!(cfg.smooth_s >= 0)) throw Error("--smooth", "must be >= 0");
     return SensorFit(log, groups, spec, calibration, cfg).run(raw);

@@ -95,7 +95,8 @@ void groupStatistics(const ThresholdProblem& p, double offset, const std::vector
         for (size_t k = 0; k < d.t.size(); ++k) {
             const double n = d.n[k], e = d.e[k], q = clampP(modelProbability(p, g, k, offset, sw[g]));
             sol.pearson_chi2[g] += (e - n * q) * (e - n * q) / (n * q * (1 - q));
-            const double a = e > 0 ? e * std::log(e / (n * q)) : 0, b = e < n ? (n - e) * std::log((n - e) / (n * (1 - q))) : 0;
+            const double a = e > 0 ? e * std::log(e / (n * q)) : 0,
+                         b = e < n ? (n - e) * std::log((n - e) / (n * (1 - q))) : 0;
             sol.deviance[g] += 2 * (a + b);
         }
         sol.nobs[g] = int(d.t.size());
@@ -127,8 +128,8 @@ ThresholdSolution solveThresholds(const ThresholdProblem& p)
                 ceres::CostFunction* cost;
                 if (pearson) {
                     const double p0 = clampP(modelProbability(p, g, k, offset, sw[g]));
-                    cost = new ceres::AutoDiffCostFunction<PearsonResidual, 1, 1, 2>(
-                        new PearsonResidual{p.sat, p.groups[g].t[k], n, e, 1.0 / std::sqrt(n * p0 * (1 - p0)), p.sigma_S, p.logistic});
+                    cost = new ceres::AutoDiffCostFunction<PearsonResidual, 1, 1, 2>(new PearsonResidual{
+                        p.sat, p.groups[g].t[k], n, e, 1.0 / std::sqrt(n * p0 * (1 - p0)), p.sigma_S, p.logistic});
                 } else {
                     cost = new ceres::AutoDiffCostFunction<DevianceResidual, 1, 1, 2>(
                         new DevianceResidual{p.sat, p.groups[g].t[k], n, e, p.sigma_S, p.logistic});

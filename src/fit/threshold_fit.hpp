@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 
-#include "smokescan/io/recorded.hpp"
 #include "binomial_deviance.hpp"
+#include "smokescan/io/recorded.hpp"
 
 namespace smokescan::detail {
 
@@ -37,11 +37,11 @@ struct ThresholdProblem {
 
 struct ThresholdSolution {
     double offset = 0, offset_se = NAN;
-    std::vector<std::array<double, 2>> sw;        ///< (S*, w)
-    std::vector<Eigen::Matrix2d> cov;             ///< of (S*, w), cluster-robust
+    std::vector<std::array<double, 2>> sw;  ///< (S*, w)
+    std::vector<Eigen::Matrix2d> cov;  ///< of (S*, w), cluster-robust
     std::vector<double> pearson_chi2, deviance;
-    std::vector<double> inflation;                ///< robust / model-based variance of S*
-    std::vector<int> nobs;                        ///< scans used per group
+    std::vector<double> inflation;  ///< robust / model-based variance of S*
+    std::vector<int> nobs;  ///< scans used per group
     bool converged = false;
     std::string message;
 };

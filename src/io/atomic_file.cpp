@@ -35,7 +35,8 @@ void removeTree(const char* path, int depth)
         char child[4096];
         while (const dirent* e = ::readdir(d)) {
             if (!std::strcmp(e->d_name, ".") || !std::strcmp(e->d_name, "..")) continue;
-            if (std::snprintf(child, sizeof child, "%s/%s", path, e->d_name) < int(sizeof child)) removeTree(child, depth - 1);
+            if (std::snprintf(child, sizeof child, "%s/%s", path, e->d_name) < int(sizeof child))
+                removeTree(child, depth - 1);
         }
         ::closedir(d);
     }
@@ -153,10 +154,12 @@ bool checkOutputPath(const std::string& path)
     if (path.empty()) throw Error("output", "empty file name");
     struct stat st {};
     if (::lstat(path.c_str(), &st) == 0) {
-        if (S_ISLNK(st.st_mode)) throw Error(path, "is a symbolic link; smokescan does not replace links (name the file it points to)");
+        if (S_ISLNK(st.st_mode))
+            throw Error(path, "is a symbolic link; smokescan does not replace links (name the file it points to)");
         if (S_ISDIR(st.st_mode)) throw Error(path, "is a directory");
         if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) return true;
-        if (!S_ISREG(st.st_mode)) throw Error(path, "is not a regular file, character device or FIFO; not replacing it");
+        if (!S_ISREG(st.st_mode))
+            throw Error(path, "is not a regular file, character device or FIFO; not replacing it");
         return false;
     }
     const fs::path dir = fs::path(path).parent_path();
@@ -199,7 +202,8 @@ void AtomicFile::commit()
         const bool ok = bool(out_);
         const int e = errno;
         out_.close();
-        if (!ok || out_.fail()) throw Error(path_, std::string("write failed (") + (ok ? "close" : std::strerror(e)) + ")");
+        if (!ok || out_.fail())
+            throw Error(path_, std::string("write failed (") + (ok ? "close" : std::strerror(e)) + ")");
     }
     if (device_) {
         const int fd = ::open(path_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
@@ -210,7 +214,8 @@ void AtomicFile::commit()
             ::close(fd);
             throw;
         }
-        if (::close(fd) != 0 && errno != EINTR) throw Error(path_, std::string("write failed (") + std::strerror(errno) + ")");
+        if (::close(fd) != 0 && errno != EINTR)
+            throw Error(path_, std::string("write failed (") + std::strerror(errno) + ")");
         std::remove(tmp_.c_str());
     } else {
         // The target may have become a link or folder since the check: refuse rather than replace.

@@ -59,7 +59,8 @@ void writeImage(const std::string& path, const Image& img)
     }
     if (!ok) {
         const std::string why = out->geterror();
-        throw Error(path, "cannot write (" + (why.empty() ? std::string("directory missing or not writable") : why) + ")");
+        throw Error(path,
+                    "cannot write (" + (why.empty() ? std::string("directory missing or not writable") : why) + ")");
     }
     file.commit();
 }
@@ -107,10 +108,12 @@ Image readImage(const std::string& path)
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error(path, "cannot read as an image (" + oneLine(OIIO::geterror()) + ")");
     const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.nchannels > 64 || spec.width > limits::kFrameSide ||
-        spec.height > limits::kFrameSide || int64_t(spec.width) * spec.height > limits::kFramePixels)
-        throw Error(path, "is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
-                              std::to_string(spec.nchannels) + " channels, beyond what smokescan reads (docs/limits.md)");
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.nchannels > 64 ||
+        spec.width > limits::kFrameSide || spec.height > limits::kFrameSide ||
+        int64_t(spec.width) * spec.height > limits::kFramePixels)
+        throw Error(path,
+                    "is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
+                        std::to_string(spec.nchannels) + " channels, beyond what smokescan reads (docs/limits.md)");
     Image img(spec.width, spec.height, spec.nchannels);
     img.channel_names = spec.channelnames;
     const bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data());

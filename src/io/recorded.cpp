@@ -14,7 +14,6 @@
 namespace smokescan {
 namespace {
 
-
 bool blankOrComment(const std::string& line)
 {
     const size_t first = line.find_first_not_of(" \t\r");
@@ -62,7 +61,8 @@ std::string implausibleBeam(const std::vector<double>& f, double unit_m)
         const std::string beam = "beam " + std::to_string(i / 2);
         if (std::abs(f[i]) > kTwoPi + 1e-9) return beam + ": angle " + std::to_string(f[i]) + " rad is beyond ±2π";
         if (f[i + 1] < 0) return beam + ": range " + std::to_string(f[i + 1]) + " is negative";
-        if (f[i + 1] * unit_m > kMaxRange_m) return beam + ": range " + std::to_string(f[i + 1] * unit_m) + " m is beyond 1 km (wrong --unit?)";
+        if (f[i + 1] * unit_m > kMaxRange_m)
+            return beam + ": range " + std::to_string(f[i + 1] * unit_m) + " m is beyond 1 km (wrong --unit?)";
     }
     return "";
 }
@@ -106,7 +106,10 @@ RecordedLog parseRecordedLog(const std::string& text, const std::string& path, c
             why = parseField(tok, f.size(), v);
             f.push_back(v);
         }
-        if (!why.empty()) { bad(why); continue; }
+        if (!why.empty()) {
+            bad(why);
+            continue;
+        }
         if (f.size() < 3 || (f.size() - 1) % 2 != 0) {
             bad("expected a time and (angle, range) pairs, got " + std::to_string(f.size()) + " fields");
             continue;
@@ -121,7 +124,10 @@ RecordedLog parseRecordedLog(const std::string& text, const std::string& path, c
             bad(f[0] < log.scans.back().time_s ? "time goes backwards" : "time repeats the previous scan's");
             continue;
         }
-        if (const std::string why = implausibleBeam(f, opt.unit_m); !why.empty()) { bad(why); continue; }
+        if (const std::string why = implausibleBeam(f, opt.unit_m); !why.empty()) {
+            bad(why);
+            continue;
+        }
         LaserLogScan s;
         s.time_s = f[0];
         for (size_t i = 1; i < f.size(); i += 2) {
@@ -158,9 +164,12 @@ SaturationSeries parseSaturationCsv(const std::string& text, const std::string& 
             if (!f.empty() && !parseField(f[0], 0, v).empty()) {  // a header: columns by name
                 col_t = col_s = -1;
                 for (size_t i = 0; i < f.size(); ++i) {
-                    if (f[i] == "time_s" || f[i] == "time") col_t = int(i);
-                    else if (f[i] == "saturation") col_s = int(i);
-                    else if (f[i] != "pixels" && !endsWith(f[i], "_median") && !endsWith(f[i], "_sd") && !f[i].empty()) {
+                    if (f[i] == "time_s" || f[i] == "time")
+                        col_t = int(i);
+                    else if (f[i] == "saturation")
+                        col_s = int(i);
+                    else if (f[i] != "pixels" && !endsWith(f[i], "_median") && !endsWith(f[i], "_sd") &&
+                             !f[i].empty()) {
                         patch_cols.push_back(int(i));
                         s.patch_names.push_back(f[i]);
                     }
@@ -172,24 +181,40 @@ SaturationSeries parseSaturationCsv(const std::string& text, const std::string& 
         }
         auto bad = [&](const std::string& what) { problem(where, what, opt.lenient, s.skipped); };
         const size_t need = size_t(std::max(col_t, col_s)) + 1;
-        if (f.size() < need) { bad("expected at least " + std::to_string(need) + " fields, got " + std::to_string(f.size())); continue; }
+        if (f.size() < need) {
+            bad("expected at least " + std::to_string(need) + " fields, got " + std::to_string(f.size()));
+            continue;
+        }
         double t = 0, sat = 0;
         std::string why = parseField(f[size_t(col_t)], size_t(col_t), t);
         if (why.empty()) why = parseField(f[size_t(col_s)], size_t(col_s), sat);
-        if (!why.empty()) { bad(why); continue; }
-        if (sat < 0 || sat > 1) { bad("saturation " + f[size_t(col_s)] + " is outside [0, 1]"); continue; }
-        if (!s.time_s.empty() && t < s.time_s.back()) { bad("time goes backwards"); continue; }
+        if (!why.empty()) {
+            bad(why);
+            continue;
+        }
+        if (sat < 0 || sat > 1) {
+            bad("saturation " + f[size_t(col_s)] + " is outside [0, 1]");
+            continue;
+        }
+        if (!s.time_s.empty() && t < s.time_s.back()) {
+            bad("time goes backwards");
+            continue;
+        }
         std::vector<double> pv;
         for (size_t p = 0; why.empty() && p < patch_cols.size(); ++p) {
             const size_t c = size_t(patch_cols[p]);
             double v = NAN;
             if (c < f.size() && !f[c].empty()) {
                 why = parseField(f[c], c, v);
-                if (why.empty() && (v < 0 || v > 1)) why = "saturation " + f[c] + " of patch '" + s.patch_names[p] + "' is outside [0, 1]";
+                if (why.empty() && (v < 0 || v > 1))
+                    why = "saturation " + f[c] + " of patch '" + s.patch_names[p] + "' is outside [0, 1]";
             }
             pv.push_back(v);
         }
-        if (!why.empty()) { bad(why); continue; }
+        if (!why.empty()) {
+            bad(why);
+            continue;
+        }
         s.time_s.push_back(t);
         s.saturation.push_back(sat);
         for (size_t p = 0; p < pv.size(); ++p) s.patch[p].push_back(pv[p]);

@@ -69,8 +69,10 @@ void RunFiles::record(const std::string& path, const std::string& option)
             throw Error(path, "is the input of " + opt + " (" + p + "); " + option + " would destroy it");
     }
     if (!me.device) {
-        const auto [it, fresh] = output_ids_.emplace(std::make_tuple(uint64_t(me.dev), uint64_t(me.ino), me.name), option);
-        if (!fresh) throw Error(path, "is named by both " + it->second + " and " + option + "; give each output its own file");
+        const auto [it, fresh] =
+            output_ids_.emplace(std::make_tuple(uint64_t(me.dev), uint64_t(me.ino), me.name), option);
+        if (!fresh)
+            throw Error(path, "is named by both " + it->second + " and " + option + "; give each output its own file");
     }
     outputs_.emplace_back(path, option);
 }

@@ -7,8 +7,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <sstream>
 #include <cstring>
+#include <sstream>
 
 #include "smokescan/core/error.hpp"
 
@@ -20,8 +20,9 @@ std::string readTextInput(const std::string& path, const std::string& what, size
     if (::stat(path.c_str(), &st) != 0) throw Error(path, "no such " + what);
     if (S_ISDIR(st.st_mode)) throw Error(path, "is a folder, not a " + what);
     if (S_ISREG(st.st_mode) && size_t(st.st_size) > max_bytes)
-        throw Error(path, "is " + std::to_string(st.st_size >> 20) + " MiB, over the " + std::to_string(max_bytes >> 20) +
-                              " MiB a " + what + " may have");
+        throw Error(path,
+                    "is " + std::to_string(st.st_size >> 20) + " MiB, over the " + std::to_string(max_bytes >> 20) +
+                        " MiB a " + what + " may have");
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) throw Error(path, "cannot read (" + std::string(std::strerror(errno)) + ")");
     std::string text;
@@ -37,11 +38,13 @@ std::string readTextInput(const std::string& path, const std::string& what, size
         }
         if (std::memchr(buf, '\0', size_t(n))) {
             ::close(fd);
-            throw Error(path, "is not text (a NUL byte near byte " + std::to_string(text.size()) + "); expected a " + what);
+            throw Error(path,
+                        "is not text (a NUL byte near byte " + std::to_string(text.size()) + "); expected a " + what);
         }
         if (text.size() + size_t(n) > max_bytes) {
             ::close(fd);
-            throw Error(path, "gives more than the " + std::to_string(max_bytes >> 20) + " MiB a " + what + " may have");
+            throw Error(path,
+                        "gives more than the " + std::to_string(max_bytes >> 20) + " MiB a " + what + " may have");
         }
         text.append(buf, size_t(n));
     }

@@ -15,7 +15,9 @@ namespace smokescan {
 class TomlTable {
 public:
     TomlTable(const toml::table& t, std::string source, std::string path)
-        : t_(t), source_(std::move(source)), path_(std::move(path)) {}
+        : t_(t), source_(std::move(source)), path_(std::move(path))
+    {
+    }
 
     bool has(const std::string& key) const { return t_.contains(key); }
     const std::string& source() const { return source_; }

@@ -16,8 +16,8 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
-#include "vdb_header.hpp"
 #include "vdb_grid.hpp"
+#include "vdb_header.hpp"
 
 namespace smokescan {
 
@@ -55,8 +55,7 @@ void buildLeafTable(DensityGrid::Impl& impl)
 DensityGrid::DensityGrid(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
 DensityGrid::~DensityGrid() = default;
 
-std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::Ptr grid,
-                                                           const std::string& where,
+std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::Ptr grid, const std::string& where,
                                                            const std::string& source_type)
 {
     auto impl = std::make_shared<Impl>();
@@ -80,26 +79,27 @@ std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::P
     if (!(std::abs(det) > 1e-300) || !(s2 > 0))
         throw Error(where, "grid '" + grid->getName() + "' has a singular transform");
     if ((G - s2 * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 * s2)
-        throw Error(where, "grid '" + grid->getName() +
-                               "' has a non-uniform transform (voxels must be cubes)");
+        throw Error(where, "grid '" + grid->getName() + "' has a non-uniform transform (voxels must be cubes)");
     impl->voxel_size_m = std::sqrt(s2);
     impl->w2i_lin = A.inverse();
     impl->w2i_off = -impl->w2i_lin * Eigen::Vector3d(o[0], o[1], o[2]);
 
     const float bg = grid->background();
     if (!(bg == 0.0f))
-        throw Error(where, "grid '" + grid->getName() + "' has background " + std::to_string(bg) +
-                               "; smoke outside a grid must be 0");
+        throw Error(
+            where,
+            "grid '" + grid->getName() + "' has background " + std::to_string(bg) + "; smoke outside a grid must be 0");
     bool any = false;
     double lo = 0, hi = 0;
     for (auto it = grid->cbeginValueAll(); it; ++it) {
         const float v = *it;
         if (!std::isfinite(v))
-            throw Error(where, "grid '" + grid->getName() + "' holds a non-finite density at " +
-                                   it.getCoord().asVec3i().str());
+            throw Error(
+                where, "grid '" + grid->getName() + "' holds a non-finite density at " + it.getCoord().asVec3i().str());
         if (v < 0.0f)
-            throw Error(where, "grid '" + grid->getName() + "' holds a negative density (" +
-                                   std::to_string(v) + ") at " + it.getCoord().asVec3i().str());
+            throw Error(where,
+                        "grid '" + grid->getName() + "' holds a negative density (" + std::to_string(v) + ") at " +
+                            it.getCoord().asVec3i().str());
         if (v == 0.0f) continue;
         openvdb::CoordBBox b;
         it.getBoundingBox(b);
@@ -113,8 +113,7 @@ std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::P
     buildLeafTable(*impl);
     if (any) {
         // World bounds of the support's outer voxel faces.
-        const openvdb::Vec3d a = impl->support.min().asVec3d() - 0.5,
-                             b = impl->support.max().asVec3d() + 0.5;
+        const openvdb::Vec3d a = impl->support.min().asVec3d() - 0.5, b = impl->support.max().asVec3d() + 0.5;
         for (int k = 0; k < 8; ++k) {
             const openvdb::Vec3d c((k & 1) ? b[0] : a[0], (k & 2) ? b[1] : a[1], (k & 4) ? b[2] : a[2]);
             const openvdb::Vec3d w = xf.indexToWorld(c);
@@ -152,10 +151,12 @@ std::string chooseVdbGrid(const std::string& path, const std::string& wanted)
     if (!g && wanted.empty()) throw Error(path, "holds no float or double grid");
     if (!g) throw Error(path, "no grid named '" + wanted + "' (grids: " + (names.empty() ? "none" : names) + ")");
     if (g->type != "float" && g->type != "double")
-        throw Error(path, "grid '" + g->name + "' holds " + g->type + " values; a density grid must be scalar float or double");
+        throw Error(
+            path, "grid '" + g->name + "' holds " + g->type + " values; a density grid must be scalar float or double");
     if (g->voxels > limits::kGridVoxels)
-        throw Error(path, "grid '" + g->name + "' holds " + std::to_string(g->voxels) + " voxels, over the " +
-                              std::to_string(limits::kGridVoxels) + " a grid may have");
+        throw Error(path,
+                    "grid '" + g->name + "' holds " + std::to_string(g->voxels) + " voxels, over the " +
+                        std::to_string(limits::kGridVoxels) + " a grid may have");
     return g->name;
 }
 
@@ -194,8 +195,9 @@ DensityGrid DensityGrid::loadVdb(const std::string& path, const VdbLoadConfig& c
             if (std::isfinite(*it) && !std::isfinite(float(*it)))
                 throw Error(path, "grid '" + d->getName() + "' holds a value beyond float range");
     } else {
-        throw Error(path, "grid '" + base->getName() + "' holds " + type +
-                              " values; a density grid must be scalar float or double");
+        throw Error(
+            path,
+            "grid '" + base->getName() + "' holds " + type + " values; a density grid must be scalar float or double");
     }
     if (cfg.scale != 1.0) {
         const float s = float(cfg.scale);
@@ -205,9 +207,8 @@ DensityGrid DensityGrid::loadVdb(const std::string& path, const VdbLoadConfig& c
     return DensityGrid(Impl::make(fgrid, path, type));
 }
 
-DensityGrid DensityGrid::fromMesh(const std::vector<Vec3>& points_m,
-                                  const std::vector<std::array<int, 3>>& triangles, double value,
-                                  double voxel_size_m, double edge_m)
+DensityGrid DensityGrid::fromMesh(const std::vector<Vec3>& points_m, const std::vector<std::array<int, 3>>& triangles,
+                                  double value, double voxel_size_m, double edge_m)
 {
     ensureOpenVdb();
     if (!(voxel_size_m > 0) || !std::isfinite(voxel_size_m)) throw Error("", "voxel size must be > 0");
@@ -237,8 +238,8 @@ DensityGrid DensityGrid::fromMesh(const std::vector<Vec3>& points_m,
     } else {
         // Box filtering: a voxel is smoke when its centre is inside the surface.
         auto mask = openvdb::tools::sdfInteriorMask(*sdf);
-        grid = openvdb::FloatGrid::create(std::make_shared<openvdb::FloatTree>(mask->tree(), 0.0f, float(value),
-                                                                               openvdb::TopologyCopy()));
+        grid = openvdb::FloatGrid::create(
+            std::make_shared<openvdb::FloatTree>(mask->tree(), 0.0f, float(value), openvdb::TopologyCopy()));
     }
     openvdb::tools::prune(grid->tree());  // constant leaves become tiles
     grid->setTransform(xf);
@@ -254,9 +255,8 @@ DensityGrid DensityGrid::box(const Vec3& lo, const Vec3& hi, double value, doubl
     for (int k = 0; k < 8; ++k)
         p.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
     // Two outward-wound triangles per face.
-    const std::vector<std::array<int, 3>> t = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
-                                               {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
-                                               {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    const std::vector<std::array<int, 3>> t = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                               {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     return fromMesh(p, t, value, voxel_size_m, edge_m);
 }
 
@@ -352,8 +352,7 @@ const Aabb& DensityGrid::worldBounds() const { return impl_->world_bounds; }
 double DensityGrid::voxelSize() const { return impl_->voxel_size_m; }
 double DensityGrid::maxValue() const { return impl_->max_value; }
 
-void DensityGrid::writeVdb(const std::string& path,
-                           const std::vector<std::pair<std::string, DensityGrid>>& grids)
+void DensityGrid::writeVdb(const std::string& path, const std::vector<std::pair<std::string, DensityGrid>>& grids)
 {
     ensureOpenVdb();
     openvdb::GridPtrVec out;

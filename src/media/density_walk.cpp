@@ -16,9 +16,9 @@
 #endif
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <cmath>
 
 #include "vdb_grid.hpp"
 
@@ -32,19 +32,23 @@ using LeafT = TreeT::LeafNodeType;
 using Acc = openvdb::tree::ValueAccessor<const TreeT, /*IsSafe=*/false>;
 using openvdb::Coord;
 
-constexpr int kRootChildDim = TreeT::RootNodeType::ChildNodeType::DIM;                // 4096
+constexpr int kRootChildDim = TreeT::RootNodeType::ChildNodeType::DIM;  // 4096
 constexpr int kUpperChildDim = TreeT::RootNodeType::ChildNodeType::ChildNodeType::DIM;  // 128
-constexpr int kLeafDim = LeafT::DIM;                                                  // 8
+constexpr int kLeafDim = LeafT::DIM;  // 8
 
 /// Edge length (voxels) of the constant cube a value stored at tree depth `depth` stands for.
 inline int regionSize(int depth)
 {
     switch (depth) {
-        case -1:  // background: not in the root table
-        case 0: return kRootChildDim;
-        case 1: return kUpperChildDim;
-        case 2: return kLeafDim;
-        default: return 1;
+    case -1:  // background: not in the root table
+    case 0:
+        return kRootChildDim;
+    case 1:
+        return kUpperChildDim;
+    case 2:
+        return kLeafDim;
+    default:
+        return 1;
     }
 }
 
@@ -170,10 +174,9 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
     Acc acc(g.grid->tree());
     const auto& table = g.leaves;
     // Byte offsets, in the table, of the next leaf along each axis in the direction of travel.
-    const intptr_t table_step[3] = {
-        intptr_t(r.step[0]) * table.n[1] * table.n[2] * intptr_t(sizeof(const float*)),
-        intptr_t(r.step[1]) * table.n[2] * intptr_t(sizeof(const float*)),
-        intptr_t(r.step[2]) * intptr_t(sizeof(const float*))};
+    const intptr_t table_step[3] = {intptr_t(r.step[0]) * table.n[1] * table.n[2] * intptr_t(sizeof(const float*)),
+                                    intptr_t(r.step[1]) * table.n[2] * intptr_t(sizeof(const float*)),
+                                    intptr_t(r.step[2]) * intptr_t(sizeof(const float*))};
     // The values of the leaf holding cell c, or nullptr when c is not in a leaf.
     auto leafValues = [&](const Coord& c) -> const float* {
         if (table.values.empty()) {
@@ -222,8 +225,7 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
 
     // Per-axis constants of the voxel DDA: time per voxel, offset per step inside a leaf.
     static constexpr int kStride[3] = {kLeafDim * kLeafDim, kLeafDim, 1};
-    const Lane dx = lane(r.still[0] ? 0.0 : std::abs(r.inv[0])),
-               dy = lane(r.still[1] ? 0.0 : std::abs(r.inv[1])),
+    const Lane dx = lane(r.still[0] ? 0.0 : std::abs(r.inv[0])), dy = lane(r.still[1] ? 0.0 : std::abs(r.inv[1])),
                dz = lane(r.still[2] ? 0.0 : std::abs(r.inv[2]));
     int doff[3];
     for (int a = 0; a < 3; ++a) doff[a] = r.step[a] * kStride[a];
@@ -240,8 +242,7 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
     }
 
     Coord c;
-    for (int a = 0; a < 3; ++a)
-        c[a] = std::clamp(cellOf(r.o[a] + r.d[a] * t0, r.d[a]), smin[a], smax[a]);
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(cellOf(r.o[a] + r.d[a] * t0, r.d[a]), smin[a], smax[a]);
     while (t < t1 && g.support.isInside(c)) {
         Pieces<kCap>& out = buf[cur];
         int n = out.n;
@@ -399,7 +400,8 @@ bool DensityGrid::rangeIn(const Aabb& box, double& mn, double& mx, long long max
     // Index-space bounds of the box's corners; voxel c covers [c − ½, c + ½).
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf), hi = -lo;
     for (int k = 0; k < 8; ++k) {
-        const Vec3 w((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(), (k & 4) ? box.hi.z() : box.lo.z());
+        const Vec3 w((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(),
+                     (k & 4) ? box.hi.z() : box.lo.z());
         const Eigen::Vector3d x = g.w2i_lin * w + g.w2i_off;
         lo = lo.cwiseMin(x);
         hi = hi.cwiseMax(x);
@@ -432,8 +434,7 @@ double DensityGrid::sample(const Vec3& p_m, Reconstruction recon) const
     Acc acc(impl_->grid->tree());
     if (recon == Reconstruction::Trilinear)
         return openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(x[0], x[1], x[2]));
-    return acc.getValue(Coord(int(std::floor(x[0] + 0.5)), int(std::floor(x[1] + 0.5)),
-                              int(std::floor(x[2] + 0.5))));
+    return acc.getValue(Coord(int(std::floor(x[0] + 0.5)), int(std::floor(x[1] + 0.5)), int(std::floor(x[2] + 0.5))));
 }
 
 }  // namespace smokescan

@@ -26,16 +26,20 @@ void PlumeConfig::validate() const
     if (!std::isfinite(rise_m_s)) throw Error("", "rise_m_s must be finite");
     if (!source_m.allFinite() || !wind_m_s.allFinite()) throw Error("", "source_m and wind_m_s must be finite");
     if (!std::isfinite(start_s) || !(stop_s > start_s)) throw Error("", "plume needs a finite start_s < stop_s");
-    if (rate_per_s * lifetime_s > 2e5) throw Error("", "plume has more than 200000 live particles (rate_per_s × lifetime_s)");
+    if (rate_per_s * lifetime_s > 2e5)
+        throw Error("", "plume has more than 200000 live particles (rate_per_s × lifetime_s)");
     // Bounded work: each live puff is rasterised over a cube of 6σ a side (σ up to radius_m +
     // growth_m_s·lifetime_s), and its voxel indices must fit the grid's integer coordinates.
     const double sigma_max = radius_m + growth_m_s * lifetime_s;
     const double side = 6 * sigma_max / voxel_m + 2, live = std::ceil(rate_per_s * lifetime_s) + 1;
     if (live * side * side * side > 5e8)
-        throw Error("", "plume puffs would cover about " + limits::count(live * side * side * side) +
-                            " voxels at once (at most 5e8): raise voxel or lower radius_m, growth_m_s or rate_per_s");
-    const double reach = source_m.norm() + (wind_m_s.norm() + std::abs(rise_m_s) + 8 * spread_m_s) * lifetime_s + 3 * sigma_max;
-    if (reach / voxel_m > 1e8) throw Error("", "plume reaches " + std::to_string(reach) + " m from the origin, over 1e8 voxels");
+        throw Error("",
+                    "plume puffs would cover about " + limits::count(live * side * side * side) +
+                        " voxels at once (at most 5e8): raise voxel or lower radius_m, growth_m_s or rate_per_s");
+    const double reach =
+        source_m.norm() + (wind_m_s.norm() + std::abs(rise_m_s) + 8 * spread_m_s) * lifetime_s + 3 * sigma_max;
+    if (reach / voxel_m > 1e8)
+        throw Error("", "plume reaches " + std::to_string(reach) + " m from the origin, over 1e8 voxels");
 }
 
 std::vector<DensityGrid::Blob> plumeBlobs(const PlumeConfig& c, double t)
@@ -44,8 +48,10 @@ std::vector<DensityGrid::Blob> plumeBlobs(const PlumeConfig& c, double t)
     if (t < c.start_s) return blobs;
     // Particles alive at t were born in (t − lifetime, min(t, stop)].
     const double born_hi = std::min(t, c.stop_s), born_lo = t - c.lifetime_s;
-    const double dk_hi = std::floor((born_hi - c.start_s) * c.rate_per_s), dk_lo = std::floor((born_lo - c.start_s) * c.rate_per_s);
-    if (!(dk_hi < 1e15)) throw Error("", "plume time " + std::to_string(t) + " s is too far after start_s for its particle count");
+    const double dk_hi = std::floor((born_hi - c.start_s) * c.rate_per_s),
+                 dk_lo = std::floor((born_lo - c.start_s) * c.rate_per_s);
+    if (!(dk_hi < 1e15))
+        throw Error("", "plume time " + std::to_string(t) + " s is too far after start_s for its particle count");
     const long long k_hi = (long long)dk_hi, k_lo = std::max(0LL, (long long)std::max(dk_lo, -1.0));
     for (long long k = k_lo; k <= k_hi; ++k) {
         const double birth = c.start_s + double(k) / c.rate_per_s;

@@ -43,8 +43,8 @@ BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuer
         } else {
             out.column_local += col;
             if (std::isfinite(q.local_threshold) && col > 0)
-                out.first_local_m = std::min(out.first_local_m,
-                                             e.grid->firstAbove(ray, t0, t1, q.local_threshold / e.scale));
+                out.first_local_m =
+                    std::min(out.first_local_m, e.grid->firstAbove(ray, t0, t1, q.local_threshold / e.scale));
         }
         if (q.want_profile && !prof.empty()) {
             for (auto& s : prof) s.density *= e.scale * sigma;

@@ -16,8 +16,7 @@ DensityTimeline DensityTimeline::constant(double value)
     return t;
 }
 
-DensityTimeline DensityTimeline::keyframes(std::vector<std::pair<double, double>> keys, Interp interp,
-                                           double decay_s)
+DensityTimeline DensityTimeline::keyframes(std::vector<std::pair<double, double>> keys, Interp interp, double decay_s)
 {
     if (keys.empty()) throw Error("", "keyframes need at least one (time, value) pair");
     for (size_t i = 0; i < keys.size(); ++i) {
@@ -64,18 +63,20 @@ DensityTimeline DensityTimeline::machine(std::vector<std::pair<double, double>> 
 double DensityTimeline::at(double t) const
 {
     switch (kind_) {
-        case Kind::Constant: return value_;
-        case Kind::Machine: {
-            // Each interval [a, b] contributes ∫_a^{min(t,b)} q·e^{−(t−s)/τ} ds.
-            double rho = 0;
-            for (const auto& [a, b] : pts_) {
-                if (t <= a) break;
-                const double e = std::min(t, b);
-                rho += fill_ * dissolve_s_ * (std::exp(-(t - e) / dissolve_s_) - std::exp(-(t - a) / dissolve_s_));
-            }
-            return rho;
+    case Kind::Constant:
+        return value_;
+    case Kind::Machine: {
+        // Each interval [a, b] contributes ∫_a^{min(t,b)} q·e^{−(t−s)/τ} ds.
+        double rho = 0;
+        for (const auto& [a, b] : pts_) {
+            if (t <= a) break;
+            const double e = std::min(t, b);
+            rho += fill_ * dissolve_s_ * (std::exp(-(t - e) / dissolve_s_) - std::exp(-(t - a) / dissolve_s_));
         }
-        case Kind::Keyframes: break;
+        return rho;
+    }
+    case Kind::Keyframes:
+        break;
     }
     if (t <= pts_.front().first) return pts_.front().second;
     if (t >= pts_.back().first) {
@@ -88,9 +89,12 @@ double DensityTimeline::at(double t) const
     const auto& [t0, v0] = *(it - 1);
     const double f = (t - t0) / (t1 - t0);
     switch (interp_) {
-        case Interp::Step: return v0;
-        case Interp::Exp: return v0 * std::pow(v1 / v0, f);
-        default: return v0 + f * (v1 - v0);
+    case Interp::Step:
+        return v0;
+    case Interp::Exp:
+        return v0 * std::pow(v1 / v0, f);
+    default:
+        return v0 + f * (v1 - v0);
     }
 }
 

@@ -25,9 +25,9 @@ struct DensityGrid::Impl {
     /// kMaxBlocksPerLeaf blocks per leaf.
     struct LeafTable {
         static constexpr long long kMaxBlocksPerLeaf = 8;  ///< ≤ 64 B of table per 2 KB leaf
-        openvdb::Coord lo;                                  ///< lowest block (leaf origin / 8)
-        int n[3] = {0, 0, 0};                               ///< blocks along x, y, z
-        std::vector<const float*> values;                   ///< x-major; nullptr: no leaf there
+        openvdb::Coord lo;  ///< lowest block (leaf origin / 8)
+        int n[3] = {0, 0, 0};  ///< blocks along x, y, z
+        std::vector<const float*> values;  ///< x-major; nullptr: no leaf there
     } leaves;
 
     /// Validates `grid` (finite, non-negative values, zero background, uniform non-singular

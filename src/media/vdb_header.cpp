@@ -15,16 +15,17 @@ constexpr uint64_t kMaxNameBytes = 1 << 16;  // a grid, type or metadata name
 /// Sizes OpenVDB reads for its fixed-size metadata types, whatever size the file states.
 const std::map<std::string, uint32_t>& fixedMetaSizes()
 {
-    static const std::map<std::string, uint32_t> m = {
-        {"bool", 1},    {"int32", 4},  {"int64", 8},  {"float", 4},  {"double", 8},  {"vec2i", 8},  {"vec2s", 8},
-        {"vec2d", 16},  {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},  {"vec4s", 16}, {"vec4d", 32},
-        {"mat4s", 64},  {"mat4d", 128}};
+    static const std::map<std::string, uint32_t> m = {{"bool", 1},   {"int32", 4},  {"int64", 8},  {"float", 4},
+                                                      {"double", 8}, {"vec2i", 8},  {"vec2s", 8},  {"vec2d", 16},
+                                                      {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},
+                                                      {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64}, {"mat4d", 128}};
     return m;
 }
 
 bool knownGridType(const std::string& value_type)
 {
-    for (const char* t : {"bool", "double", "float", "int32", "int64", "mask", "vec3d", "vec3i", "vec3s", "ptdataidx32", "ptidx32"})
+    for (const char* t :
+         {"bool", "double", "float", "int32", "int64", "mask", "vec3d", "vec3i", "vec3s", "ptdataidx32", "ptidx32"})
         if (value_type == t) return true;
     return false;
 }
@@ -36,8 +37,9 @@ public:
 
     [[noreturn]] void fail(const std::string& what) const
     {
-        throw Error(path_, "is not a valid VDB file: " + what + " (at byte " + std::to_string(pos_) + " of " +
-                               std::to_string(size_) + ")");
+        throw Error(path_,
+                    "is not a valid VDB file: " + what + " (at byte " + std::to_string(pos_) + " of " +
+                        std::to_string(size_) + ")");
     }
     uint64_t pos() const { return pos_; }
     uint64_t left() const { return limit_ - pos_; }
@@ -97,8 +99,10 @@ std::map<std::string, int64_t> readMeta(Cursor& c, const char* what)
         if (fixed != fixedMetaSizes().end() && n != fixed->second)
             c.fail("metadata '" + name + "' of type " + type + " states " + std::to_string(n) + " bytes, not " +
                    std::to_string(fixed->second));
-        if (type == "int64" && n == 8) ints[name] = c.num<int64_t>("a metadata value");
-        else c.skip(n, "a metadata value");
+        if (type == "int64" && n == 8)
+            ints[name] = c.num<int64_t>("a metadata value");
+        else
+            c.skip(n, "a metadata value");
     }
     return ints;
 }
@@ -158,14 +162,16 @@ std::vector<VdbGridEntry> checkVdbHeader(std::istream& in, uint64_t size, const 
         e.end_pos = c.num<int64_t>("an end position");
         const int64_t here = int64_t(c.pos()), n = int64_t(size);
         const bool ordered = e.grid_pos == here && e.end_pos <= n &&
-                             (instance ? (e.block_pos == 0 && e.grid_pos <= e.end_pos)
-                                       : (e.grid_pos <= e.block_pos && e.block_pos <= e.end_pos));
+            (instance ? (e.block_pos == 0 && e.grid_pos <= e.end_pos)
+                      : (e.grid_pos <= e.block_pos && e.block_pos <= e.end_pos));
         if (!ordered)
-            c.fail("grid '" + e.name + "' has offsets " + std::to_string(e.grid_pos) + ", " + std::to_string(e.block_pos) + ", " +
-                   std::to_string(e.end_pos) + " that do not fit (truncated file?)");
+            c.fail("grid '" + e.name + "' has offsets " + std::to_string(e.grid_pos) + ", " +
+                   std::to_string(e.block_pos) + ", " + std::to_string(e.end_pos) +
+                   " that do not fit (truncated file?)");
         // The grid's own header: compression flags, then its metadata, before the topology.
         c.seek(uint64_t(e.grid_pos), uint64_t(instance ? e.end_pos : e.block_pos));
-        if (version >= 222 && c.num<uint32_t>("the grid's compression flags") > 7) c.fail("grid '" + e.name + "' has unknown compression flags");
+        if (version >= 222 && c.num<uint32_t>("the grid's compression flags") > 7)
+            c.fail("grid '" + e.name + "' has unknown compression flags");
         const auto meta = readMeta(c, "the grid's metadata");
         if (auto it = meta.find("file_voxel_count"); it != meta.end()) e.voxels = it->second;
         if (auto it = meta.find("file_mem_bytes"); it != meta.end()) e.mem_bytes = it->second;

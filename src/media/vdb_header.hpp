@@ -18,7 +18,7 @@ struct VdbGridEntry {
     std::string type;  ///< value type: "float", "double", "vec3s", …
     bool half = false;
     int64_t grid_pos = 0, block_pos = 0, end_pos = 0;
-    int64_t voxels = -1;     ///< the grid's "file_voxel_count" metadata, −1 if absent
+    int64_t voxels = -1;  ///< the grid's "file_voxel_count" metadata, −1 if absent
     int64_t mem_bytes = -1;  ///< the grid's "file_mem_bytes" metadata, −1 if absent
 };
 

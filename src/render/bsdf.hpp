@@ -54,7 +54,9 @@ inline Vec3 sampleHg(const Vec3& dir, double g, double u1, double u2)
 class Bsdf {
 public:
     Bsdf(const Material& m, const Vec3& n)
-        : frame_(n), albedo_(m.albedo.array()), spec_(m.specular), alpha_(std::max(1e-3, m.roughness * m.roughness)) {}
+        : frame_(n), albedo_(m.albedo.array()), spec_(m.specular), alpha_(std::max(1e-3, m.roughness * m.roughness))
+    {
+    }
 
     /// f(wo, wi) [1/sr], RGB; wo, wi point away from the surface.
     Rgb eval(const Vec3& wo_w, const Vec3& wi_w) const

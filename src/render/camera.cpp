@@ -34,8 +34,10 @@ std::unique_ptr<CameraModel> makeCamera(const Camera& cam)
     if (cam.width <= 0 || cam.height <= 0) throw Error(cam.name, "camera resolution must be > 0");
     PinholeIntrinsics k = PinholeIntrinsics::fromHfov(cam.width, cam.height, cam.hfov_deg);
     if (cam.fx_px > 0) k.fx = cam.fx_px;
-    if (cam.fy_px > 0) k.fy = cam.fy_px;
-    else if (cam.fx_px > 0) k.fy = cam.fx_px;
+    if (cam.fy_px > 0)
+        k.fy = cam.fy_px;
+    else if (cam.fx_px > 0)
+        k.fy = cam.fx_px;
     if (cam.cx_px >= 0) k.cx = cam.cx_px;
     if (cam.cy_px >= 0) k.cy = cam.cy_px;
     if (!(k.fx > 0) || !(k.fy > 0) || !std::isfinite(k.fx) || !std::isfinite(k.fy))

@@ -13,10 +13,10 @@
 
 #include "bsdf.hpp"
 #include "integrator.hpp"
-#include "sphere_rect.hpp"
-#include "smokescan/core/limits.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/render/renderer.hpp"
+#include "sphere_rect.hpp"
 
 namespace smokescan {
 namespace {
@@ -24,7 +24,7 @@ namespace {
 struct LightSample {
     Vec3 wi = Vec3::UnitZ();  ///< direction towards the light
     double dist = kInf;
-    Rgb Li = Rgb::Zero();     ///< incident radiance / pdf (or irradiance for delta lights)
+    Rgb Li = Rgb::Zero();  ///< incident radiance / pdf (or irradiance for delta lights)
 };
 
 class LightSet {
@@ -85,14 +85,17 @@ public:
             area_term = solid_angle > 0 ? Le * solid_angle : Le * cos_l * A * inv_d2;  // radiance / pdf(ω)
             break;
         }
-        case LightKind::Point: area_term = flux / (4 * M_PI) * inv_d2; break;
+        case LightKind::Point:
+            area_term = flux / (4 * M_PI) * inv_d2;
+            break;
         case LightKind::Spot: {  // a hard cone of half-angle spot_angle_deg
             const double c = std::cos(l.spot_angle_deg * M_PI / 180.0);
             area_term = cos_l >= c ? flux / (2 * M_PI * (1 - c)) * inv_d2 : 0.0;
             break;
         }
         case LightKind::Directional:
-        case LightKind::Ambient: break;  // handled above and in the constructor
+        case LightKind::Ambient:
+            break;  // handled above and in the constructor
         }
         ls.Li = n * area_term * l.color.array();
         return ls;
@@ -182,8 +185,8 @@ public:
         last_ = el;
         const double f = double(d) / total_;
         const int w = 30, k = int(f * w);
-        std::fprintf(stderr, "\rrender [%.*s%*s] %3d%%  %.1f s, ETA %.1f s ", k, "==============================",
-                     w - k, "", int(100 * f), el, f > 0 ? el * (1 - f) / f : 0.0);
+        std::fprintf(stderr, "\rrender [%.*s%*s] %3d%%  %.1f s, ETA %.1f s ", k,
+                     "==============================", w - k, "", int(100 * f), el, f > 0 ? el * (1 - f) / f : 0.0);
         if (d >= total_) std::fprintf(stderr, "\n");
     }
 
@@ -224,17 +227,20 @@ RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const Camera
 RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, const CameraModel& camera,
                               const RenderMedium& medium, const RenderConfig& cfg)
 {
-    if (cfg.spp < 1 || cfg.spp > limits::kSpp) throw Error("--spp", "must be in [1, " + std::to_string(limits::kSpp) + "]");
+    if (cfg.spp < 1 || cfg.spp > limits::kSpp)
+        throw Error("--spp", "must be in [1, " + std::to_string(limits::kSpp) + "]");
     if (cfg.max_depth < 0 || cfg.max_depth > limits::kPathDepth)
         throw Error("--max-depth", "must be in [0, " + std::to_string(limits::kPathDepth) + "]");
     if (camera.width() <= 0 || camera.height() <= 0) throw Error("camera", "resolution must be > 0");
     const int64_t pixels = int64_t(camera.width()) * camera.height();
     if (camera.width() > limits::kFrameSide || camera.height() > limits::kFrameSide || pixels > limits::kFramePixels)
-        throw Error("--width", std::to_string(camera.width()) + "x" + std::to_string(camera.height()) + " is over the " +
-                                   std::to_string(limits::kFrameSide) + " px a side and " + std::to_string(limits::kFramePixels) +
-                                   " pixels a frame may have");
+        throw Error("--width",
+                    std::to_string(camera.width()) + "x" + std::to_string(camera.height()) + " is over the " +
+                        std::to_string(limits::kFrameSide) + " px a side and " + std::to_string(limits::kFramePixels) +
+                        " pixels a frame may have");
     if (double(pixels) * cfg.spp > double(limits::kFrameSamples))
-        throw Error("--spp", "pixels × spp is over the " + std::to_string(limits::kFrameSamples) + " samples a frame may have");
+        throw Error("--spp",
+                    "pixels × spp is over the " + std::to_string(limits::kFrameSamples) + " samples a frame may have");
     const auto t0 = std::chrono::steady_clock::now();
     const LightSet lights(scene);
     const Context ctx{scene, surfaces, medium, lights, cfg};
@@ -274,7 +280,8 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                         sum2 += v * v;
                     }
                     const Rgb mean = sum / cfg.spp;
-                    const Rgb var = cfg.spp > 1 ? Rgb(((sum2 - sum * mean) / (cfg.spp - 1)).max(0.0) / cfg.spp) : Rgb(Rgb::Zero());
+                    const Rgb var =
+                        cfg.spp > 1 ? Rgb(((sum2 - sum * mean) / (cfg.spp - 1)).max(0.0) / cfg.spp) : Rgb(Rgb::Zero());
                     for (int k = 0; k < 3; ++k) {
                         res.radiance.at(x, y, k) = float(mean[k]);
                         res.variance.at(x, y, k) = float(var[k]);

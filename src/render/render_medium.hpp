@@ -31,7 +31,7 @@ public:
     /// grid path is tested against.
     struct Component {
         std::shared_ptr<const DensityGrid> grid;
-        Aabb box;                   ///< analytic component only
+        Aabb box;  ///< analytic component only
         double scale = 1;
         Rgb sigma_t = Rgb::Zero();  ///< per unit density [1/m]
         double albedo = 1, g = 0;
@@ -69,9 +69,9 @@ private:
     Vec3 cell_m_ = Vec3::Ones();
     int n_[3] = {0, 0, 0};
     struct Cell {
-        float mu = 0;                  ///< majorant of the max-channel σ_t [1/m]
-        float mu_r = 0;                ///< residual majorant ≥ |σ_t − σ_c| [1/m]
-        float ctrl[3] = {0, 0, 0};     ///< control extinction σ_c, RGB [1/m]
+        float mu = 0;  ///< majorant of the max-channel σ_t [1/m]
+        float mu_r = 0;  ///< residual majorant ≥ |σ_t − σ_c| [1/m]
+        float ctrl[3] = {0, 0, 0};  ///< control extinction σ_c, RGB [1/m]
     };
     std::vector<Cell> cells_;
 };

@@ -30,8 +30,8 @@ public:
         x1_ = x0_ + exl;
         y1_ = y0_ + eyl;
         const Vec3 v00(x0_, y0_, z0_), v01(x0_, y1_, z0_), v10(x1_, y0_, z0_), v11(x1_, y1_, z0_);
-        const Vec3 n0 = v00.cross(v10).normalized(), n1 = v10.cross(v11).normalized(),
-                   n2 = v11.cross(v01).normalized(), n3 = v01.cross(v00).normalized();
+        const Vec3 n0 = v00.cross(v10).normalized(), n1 = v10.cross(v11).normalized(), n2 = v11.cross(v01).normalized(),
+                   n3 = v01.cross(v00).normalized();
         auto ang = [](double c) { return std::acos(std::clamp(c, -1.0, 1.0)); };
         const double g0 = ang(-n0.dot(n1)), g1 = ang(-n1.dot(n2)), g2 = ang(-n2.dot(n3)), g3 = ang(-n3.dot(n0));
         b0_ = n0.z();

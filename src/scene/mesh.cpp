@@ -43,7 +43,8 @@ void checkVertexLines(const std::string& text, const std::string& path)
                 throw Error(path + ":" + std::to_string(ln), "vertex coordinate '" + tok + "' is not a finite number");
             ++n;
         }
-        if (n < 3 || n > 4) throw Error(path + ":" + std::to_string(ln), "a vertex needs 3 coordinates, got " + std::to_string(n));
+        if (n < 3 || n > 4)
+            throw Error(path + ":" + std::to_string(ln), "a vertex needs 3 coordinates, got " + std::to_string(n));
     }
 }
 

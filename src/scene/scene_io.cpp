@@ -8,13 +8,13 @@
 #include <map>
 #include <sstream>
 
-#include "../sensors/sensor_tables.hpp"
 #include "../io/toml_reader.hpp"
+#include "../sensors/sensor_tables.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
-#include "smokescan/scene/mesh.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/scene/mesh.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan {
 namespace {
@@ -187,19 +187,23 @@ Medium readMedium(TomlTable& parent)
 
 /// A smoke area's grid, bounded before it is made: at most limits::kGridSide voxels a side
 /// (its soft edge included), within 1000 km of the origin.
-void checkGridExtent(TomlTable& t, const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m, const std::string& what)
+void checkGridExtent(TomlTable& t, const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m,
+                     const std::string& what)
 {
     if (!(((hi - lo).maxCoeff() + 2 * edge_m) / voxel_m <= limits::kGridSide))
-        t.error(edge_m > 0 ? "edge_m" : "voxel", "makes this " + what + " over 4000 voxels a side (its soft edge included)");
+        t.error(edge_m > 0 ? "edge_m" : "voxel",
+                "makes this " + what + " over 4000 voxels a side (its soft edge included)");
     const double reach = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) + edge_m;
-    if (!(reach <= 1e6)) t.error(what == "box" ? "max" : "file", "the " + what + " must lie within 1000 km of the origin");
+    if (!(reach <= 1e6))
+        t.error(what == "box" ? "max" : "file", "the " + what + " must lie within 1000 km of the origin");
 }
 
 /// A smoke area's density [engine units], within limits::kDensity.
 double density(TomlTable& t)
 {
     const double rho = t.nonneg("density", 1.0);
-    if (rho > limits::kDensity) t.error("density", "must be at most 1e6 (engine units; the paper's threshold is 0.0028)");
+    if (rho > limits::kDensity)
+        t.error("density", "must be at most 1e6 (engine units; the paper's threshold is 0.0028)");
     return rho;
 }
 
@@ -217,9 +221,12 @@ DensityTimeline readTimeline(TomlTable& parent)
         if (kind == "keyframes") {
             const std::string interp = t.str("interp", "linear");
             DensityTimeline::Interp i = DensityTimeline::Interp::Linear;
-            if (interp == "step") i = DensityTimeline::Interp::Step;
-            else if (interp == "exp") i = DensityTimeline::Interp::Exp;
-            else if (interp != "linear") t.error("interp", "must be linear, step or exp");
+            if (interp == "step")
+                i = DensityTimeline::Interp::Step;
+            else if (interp == "exp")
+                i = DensityTimeline::Interp::Exp;
+            else if (interp != "linear")
+                t.error("interp", "must be linear, step or exp");
             auto keys = t.pairs("keys");
             const double decay = t.nonneg("decay_s", 0.0);
             t.finish();
@@ -244,9 +251,12 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
     v.name = t.strReq("name");
     const std::string type = t.strReq("type");
     const std::string role = t.str("role", type == "plume" ? "local" : "regional");
-    if (role == "regional") v.role = SmokeRole::Regional;
-    else if (role == "local") v.role = SmokeRole::Local;
-    else t.error("role", "must be regional or local, got '" + role + "'");
+    if (role == "regional")
+        v.role = SmokeRole::Regional;
+    else if (role == "local")
+        v.role = SmokeRole::Local;
+    else
+        t.error("role", "must be regional or local, got '" + role + "'");
     v.medium = readMedium(t);
     v.timeline = readTimeline(t);
     try {
@@ -267,10 +277,11 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
             for (const Vec3& p : mesh.points_m) box.extend(p);
             if (!box.empty()) checkGridExtent(t, box.lo, box.hi, h, edge, "mesh");
             if (const size_t open = openEdges(mesh))
-                t.error("file", "'" + file + "' is not a closed mesh (" + std::to_string(open) +
-                                    " edges do not join exactly two faces); a smoke area needs an inside");
-            v.source = std::make_shared<const DensityGrid>(
-                DensityGrid::fromMesh(mesh.points_m, mesh.triangles, rho, h, edge));
+                t.error("file",
+                        "'" + file + "' is not a closed mesh (" + std::to_string(open) +
+                            " edges do not join exactly two faces); a smoke area needs an inside");
+            v.source =
+                std::make_shared<const DensityGrid>(DensityGrid::fromMesh(mesh.points_m, mesh.triangles, rho, h, edge));
         } else if (type == "vdb") {
             VdbLoadConfig c;
             const std::string file = resolve(base_dir, t.strReq("file"));
@@ -345,14 +356,20 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
 Scene loadScene(const std::string& name_or_path)
 {
     for (const auto& b : builtinSceneNames())
-        if (b == name_or_path) return parseScene(builtinSceneText(b), "builtin:" + b, "");  // self-contained: no file paths
+        if (b == name_or_path)
+            return parseScene(builtinSceneText(b), "builtin:" + b, "");  // self-contained: no file paths
     if (!fs::exists(name_or_path))
-        throw Error(name_or_path, "no such scene file (built-in scenes: " + [] {
-            std::string s;
-            for (const auto& b : builtinSceneNames()) s += (s.empty() ? "" : ", ") + b;
-            return s;
-        }() + ")");
-    return parseScene(readTextInput(name_or_path, "scene file"), name_or_path, fs::path(name_or_path).parent_path().string());
+        throw Error(
+            name_or_path,
+            "no such scene file (built-in scenes: " +
+                [] {
+                    std::string s;
+                    for (const auto& b : builtinSceneNames()) s += (s.empty() ? "" : ", ") + b;
+                    return s;
+                }() +
+                ")");
+    return parseScene(readTextInput(name_or_path, "scene file"), name_or_path,
+                      fs::path(name_or_path).parent_path().string());
 }
 
 }  // namespace smokescan

@@ -92,7 +92,7 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
             const double u = mh.t_m, R = h.t_m + u;
             const double cos_m = std::abs(rd.dot(mh.normal));
             const double Pm = gain * M_PI * monostaticBrdf(mm, wl, cos_m) * cos_m * p.overlap(R) /
-                              (R * R + u * u * lobe_ratio) * std::exp(-2 * mtau.tau(u));
+                (R * R + u * u * lobe_ratio) * std::exp(-2 * mtau.tau(u));
             if (Pm > 0) {
                 sig.echoes.push_back({R, Pm, EchoSource::Mirror});
                 sig.mirror_power += Pm;

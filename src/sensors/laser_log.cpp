@@ -10,8 +10,8 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
-#include "smokescan/io/recorded.hpp"
 #include "smokescan/io/image.hpp"
+#include "smokescan/io/recorded.hpp"
 
 namespace smokescan {
 
@@ -29,8 +29,8 @@ void writeLaserLogScan(std::ostream& o, const Scan& s, const LrfSpec& spec)
     o << '\n';
 }
 
-void writeLaserLog(const std::string& path, const std::vector<std::string>& header,
-                   const std::vector<Scan>& scans, const LrfSpec& spec)
+void writeLaserLog(const std::string& path, const std::vector<std::string>& header, const std::vector<Scan>& scans,
+                   const LrfSpec& spec)
 {
     AtomicFile f(path);
     writeLaserLogHeader(f.stream(), header);
@@ -51,9 +51,9 @@ void writeBeamCsvScan(std::ostream& o, const Scan& s, const Scene& scene)
     for (size_t i = 0; i < s.beams.size(); ++i) {
         const BeamResult& b = s.beams[i];
         o << s.time_s << ',' << i << ',' << s.angle_rad[i] << ',' << s.value[i] << ',' << (b.error ? 1 : 0) << ','
-          << b.cause << ',' << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none")) << ','
-          << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local << ','
-          << b.smoke.tau << ',' << b.power << '\n';
+          << b.cause << ',' << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none"))
+          << ',' << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local
+          << ',' << b.smoke.tau << ',' << b.power << '\n';
     }
 }
 

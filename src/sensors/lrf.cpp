@@ -40,7 +40,7 @@ LrfSpec lms200(double res_deg, double range_mode_m)
     s.unit_m = range_mode_m == 8.0 ? 0.001 : 0.01;
     s.range_max_m = (lms_code::kNoEcho - 1) * s.unit_m;  // 8183 and above are error values
     s.scan_period_s = 1.0 / 75.0;
-    s.no_return_code = lms_code::kNoEcho;          // "measured value > maximum value" (docs/sensors.md)
+    s.no_return_code = lms_code::kNoEcho;  // "measured value > maximum value" (docs/sensors.md)
     s.sigma_near_m = range_mode_m == 8.0 ? 0.005 : 0.01;
     s.near_limit_m = 1e9;
     s.sigma_rel = 0.0;
@@ -50,8 +50,10 @@ LrfSpec lms200(double res_deg, double range_mode_m)
 bool LrfSpec::isErrorValue(long long v) const
 {
     switch (type) {
-    case SensorType::Urg04lx: return v < urg_code::kFirstRange;
-    case SensorType::Lms200: return v >= lms_code::kNoEcho;
+    case SensorType::Urg04lx:
+        return v < urg_code::kFirstRange;
+    case SensorType::Lms200:
+        return v >= lms_code::kNoEcho;
     }
     return true;
 }
@@ -59,8 +61,10 @@ bool LrfSpec::isErrorValue(long long v) const
 std::string LrfSpec::errorValueSummary() const
 {
     switch (type) {
-    case SensorType::Urg04lx: return "values below 20 (0 = no return)";
-    case SensorType::Lms200: return "values >= 8183 (8183 = no echo within range)";
+    case SensorType::Urg04lx:
+        return "values below 20 (0 = no return)";
+    case SensorType::Lms200:
+        return "values >= 8183 (8183 = no echo within range)";
     }
     return "";
 }
@@ -68,8 +72,10 @@ std::string LrfSpec::errorValueSummary() const
 LrfSpec specFor(const SensorConfig& c)
 {
     switch (c.type) {
-    case SensorType::Urg04lx: return urg04lx();
-    case SensorType::Lms200: return lms200(c.lms.resolution_deg, c.lms.range_mode_m);
+    case SensorType::Urg04lx:
+        return urg04lx();
+    case SensorType::Lms200:
+        return lms200(c.lms.resolution_deg, c.lms.range_mode_m);
     }
     throw Error("sensor", "unknown sensor type");
 }

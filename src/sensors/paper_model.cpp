@@ -4,8 +4,8 @@
 
 namespace smokescan {
 
-BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit,
-                     const BeamSmoke& smoke, double noise)
+BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit, const BeamSmoke& smoke,
+                     double noise)
 {
     BeamResult r;
     r.hit = hit;

@@ -11,8 +11,10 @@ namespace smokescan {
 namespace {
 
 constexpr double kC = 299792458.0;  // [m/s]
+// Smoke bins: 0.2 rad of fine phase (sinc loss 0.2 %), 0.4 of the Sick pulse's σ.
 constexpr double kBin_m = 0.1;
-constexpr uint64_t kPredictiveSeed = 0x70726564;  // the common random numbers of pulsedErrorProbability      // smoke bins: 0.2 rad of fine phase (sinc loss 0.2 %), 0.4 of the Sick pulse's σ
+// The common random numbers of pulsedErrorProbability.
+constexpr uint64_t kPredictiveSeed = 0x70726564;
 
 }  // namespace
 
@@ -29,17 +31,18 @@ TauProfile::TauProfile(const std::vector<ProfileSegment>& s) : seg_(s)
 double TauProfile::tau(double r) const
 {
     // first segment whose end lies beyond r
-    auto it = std::upper_bound(seg_.begin(), seg_.end(), r,
-                               [](double v, const ProfileSegment& g) { return v < g.t1_m; });
+    auto it =
+        std::upper_bound(seg_.begin(), seg_.end(), r, [](double v, const ProfileSegment& g) { return v < g.t1_m; });
     const size_t i = size_t(it - seg_.begin());
-    if (i == seg_.size()) return seg_.empty() ? 0.0 : cum_.back() + seg_.back().density * (seg_.back().t1_m - seg_.back().t0_m);
+    if (i == seg_.size())
+        return seg_.empty() ? 0.0 : cum_.back() + seg_.back().density * (seg_.back().t1_m - seg_.back().t0_m);
     return cum_[i] + seg_[i].density * std::max(0.0, r - seg_[i].t0_m);
 }
 
 double TauProfile::sigmaAt(double r) const
 {
-    auto it = std::upper_bound(seg_.begin(), seg_.end(), r,
-                               [](double v, const ProfileSegment& g) { return v < g.t1_m; });
+    auto it =
+        std::upper_bound(seg_.begin(), seg_.end(), r, [](double v, const ProfileSegment& g) { return v < g.t1_m; });
     return (it != seg_.end() && it->t0_m <= r) ? it->density : 0.0;
 }
 
@@ -63,8 +66,7 @@ double monostaticBrdf(const Material& m, double wl, double cos_theta)
     return f;
 }
 
-double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wl, double cos_theta,
-                        double R, double tau)
+double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wl, double cos_theta, double R, double tau)
 {
     if (!(R > 0) || cos_theta <= 0) return 0;
     return M_PI * monostaticBrdf(m, wl, cos_theta) * cos_theta * p.overlap(R) / (R * R) * std::exp(-2 * tau);
@@ -176,7 +178,9 @@ AmcwAmplitudes amcwAmplitudes(const PhysicalParams& p, const BeamSignal& s)
 double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A)
 {
     const double sd = p.noise_floor;
-    if (!(sd > 0)) return (A.lo < 0 || A.lo > p.saturation_power || std::abs(A.hi - A.lo) > p.two_wave_tolerance * A.lo) ? 1.0 : 0.0;
+    if (!(sd > 0))
+        return (A.lo < 0 || A.lo > p.saturation_power || std::abs(A.hi - A.lo) > p.two_wave_tolerance * A.lo) ? 1.0
+                                                                                                              : 0.0;
     const double mx = std::sqrt(A.lo * A.lo + sd * sd), my = std::sqrt(A.hi * A.hi + sd * sd);
     const double a = std::max(p.snr_min * sd, mx - 8 * sd), b = std::min(p.saturation_power, mx + 8 * sd);
     if (!(b > a)) return 1.0;
@@ -263,7 +267,10 @@ FirstEcho firstEcho(const Waveform& f, double thr)
     int kp = k0;
     while (k1 + 1 < n && w[size_t(k1 + 1)] >= thr) {
         ++k1;
-        if (w[size_t(k1)] > peak) { peak = w[size_t(k1)]; kp = k1; }
+        if (w[size_t(k1)] > peak) {
+            peak = w[size_t(k1)];
+            kp = k1;
+        }
     }
     e.found = true;
     e.peak = peak;
@@ -272,8 +279,7 @@ FirstEcho firstEcho(const Waveform& f, double thr)
     int a = kp;
     while (a > k0 && w[size_t(a - 1)] >= half) --a;
     e.lead_m = lo + a * dr;
-    if (a > 0 && w[size_t(a - 1)] < half)
-        e.lead_m -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
+    if (a > 0 && w[size_t(a - 1)] < half) e.lead_m -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
     int b = kp;
     while (b < n - 1 && w[size_t(b + 1)] >= half) ++b;
     e.trail_m = lo + b * dr;

@@ -17,8 +17,8 @@ double PhysicalParams::overlap(double r) const
 {
     if (r < window_m) return 0.0;  // inside the housing
     const double s = overlap_full_m <= overlap_start_m
-                         ? (r >= overlap_full_m ? 1.0 : 0.0)
-                         : smoothstep((r - overlap_start_m) / (overlap_full_m - overlap_start_m));
+        ? (r >= overlap_full_m ? 1.0 : 0.0)
+        : smoothstep((r - overlap_start_m) / (overlap_full_m - overlap_start_m));
     // Below the biaxial overlap only defocused light reaches the detector: a small floor that
     // itself falls as r² near the sensor (a blur circle larger than the detector).
     const double x = r / std::max(overlap_start_m, 1e-9);

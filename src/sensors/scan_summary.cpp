@@ -16,8 +16,9 @@ ScanSummary::ScanSummary(const Scene& scene, const Scanner& sc, std::string targ
     const double span = times.empty() ? 0.0 : times.back() - times.front();
     bin_ = bin_s > 0 ? bin_s : std::max(1.0, std::ceil(span / 36.0 / 5.0) * 5.0);
     if (max_rows > 0 && span / bin_ + 1 > double(max_rows))
-        throw Error("--bin", "would print " + limits::count(std::floor(span / bin_) + 1) + " rows (at most " +
-                                 std::to_string(max_rows) + "; use a wider bin or --quiet)");
+        throw Error("--bin",
+                    "would print " + limits::count(std::floor(span / bin_) + 1) + " rows (at most " +
+                        std::to_string(max_rows) + "; use a wider bin or --quiet)");
 }
 
 void ScanSummary::add(const Scan& s)
@@ -53,19 +54,21 @@ std::string ScanSummary::text()
 {
     std::string out;
     char line[512];
-    std::snprintf(line, sizeof line, "sensor %s (%s, model %s): %lld scans, %d beams each, %d on '%s*'\n", sc_.mount().name.c_str(),
-                  sensorTypeName(sc_.spec().type), sensorModelName(sc_.mount().config.model), scans_, sc_.spec().n_beams,
-                  n_target_, target_.c_str());
+    std::snprintf(line, sizeof line, "sensor %s (%s, model %s): %lld scans, %d beams each, %d on '%s*'\n",
+                  sc_.mount().name.c_str(), sensorTypeName(sc_.spec().type), sensorModelName(sc_.mount().config.model),
+                  scans_, sc_.spec().n_beams, n_target_, target_.c_str());
     out += line;
     if (scans_ == 0) return out;
     if (n_target_ == 0) {  // no target in this scene: the error fraction over all beams
-        std::snprintf(line, sizeof line, "error codes: %.1f %% of all beams\n", 100.0 * all_errors_ / std::max(1LL, all_beams_));
+        std::snprintf(line, sizeof line, "error codes: %.1f %% of all beams\n",
+                      100.0 * all_errors_ / std::max(1LL, all_beams_));
         return out + line;
     }
     flushBin(NAN);
     std::snprintf(line, sizeof line, "%10s %10s %22s %12s\n", "t0_s", "t1_s", "column_on_target_d.m", "error_frac");
     out += line + rows_;
-    std::snprintf(line, sizeof line, "error codes on the target: %.1f %% of beams", 100.0 * errs_ / std::max(1LL, total_));
+    std::snprintf(line, sizeof line, "error codes on the target: %.1f %% of beams",
+                  100.0 * errs_ / std::max(1LL, total_));
     out += line;
     if (!std::isnan(first_err_)) {
         std::snprintf(line, sizeof line, ", first at %.1f s, last at %.1f s", first_err_, last_err_);
@@ -78,8 +81,8 @@ void ScanSummary::flushBin(double next_t0)
 {
     if (bin_rows_ > 0) {
         char row[96];
-        std::snprintf(row, sizeof row, "%10.1f %10.1f %22.5f %12.3f\n", bin_t0_, bin_t0_ + bin_, bin_n_ ? bin_col_ / bin_n_ : 0.0,
-                      bin_n_ ? double(bin_err_) / bin_n_ : 0.0);
+        std::snprintf(row, sizeof row, "%10.1f %10.1f %22.5f %12.3f\n", bin_t0_, bin_t0_ + bin_,
+                      bin_n_ ? bin_col_ / bin_n_ : 0.0, bin_n_ ? double(bin_err_) / bin_n_ : 0.0);
         rows_ += row;
         errs_ += bin_err_;
         total_ += bin_n_;

@@ -41,10 +41,7 @@ std::vector<double> Scanner::times() const
     return t;
 }
 
-Ray Scanner::beamRay(int i) const
-{
-    return mount_.beamRay(spec().angle(i));
-}
+Ray Scanner::beamRay(int i) const { return mount_.beamRay(spec().angle(i)); }
 
 Scan Scanner::scanAt(double t_s, uint64_t index) const
 {

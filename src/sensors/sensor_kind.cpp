@@ -5,8 +5,10 @@ namespace smokescan {
 const char* sensorTypeName(SensorType t)
 {
     switch (t) {
-    case SensorType::Urg04lx: return "urg04lx";
-    case SensorType::Lms200: return "lms200";
+    case SensorType::Urg04lx:
+        return "urg04lx";
+    case SensorType::Lms200:
+        return "lms200";
     }
     return "?";
 }
@@ -14,8 +16,10 @@ const char* sensorTypeName(SensorType t)
 const char* sensorModelName(SensorModel m)
 {
     switch (m) {
-    case SensorModel::Paper: return "paper";
-    case SensorModel::Physical: return "physical";
+    case SensorModel::Paper:
+        return "paper";
+    case SensorModel::Physical:
+        return "physical";
     }
     return "?";
 }

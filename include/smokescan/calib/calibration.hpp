@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "smokescan/camera/saturation.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
+#include "smokescan/camera/saturation.hpp"
 #include "smokescan/scene/scene.hpp"
 
 namespace smokescan {
@@ -40,13 +40,13 @@ struct CalibrateConfig {
 };
 
 struct CalibrationResult {
-    std::vector<SaturationPoint> points;                          ///< combined target
+    std::vector<SaturationPoint> points;  ///< combined target
     std::map<std::string, std::vector<SaturationPoint>> patches;  ///< per colour patch
-    CurveFitResult fit;                                            ///< combined
+    CurveFitResult fit;  ///< combined
     std::map<std::string, CurveFitResult> patch_fits;
-    double threshold_density = 0, threshold_density_se = 0;        ///< ρ at threshold_saturation
-    double penetration_power = 0, penetration_power_se = 0;        ///< ρ* · path_m [density·m]
-    double engine_unit_factor = 0;                                 ///< ρ* / paper_density
+    double threshold_density = 0, threshold_density_se = 0;  ///< ρ at threshold_saturation
+    double penetration_power = 0, penetration_power_se = 0;  ///< ρ* · path_m [density·m]
+    double engine_unit_factor = 0;  ///< ρ* / paper_density
     double seconds = 0;
 };
 

@@ -61,9 +61,9 @@ struct CurveFitResult {
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< of (S0, a, b)
     std::array<double, 3> std_error{{0, 0, 0}};
     bool converged = false;
-    double chi2 = 0;      ///< Σ ((S_i − S(ρ_i))/σ_i)²
-    int dof = 0;          ///< points − 3
-    double r2 = 0;        ///< coefficient of determination
+    double chi2 = 0;  ///< Σ ((S_i − S(ρ_i))/σ_i)²
+    int dof = 0;  ///< points − 3
+    double r2 = 0;  ///< coefficient of determination
     std::string message;  ///< Ceres' summary line
 
     /// Density at saturation S with its standard error (delta method: the curve's covariance

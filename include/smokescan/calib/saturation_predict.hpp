@@ -64,6 +64,7 @@ using SaturationFrameFn = std::function<SaturationFrame(double time_s, uint64_t 
 SaturationSeries simulateSaturation(const SaturationFrameFn& frame, const SaturationSimConfig& cfg);
 
 /// @brief simulateSaturation with the predictor's saturation of the scene's smoke at each time.
-SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor, const SaturationSimConfig& cfg);
+SaturationSeries simulateSaturation(const Scene& scene, const SaturationPredictor& predictor,
+                                    const SaturationSimConfig& cfg);
 
 }  // namespace smokescan

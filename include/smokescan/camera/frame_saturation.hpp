@@ -51,8 +51,8 @@ double frameTimeFromName(const std::string& path, double fps);
 
 /// What to measure on each frame.
 struct FrameRegions {
-    std::vector<FramePatch> patches;   ///< polygons, first match wins
-    TargetPatches target;              ///< patches by object id (when id frames are given)
+    std::vector<FramePatch> patches;  ///< polygons, first match wins
+    TargetPatches target;  ///< patches by object id (when id frames are given)
     bool by_id = false;
 
     /// The patch names, polygons first, then id patches not named by a polygon.

@@ -33,7 +33,8 @@ SaturationStats maskedSaturation(const Image& display, Mask&& mask)
     auto q = [](float x) { return double(int(std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0f))); };
     for (int y = 0; y < display.height; ++y)
         for (int x = 0; x < display.width; ++x)
-            if (mask(x, y)) v.push_back(hsvSaturation(q(display.at(x, y, 0)), q(display.at(x, y, 1)), q(display.at(x, y, 2))));
+            if (mask(x, y))
+                v.push_back(hsvSaturation(q(display.at(x, y, 0)), q(display.at(x, y, 1)), q(display.at(x, y, 2))));
     return saturationStats(std::move(v));
 }
 

@@ -29,7 +29,7 @@ struct RenderConfig;
 /// The target's patches: surfaces named prefix + patch (e.g. "target_blue" → patch "blue").
 struct TargetPatches {
     std::vector<std::string> names;  ///< patch names, each once, in scene order
-    std::vector<int> patch_of;       ///< scene surface index → index into names; −1: not the target
+    std::vector<int> patch_of;  ///< scene surface index → index into names; −1: not the target
 
     /// Patch index of surface `surface` (an object id from a frame's id channel); −1 if none.
     int of(int surface) const
@@ -44,9 +44,9 @@ TargetPatches targetPatches(const Scene& scene, const std::string& prefix);
 
 /// Saturation statistics of the target in one rendered frame.
 struct TargetSaturation {
-    SaturationStats all;                              ///< every target pixel
-    std::map<std::string, SaturationStats> patches;   ///< per patch (name without the prefix)
-    double exposure = 0;                              ///< auto exposure used
+    SaturationStats all;  ///< every target pixel
+    std::map<std::string, SaturationStats> patches;  ///< per patch (name without the prefix)
+    double exposure = 0;  ///< auto exposure used
 };
 
 /// @brief Renders `rc` and measures the saturation of the pixels whose first surface is a target
@@ -55,7 +55,8 @@ struct TargetSaturation {
 /// @param ids receives the object id, material id and depth channels, if given.
 /// @throw Error when the scene has no target surfaces, or the frame shows none of them.
 TargetSaturation measureTargetSaturation(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& rc,
-                                         const std::string& target_prefix, Image* display = nullptr, Image* ids = nullptr);
+                                         const std::string& target_prefix, Image* display = nullptr,
+                                         Image* ids = nullptr);
 
 struct SaturationRenderConfig {
     int spp = 4;

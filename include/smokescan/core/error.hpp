@@ -18,7 +18,9 @@ public:
     explicit Error(const std::string& what) : std::runtime_error(printable(what, 2000)) {}
     /// @param where file (and optionally ":line" or key) the problem is in
     Error(const std::string& where, const std::string& problem)
-        : std::runtime_error(printable(where.empty() ? problem : where + ": " + problem, 2000)) {}
+        : std::runtime_error(printable(where.empty() ? problem : where + ": " + problem, 2000))
+    {
+    }
 };
 
 }  // namespace smokescan

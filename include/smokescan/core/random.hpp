@@ -19,7 +19,9 @@ inline uint64_t splitmix64(uint64_t x)
 class KeyedRng {
 public:
     KeyedRng(uint64_t seed, uint64_t a, uint64_t b = 0, uint64_t c = 0)
-        : state_(splitmix64(splitmix64(splitmix64(seed ^ 0x5DEECE66Dull) ^ a) ^ b) ^ c) {}
+        : state_(splitmix64(splitmix64(splitmix64(seed ^ 0x5DEECE66Dull) ^ a) ^ b) ^ c)
+    {
+    }
     uint64_t next() { return splitmix64(state_++); }
     /// Uniform in [0, 1).
     double uniform() { return double(next() >> 11) * 0x1.0p-53; }

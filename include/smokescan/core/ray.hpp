@@ -32,7 +32,11 @@ struct Aabb {
     Vec3 lo = Vec3::Constant(kInf);
     Vec3 hi = Vec3::Constant(-kInf);
     bool empty() const { return (lo.array() > hi.array()).any(); }
-    void extend(const Vec3& p) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
+    void extend(const Vec3& p)
+    {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
     /// Clips [t0, t1] to the slab intersection; false when the ray misses.
     bool clip(const Ray& r, double& t0, double& t1) const;
 };

@@ -20,8 +20,8 @@ namespace smokescan {
 struct BeamGroup {
     std::string name;
     std::vector<std::pair<double, double>> intervals_rad;  ///< closed [a0, a1], a0 ≤ a1
-    double range_m = 0;       ///< laser–surface distance; 0 = unknown (taken from the data)
-    std::string material;     ///< scene material, when known
+    double range_m = 0;  ///< laser–surface distance; 0 = unknown (taken from the data)
+    std::string material;  ///< scene material, when known
 
     bool contains(double angle_rad) const;
 };

@@ -39,14 +39,15 @@ struct FitInputsConfig {
 
 struct FitInputs {
     RecordedLog log;
-    SaturationSeries saturation;      ///< the series the fit uses (the patch's column when asked)
+    SaturationSeries saturation;  ///< the series the fit uses (the patch's column when asked)
     CurveFitResult calibration;
-    SensorMount mount;                ///< the scene's sensor, or the type's defaults
-    std::unique_ptr<Scene> scene;     ///< null without --scene
+    SensorMount mount;  ///< the scene's sensor, or the type's defaults
+    std::unique_ptr<Scene> scene;  ///< null without --scene
     std::unique_ptr<SurfaceSet> surfaces;
     std::vector<BeamGroup> groups;
-    FitSources sources;               ///< for the report: files, groups' origin, skipped lines
-    double sigma_t_per_density = NAN; ///< the scene's regional smoke extinction at the laser's wavelength [1/m]; NaN without a scene
+    FitSources sources;  ///< for the report: files, groups' origin, skipped lines
+    double sigma_t_per_density =
+        NAN;  ///< the scene's regional smoke extinction at the laser's wavelength [1/m]; NaN without a scene
 
     FitInputs() = default;
     FitInputs(FitInputs&&) = default;

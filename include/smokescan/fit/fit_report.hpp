@@ -22,8 +22,8 @@ struct FitSources {
 
 /// @brief The report as JSON, written atomically.
 /// @param physical the physical model's noise floor derived from the fit (null: paper model only)
-void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src,
-                        const UrgNoiseFloorResult* physical = nullptr);
+void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg,
+                        const FitSources& src, const UrgNoiseFloorResult* physical = nullptr);
 
 /// @brief The fit in words, as `smokescan fit` prints it: the clock offset, each group's threshold,
 /// penetration power and range bias, notes and diagnoses. `skipped`: bad lines left out.
@@ -41,7 +41,7 @@ void writeFitTimePlot(const std::string& path, const SensorFitResult& r, int gro
 void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg);
 
 /// @brief The Sick plume fit as JSON (every value with its error, the bins), written atomically.
-void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
-                       const std::string& scene);
+void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg,
+                       const std::string& laser, const std::string& scene);
 
 }  // namespace smokescan

@@ -24,8 +24,8 @@
 /// | iterations   | 50      | –    | Levenberg–Marquardt iterations at most                   |
 #include <string>
 
-#include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
+#include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
@@ -41,16 +41,16 @@ struct UrgNoiseFloorConfig {
 
 struct UrgNoiseFloorResult {
     bool ok = false;
-    std::string diagnosis;          ///< why not ("" when ok)
+    std::string diagnosis;  ///< why not ("" when ok)
     std::string group;
     int beams = 0;
-    int scans = 0;                  ///< aligned scans used
-    double scene_time_s = NAN;      ///< smoke state whose shape was scaled
-    Estimate noise_floor;           ///< r.m.s. receiver noise [normalised power]
-    double se_statistical = NAN;    ///< part of noise_floor.se from the counts (robust)
-    double se_calibration = NAN;    ///< part from the calibration curve
-    double variance_inflation = NAN;///< robust / model-based variance
-    Estimate onset_column;          ///< column [density·m] where the fitted model errs half the time
+    int scans = 0;  ///< aligned scans used
+    double scene_time_s = NAN;  ///< smoke state whose shape was scaled
+    Estimate noise_floor;  ///< r.m.s. receiver noise [normalised power]
+    double se_statistical = NAN;  ///< part of noise_floor.se from the counts (robust)
+    double se_calibration = NAN;  ///< part from the calibration curve
+    double variance_inflation = NAN;  ///< robust / model-based variance
+    Estimate onset_column;  ///< column [density·m] where the fitted model errs half the time
     double pearson_chi2 = 0;
     int dof = 0;
 };

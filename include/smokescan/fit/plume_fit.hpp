@@ -43,10 +43,10 @@ struct PlumeFitConfig {
 /// One beam of one scan that crossed a plume.
 struct PlumeObservation {
     double time_s = 0, angle_rad = 0;
-    double peak_density = 0;     ///< [density]
-    double entry_m = 0;          ///< r_in [m]
-    double surface_m = 0;        ///< distance to the surface (or the range limit) [m]
-    double range_m = NAN;        ///< reported range (NaN for an error value)
+    double peak_density = 0;  ///< [density]
+    double entry_m = 0;  ///< r_in [m]
+    double surface_m = 0;  ///< distance to the surface (or the range limit) [m]
+    double range_m = NAN;  ///< reported range (NaN for an error value)
     enum Outcome { SmokeEcho, Surface, ErrorValue } outcome = ErrorValue;
 };
 
@@ -54,14 +54,14 @@ struct PlumeFitResult {
     bool ok = false;
     std::vector<std::string> diagnoses;
     std::vector<PlumeObservation> obs;
-    double rho_ref = NAN;          ///< [density]
-    Estimate depth_m;              ///< D: penetration depth at rho_ref [m]
-    Estimate exponent;             ///< k
+    double rho_ref = NAN;  ///< [density]
+    Estimate depth_m;  ///< D: penetration depth at rho_ref [m]
+    Estimate exponent;  ///< k
     double cov_lnD_k = 0;
-    double depth_chi2 = 0;         ///< of ln d, before scaling
+    double depth_chi2 = 0;  ///< of ln d, before scaling
     int depth_dof = 0;
-    Estimate rho_50;               ///< density where half the beams echo from the smoke [density]
-    Estimate slope;                ///< logistic slope in ln ρ
+    Estimate rho_50;  ///< density where half the beams echo from the smoke [density]
+    Estimate slope;  ///< logistic slope in ln ρ
     double share_chi2 = 0;
     int share_dof = 0;
     struct Bin {
@@ -75,8 +75,8 @@ struct PlumeFitResult {
 /// @brief Fits the Sick's penetration into the scene's plumes to a recorded log.
 /// @param mount the Sick as placed in the scene (its pose and range mode)
 /// @throw Error when the sensor is not an LMS200 or the scene has no local smoke.
-PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount,
-                            const PlumeFitConfig& cfg = {});
+PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const SurfaceSet& surfaces,
+                            const SensorMount& mount, const PlumeFitConfig& cfg = {});
 
 /// @brief The fitted penetration depth at peak density rho [m], with its error (delta method).
 Estimate plumeDepthAt(const PlumeFitResult& r, double rho);

@@ -32,9 +32,9 @@
 
 #include <Eigen/Core>
 
+#include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/core/estimate.hpp"
 #include "smokescan/fit/beam_groups.hpp"
-#include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/media/medium.hpp"
 #include "smokescan/sensors/lrf.hpp"
@@ -65,15 +65,15 @@ struct ThresholdFit {
     int beams = 0, scans = 0;
     long long errors = 0, observations = 0;
     bool fitted = false;
-    bool sharp = false;        ///< errors and clear scans separate perfectly: w → 0, S* in the gap
-    std::string diagnosis;     ///< why not fitted, or what to beware of ("" = fine)
+    bool sharp = false;  ///< errors and clear scans separate perfectly: w → 0, S* in the gap
+    std::string diagnosis;  ///< why not fitted, or what to beware of ("" = fine)
     Estimate S_star;
-    Estimate width;            ///< the sensor's own width; the observed one is √(w² + σ_S²)
+    Estimate width;  ///< the sensor's own width; the observed one is √(w² + σ_S²)
     double cov_S_star_width = 0;
-    double range_m = 0;        ///< laser–surface distance used for P
-    Estimate density;          ///< ρ(S*) through the calibration curve [density]
-    Estimate penetration_power;///< ρ(S*)·range_m [density·m]
-    Estimate tau;              ///< σ_t·P, the optical depth at the threshold
+    double range_m = 0;  ///< laser–surface distance used for P
+    Estimate density;  ///< ρ(S*) through the calibration curve [density]
+    Estimate penetration_power;  ///< ρ(S*)·range_m [density·m]
+    Estimate tau;  ///< σ_t·P, the optical depth at the threshold
     double pearson_chi2 = 0, deviance = 0;
     double variance_inflation = NAN;  ///< robust / model-based variance of S* (correlated beams, frames)
     int dof = 0;
@@ -85,7 +85,7 @@ struct RangeFit {
     std::string group;
     bool fitted = false;
     std::string diagnosis;
-    double S_ref = NAN;                     ///< clear-air saturation
+    double S_ref = NAN;  ///< clear-air saturation
     Estimate bias0, bias_slope, noise0, noise_slope;
     double chi2_bias = 0, chi2_noise = 0;
     int dof = 0;
@@ -99,30 +99,30 @@ struct RangeFit {
 
 struct OffsetFit {
     bool estimated = false;
-    Estimate offset_s;                     ///< camera time − laser time
-    int transitions = 0;                    ///< error onsets and recoveries seen in the log
+    Estimate offset_s;  ///< camera time − laser time
+    int transitions = 0;  ///< error onsets and recoveries seen in the log
     std::vector<std::pair<double, double>> agreement;  ///< (δ, fraction of beams classified right)
     std::string diagnosis;
 };
 
 /// The two streams on the laser's scan times.
 struct AlignedScan {
-    double time_s = 0;        ///< laser clock
+    double time_s = 0;  ///< laser clock
     double saturation = NAN;  ///< camera's saturation at time_s + δ (NaN outside its span)
-    std::vector<int> errors, beams;       ///< per group
-    std::vector<double> mean_range_m;     ///< per group, valid beams (NaN when none)
+    std::vector<int> errors, beams;  ///< per group
+    std::vector<double> mean_range_m;  ///< per group, valid beams (NaN when none)
 };
 
 struct SensorFitResult {
     OffsetFit offset;
-    std::vector<ThresholdFit> thresholds;   ///< per group
-    std::vector<RangeFit> ranges;           ///< per group
+    std::vector<ThresholdFit> thresholds;  ///< per group
+    std::vector<RangeFit> ranges;  ///< per group
     std::vector<AlignedScan> aligned;
     std::vector<BeamGroup> groups;
-    std::vector<std::string> diagnoses;     ///< data-level problems
-    double saturation_noise = 0;            ///< σ of the measured saturation (from its second differences)
-    int smoothing_samples = 1;              ///< frames averaged per smoothed sample
-    int reference = -1;                     ///< index into thresholds for the sensor file (−1: none fitted)
+    std::vector<std::string> diagnoses;  ///< data-level problems
+    double saturation_noise = 0;  ///< σ of the measured saturation (from its second differences)
+    int smoothing_samples = 1;  ///< frames averaged per smoothed sample
+    int reference = -1;  ///< index into thresholds for the sensor file (−1: none fitted)
     bool ok() const { return reference >= 0; }
 };
 

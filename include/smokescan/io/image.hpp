@@ -9,7 +9,7 @@ namespace smokescan {
 struct Image {
     int width = 0, height = 0, channels = 0;
     std::vector<std::string> channel_names;  ///< e.g. {"R","G","B"}; empty = the format's default
-    std::vector<float> data;                 ///< row-major, interleaved channels, row 0 at the top
+    std::vector<float> data;  ///< row-major, interleaved channels, row 0 at the top
 
     Image() = default;
     Image(int w, int h, int c) : width(w), height(h), channels(c), data(size_t(w) * h * c, 0.0f) {}

@@ -72,6 +72,7 @@ SaturationSeries readSaturationCsv(const std::string& path, const ReadOptions& o
 SaturationSeries parseSaturationCsv(const std::string& text, const std::string& path, const ReadOptions& opt = {});
 
 /// @brief Writes `time_s,saturation` (and patch columns) atomically.
-void writeSaturationCsv(const std::string& path, const SaturationSeries& s, const std::vector<std::string>& header = {});
+void writeSaturationCsv(const std::string& path, const SaturationSeries& s,
+                        const std::vector<std::string>& header = {});
 
 }  // namespace smokescan

@@ -14,8 +14,7 @@ namespace smokescan {
 /// @param what what the file is, for the error ("laser log", "scene file")
 /// @param max_bytes the largest text accepted
 /// @throw Error naming `path` for each case above.
-std::string readTextInput(const std::string& path, const std::string& what,
-                          size_t max_bytes = limits::kTextInputBytes);
+std::string readTextInput(const std::string& path, const std::string& what, size_t max_bytes = limits::kTextInputBytes);
 
 /// @brief Comma-separated finite numbers ("0,0.001,2e-3").
 /// @param what names the text in the error (an option, "FILE:LINE")

@@ -44,7 +44,7 @@ struct GridInfo {
 /// Options for reading a grid written by another tool.
 struct VdbLoadConfig {
     std::string grid_name = "density";  ///< grid to read; "" takes the first scalar grid
-    double scale = 1.0;                 ///< stored value × scale = smoke density
+    double scale = 1.0;  ///< stored value × scale = smoke density
 };
 
 class DensityGrid {
@@ -60,8 +60,7 @@ public:
 
     /// @brief A homogeneous axis-aligned box [lo, hi] (world metres) of density `value`,
     /// voxelised as a closed mesh (see fromMesh), interior kept as tiles.
-    static DensityGrid box(const Vec3& lo_m, const Vec3& hi_m, double value, double voxel_size_m,
-                           double edge_m = 0.0);
+    static DensityGrid box(const Vec3& lo_m, const Vec3& hi_m, double value, double voxel_size_m, double edge_m = 0.0);
 
     /// @brief A closed triangle mesh filled with `value` by OpenVDB: meshToLevelSet, then
     /// - edge_m = 0: the interior mask (voxels whose centres are inside; a crisp, exactly
@@ -69,19 +68,21 @@ public:
     /// - edge_m > 0: sdfToFogVolume, density ramping linearly from 0 at the surface to `value`
     ///   at depth edge_m (a soft edge).
     /// Constant regions are kept as tiles.
-    static DensityGrid fromMesh(const std::vector<Vec3>& points_m,
-                                const std::vector<std::array<int, 3>>& triangles, double value,
-                                double voxel_size_m, double edge_m = 0.0);
+    static DensityGrid fromMesh(const std::vector<Vec3>& points_m, const std::vector<std::array<int, 3>>& triangles,
+                                double value, double voxel_size_m, double edge_m = 0.0);
 
     /// @brief Gaussian blobs summed into a grid (the plume rasteriser). Each blob: centre [m],
     /// standard deviation [m], peak density. Cut off at 3σ.
-    struct Blob { Vec3 centre_m; double sigma_m; double peak; };
+    struct Blob {
+        Vec3 centre_m;
+        double sigma_m;
+        double peak;
+    };
     static DensityGrid fromBlobs(const std::vector<Blob>& blobs, double voxel_size_m);
 
     /// @brief ∫ρ ds [density·m] along the ray for t in [t0_m, t1_m].
     /// @param profile if non-null, receives the non-zero pieces of the profile, in order.
-    double integrate(const Ray& ray, double t0_m, double t1_m,
-                     Reconstruction recon = Reconstruction::Box,
+    double integrate(const Ray& ray, double t0_m, double t1_m, Reconstruction recon = Reconstruction::Box,
                      std::vector<ProfileSegment>* profile = nullptr) const;
 
     /// @brief The first t in [t0_m, t1_m] where the (box-filtered) density reaches `threshold`;
@@ -109,8 +110,7 @@ public:
     double maxValue() const;
 
     /// @brief Writes grids to a .vdb file (temporary file, then rename), each under its name.
-    static void writeVdb(const std::string& path,
-                         const std::vector<std::pair<std::string, DensityGrid>>& grids);
+    static void writeVdb(const std::string& path, const std::vector<std::pair<std::string, DensityGrid>>& grids);
 
     const Impl& impl() const { return *impl_; }
 

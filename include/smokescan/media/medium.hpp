@@ -50,8 +50,7 @@ struct Medium {
     /// A named preset: "theatrical_fog", "soot", "fine_smoke". Throws Error on an unknown name.
     static Medium preset(const std::string& name);
     /// σ_t(λ) = sigma_t_550 · (λ/550)^(−angstrom).
-    static Medium fromAngstrom(const std::string& name, double sigma_t_550, double angstrom,
-                               double albedo, double g);
+    static Medium fromAngstrom(const std::string& name, double sigma_t_550, double angstrom, double albedo, double g);
 };
 
 }  // namespace smokescan

@@ -37,9 +37,9 @@ struct SmokeVolume {
 /// What a beam met between t0 and t1.
 struct BeamSmoke {
     double column_regional = 0;  ///< ∫ρ ds over regional volumes [density·m]
-    double column_local = 0;     ///< ∫ρ ds over local volumes [density·m]
-    double tau = 0;              ///< optical depth ∫σ_t ds at the query wavelength, all volumes
-    double first_local_m = kInf; ///< first distance where local density ≥ the query threshold
+    double column_local = 0;  ///< ∫ρ ds over local volumes [density·m]
+    double tau = 0;  ///< optical depth ∫σ_t ds at the query wavelength, all volumes
+    double first_local_m = kInf;  ///< first distance where local density ≥ the query threshold
     /// Non-zero pieces of σ_t(s) [1/m] at the query wavelength, all volumes summed (if asked).
     std::vector<ProfileSegment> sigma_t_profile;
     /// Non-zero pieces of the backscatter β(s) = σ_t·β/σ_t [1/(m·sr)], all volumes (if asked).
@@ -49,7 +49,7 @@ struct BeamSmoke {
 struct BeamQuery {
     double wavelength_nm = 785.0;
     double local_threshold = kInf;  ///< density at which local smoke counts as met
-    bool want_profile = false;     ///< fill sigma_t_profile and beta_profile
+    bool want_profile = false;  ///< fill sigma_t_profile and beta_profile
     Reconstruction recon = Reconstruction::Box;
 };
 

@@ -22,11 +22,9 @@ public:
 
     static DensityTimeline constant(double value = 1.0);
     /// @throw Error if times are not strictly increasing, values negative, or exp meets a zero.
-    static DensityTimeline keyframes(std::vector<std::pair<double, double>> keys, Interp interp,
-                                     double decay_s = 0.0);
+    static DensityTimeline keyframes(std::vector<std::pair<double, double>> keys, Interp interp, double decay_s = 0.0);
     /// @throw Error on overlapping or reversed intervals, or non-positive rates.
-    static DensityTimeline machine(std::vector<std::pair<double, double>> on_s, double fill_per_s,
-                                   double dissolve_s);
+    static DensityTimeline machine(std::vector<std::pair<double, double>> on_s, double fill_per_s, double dissolve_s);
 
     /// Density scale at time t [s].
     double at(double t_s) const;

@@ -18,8 +18,8 @@
 #include <memory>
 #include <string>
 
-#include "smokescan/render/camera.hpp"
 #include "smokescan/io/image.hpp"
+#include "smokescan/render/camera.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
 
@@ -38,9 +38,9 @@ struct RenderConfig {
 };
 
 struct RenderResult {
-    Image radiance;   ///< linear RGB radiance [W/(m²·sr)], mean over samples
-    Image variance;   ///< per pixel and channel, variance of that mean (sample variance / spp)
-    Image ids;        ///< channels object, material (−1: none), depth [m] of the first surface
+    Image radiance;  ///< linear RGB radiance [W/(m²·sr)], mean over samples
+    Image variance;  ///< per pixel and channel, variance of that mean (sample variance / spp)
+    Image ids;  ///< channels object, material (−1: none), depth [m] of the first surface
     double seconds = 0;
     long long samples = 0;
 };
@@ -50,8 +50,7 @@ struct RenderResult {
 RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& cfg);
 
 /// @brief Renders through an explicit camera model (any projection).
-RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const CameraModel& camera,
-                    const RenderConfig& cfg);
+RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const CameraModel& camera, const RenderConfig& cfg);
 
 /// @brief What a video camera delivers: linear radiance × exposure, clipped to [0, 1], encoded
 /// with the sRGB transfer curve (8-bit quantisation happens when writing a PNG/JPEG/TIFF).

@@ -33,10 +33,19 @@ struct Material {
     double roughness = 0.5;
 };
 
-struct BoxShape { Vec3 size_m = Vec3::Ones(); };          ///< centred on the pose
-struct QuadShape { Vec3 corner_m, edge_u_m, edge_v_m; };   ///< world coordinates
-struct CylinderShape { double radius_m = 0.05, height_m = 1.0; };  ///< axis +z from the pose
-struct MeshShape { std::string obj_path; double scale = 1.0; };
+struct BoxShape {
+    Vec3 size_m = Vec3::Ones();
+};  ///< centred on the pose
+struct QuadShape {
+    Vec3 corner_m, edge_u_m, edge_v_m;
+};  ///< world coordinates
+struct CylinderShape {
+    double radius_m = 0.05, height_m = 1.0;
+};  ///< axis +z from the pose
+struct MeshShape {
+    std::string obj_path;
+    double scale = 1.0;
+};
 
 struct Surface {
     std::string name;
@@ -68,14 +77,14 @@ std::optional<LightKind> parseLightKind(const std::string& name);
 struct Light {
     std::string name;
     LightKind kind = LightKind::Area;
-    Pose pose;                   ///< area: centre, emitting along local +x; spot: axis local +x
+    Pose pose;  ///< area: centre, emitting along local +x; spot: axis local +x
     double width_m = 0.6, height_m = 0.04;  ///< area light extent (local y, z)
-    double power_w = 70.0;       ///< electrical power; radiant = power_w · efficiency
-    double efficiency = 0.25;    ///< fraction of power radiated as visible light
-    Vec3 color = Vec3::Ones();   ///< linear RGB tint
+    double power_w = 70.0;  ///< electrical power; radiant = power_w · efficiency
+    double efficiency = 0.25;  ///< fraction of power radiated as visible light
+    Vec3 color = Vec3::Ones();  ///< linear RGB tint
     double spot_angle_deg = 30;  ///< spot half angle
-    double radiance = 1.0;       ///< ambient: uniform radiance [W/(m²·sr)]
-    double irradiance = 1.0;     ///< directional: irradiance normal to the beam [W/m²], along local +x
+    double radiance = 1.0;  ///< ambient: uniform radiance [W/(m²·sr)]
+    double irradiance = 1.0;  ///< directional: irradiance normal to the beam [W/m²], along local +x
 };
 
 /// A pinhole camera looking along local +x, local +z up (image left = local +y).
@@ -84,8 +93,8 @@ struct Camera {
     Pose pose;
     int width = 640, height = 480;
     double hfov_deg = 60.0;
-    double fx_px = 0, fy_px = 0;     ///< focal lengths [px]; 0 = from hfov_deg (fy = fx)
-    double cx_px = -1, cy_px = -1;   ///< principal point [px]; < 0 = the image centre
+    double fx_px = 0, fy_px = 0;  ///< focal lengths [px]; 0 = from hfov_deg (fy = fx)
+    double cx_px = -1, cy_px = -1;  ///< principal point [px]; < 0 = the image centre
 };
 
 struct Scene {

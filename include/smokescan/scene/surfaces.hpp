@@ -9,10 +9,10 @@ namespace smokescan {
 
 struct SurfaceHit {
     bool hit = false;
-    double t_m = kInf;             ///< distance along the ray [m]
-    Vec3 normal = Vec3::UnitZ();   ///< unit geometric normal, facing the ray's origin
-    int surface = -1;              ///< index into Scene::surfaces (the object id)
-    int material = -1;             ///< index into Scene::materials
+    double t_m = kInf;  ///< distance along the ray [m]
+    Vec3 normal = Vec3::UnitZ();  ///< unit geometric normal, facing the ray's origin
+    int surface = -1;  ///< index into Scene::surfaces (the object id)
+    int material = -1;  ///< index into Scene::materials
 
     /// Where the ray stops: at the hit, else at `limit_m` (the length it was traced for).
     double endOr(double limit_m) const { return hit ? t_m : limit_m; }

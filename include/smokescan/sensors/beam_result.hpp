@@ -9,13 +9,13 @@ namespace smokescan {
 
 /// What one beam reports, and why.
 struct BeamResult {
-    long long value = 0;     ///< reported value in the sensor's unit: a range or an error code
-    bool error = false;      ///< value is an error code
+    long long value = 0;  ///< reported value in the sensor's unit: a range or an error code
+    bool error = false;  ///< value is an error code
     double true_range_m = kInf;  ///< noiseless distance of what was measured (surface or smoke)
-    SurfaceHit hit;          ///< first surface in clear air (up to the sensor's maximum range)
-    BeamSmoke smoke;         ///< smoke met up to the surface (or maximum range)
+    SurfaceHit hit;  ///< first surface in clear air (up to the sensor's maximum range)
+    BeamSmoke smoke;  ///< smoke met up to the surface (or maximum range)
     const char* cause = "ok";  ///< why: "ok", or the error's cause (docs/sensors.md)
-    double power = 0;        ///< physical model: received amplitude (normalised power)
+    double power = 0;  ///< physical model: received amplitude (normalised power)
 };
 
 /// @brief Marks r as an error: `code` in the sensor's unit, and why.

@@ -18,8 +18,8 @@ void writeLaserLogHeader(std::ostream& out, const std::vector<std::string>& head
 void writeLaserLogScan(std::ostream& out, const Scan& scan, const LrfSpec& spec);
 
 /// @brief Writes scans (values converted to mm) atomically. `header` lines become '#' comments.
-void writeLaserLog(const std::string& path, const std::vector<std::string>& header,
-                   const std::vector<Scan>& scans, const LrfSpec& spec);
+void writeLaserLog(const std::string& path, const std::vector<std::string>& header, const std::vector<Scan>& scans,
+                   const LrfSpec& spec);
 
 /// @brief Reads a laser log strictly: a one-line error naming FILE:LINE for a line with an odd
 /// number of fields after the time, a non-numeric or non-finite field, or time going backwards.
@@ -35,7 +35,7 @@ void writeBeamCsvScan(std::ostream& out, const Scan& scan, const Scene& scene);
 /// @brief A scan series as the smoke paper's Fig. 10 draws it: one row per scan (time downwards),
 /// one column per beam (in beam order), grey level = range (darker = shorter, white = beyond
 /// `range_max_m`), red = error code. Each beam is `beam_px` pixels wide, each scan `scan_px` tall.
-void writeScanImage(const std::string& path, const std::vector<Scan>& scans, const LrfSpec& spec,
-                    double range_max_m, int beam_px = 2, int scan_px = 2);
+void writeScanImage(const std::string& path, const std::vector<Scan>& scans, const LrfSpec& spec, double range_max_m,
+                    int beam_px = 2, int scan_px = 2);
 
 }  // namespace smokescan

@@ -27,16 +27,16 @@ struct LrfSpec {
     SensorType type = SensorType::Urg04lx;
     double wavelength_nm = 785;
     int n_beams = 0;
-    double angle0_rad = 0;       ///< angle of beam 0
-    double dangle_rad = 0;       ///< angle increment
+    double angle0_rad = 0;  ///< angle of beam 0
+    double dangle_rad = 0;  ///< angle increment
     double range_min_m = 0.02;
     double range_max_m = 5.6;
-    double unit_m = 0.001;       ///< reported range unit
+    double unit_m = 0.001;  ///< reported range unit
     double scan_period_s = 0.1;
-    long long no_return_code = 0;///< value reported when nothing is measured
-    double sigma_near_m = 0.005; ///< noise σ below near_limit_m
+    long long no_return_code = 0;  ///< value reported when nothing is measured
+    double sigma_near_m = 0.005;  ///< noise σ below near_limit_m
     double near_limit_m = 1.0;
-    double sigma_rel = 0.005;    ///< noise σ as a fraction of range beyond near_limit_m
+    double sigma_rel = 0.005;  ///< noise σ as a fraction of range beyond near_limit_m
 
     double angle(int i) const { return angle0_rad + i * dangle_rad; }
     double rangeSigma(double range_m) const

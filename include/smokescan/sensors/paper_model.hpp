@@ -16,7 +16,7 @@
 namespace smokescan {
 
 /// @brief Applies the paper model to one beam. `noise` is a standard normal draw.
-BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit,
-                     const BeamSmoke& smoke, double noise);
+BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit, const BeamSmoke& smoke,
+                     double noise);
 
 }  // namespace smokescan

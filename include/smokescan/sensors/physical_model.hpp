@@ -30,14 +30,14 @@ class KeyedRng;
 enum class EchoSource { Surface, Smoke, Mirror };
 
 struct Echo {
-    double range_m = 0;   ///< apparent range (half the path length) [m]
-    double power = 0;     ///< normalised received power (white Lambertian at 1 m = 1)
+    double range_m = 0;  ///< apparent range (half the path length) [m]
+    double power = 0;  ///< normalised received power (white Lambertian at 1 m = 1)
     EchoSource source = EchoSource::Surface;
 };
 
 /// Everything a beam sends back, before the sensor's electronics.
 struct BeamSignal {
-    std::vector<Echo> echoes;   ///< sorted by range
+    std::vector<Echo> echoes;  ///< sorted by range
     double surface_power = 0, smoke_power = 0, mirror_power = 0;
     bool surface_in_range = false;  ///< some sub-ray hit a surface within the sensor's range
 };
@@ -62,8 +62,8 @@ double nirReflectance(const Material& m, double wavelength_nm);
 double monostaticBrdf(const Material& m, double wavelength_nm, double cos_theta);
 
 /// @brief Power of a surface echo: π·f_r·cos θ·O(R)/R²·T², T² = exp(−2τ).
-double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wavelength_nm,
-                        double cos_theta, double range_m, double tau_to_surface);
+double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wavelength_nm, double cos_theta,
+                        double range_m, double tau_to_surface);
 
 /// @brief Appends smoke echoes for the path s ∈ [s0, s1] of a beam whose σ_t and β profiles
 /// are given in path coordinates s.
@@ -73,9 +73,8 @@ double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wavel
 ///        geometric factor is 1/((R+u)² + u²·lobe_ratio), the mirror image (1/(R+u)²) for a smooth
 ///        mirror, the rough lobe's (Ω_beam/Ω_lobe)/u² for a wide one
 /// @param blocked sorted distances at which each of the footprint's sub-rays stops (may be empty)
-void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau,
-                       const std::vector<ProfileSegment>& beta, double s0, double s1,
-                       double range_offset_m, double gain, double lobe_ratio,
+void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
+                       double s0, double s1, double range_offset_m, double gain, double lobe_ratio,
                        const std::vector<double>& blocked, EchoSource source, BeamSignal& out);
 
 /// @brief Traces a beam's footprint (sub-rays) through the surfaces and the smoke and collects

@@ -34,7 +34,8 @@ private:
     double first_err_ = NAN, last_err_ = NAN;
     std::vector<char> on_target_;
     int n_target_ = 0;
-    long long scans_ = 0, all_errors_ = 0, all_beams_ = 0, errs_ = 0, total_ = 0, bin_err_ = 0, bin_n_ = 0, bin_rows_ = 0;
+    long long scans_ = 0, all_errors_ = 0, all_beams_ = 0, errs_ = 0, total_ = 0, bin_err_ = 0, bin_n_ = 0,
+              bin_rows_ = 0;
     std::string rows_;
 };
 

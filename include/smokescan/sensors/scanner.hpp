@@ -37,8 +37,8 @@ struct ScanConfig {
 struct Scan {
     double time_s = 0;
     std::vector<double> angle_rad;
-    std::vector<long long> value;    ///< reported values (range in the sensor's unit, or codes)
-    std::vector<BeamResult> beams;   ///< details, if kept
+    std::vector<long long> value;  ///< reported values (range in the sensor's unit, or codes)
+    std::vector<BeamResult> beams;  ///< details, if kept
 };
 
 class Scanner {

@@ -23,13 +23,13 @@ namespace smokescan {
 /// The paper model's two parameters.
 struct PaperModelConfig {
     double penetration_power = 0.007;  ///< [density·m]
-    double local_threshold = 0.002;    ///< [density]
+    double local_threshold = 0.002;  ///< [density]
 };
 
 /// The LMS200's scan options.
 struct LmsOptions {
     double resolution_deg = 0.5;  ///< 1 or 0.5
-    double range_mode_m = 8.0;    ///< 8 (mm unit) or 80 (cm unit)
+    double range_mode_m = 8.0;  ///< 8 (mm unit) or 80 (cm unit)
 };
 
 /// A sensor's type, model and parameters.

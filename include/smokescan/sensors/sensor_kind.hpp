@@ -35,18 +35,18 @@ const char* sensorModelNames();
 
 /// @brief Hokuyo URG-04LX reported values (SCIP 2.0): values below kFirstRange are errors.
 namespace urg_code {
-constexpr long long kNoReturn = 0;           ///< nothing in range (also: the paper model's smoke error)
-constexpr long long kLowIntensity = 1;       ///< signal too weak
+constexpr long long kNoReturn = 0;  ///< nothing in range (also: the paper model's smoke error)
+constexpr long long kLowIntensity = 1;  ///< signal too weak
 constexpr long long kTwoWaveDifference = 8;  ///< the two modulation waves disagree in amplitude
 constexpr long long kStrongReflection = 18;  ///< receiver saturated
-constexpr long long kFirstRange = 20;        ///< smallest range value [mm]
+constexpr long long kFirstRange = 20;  ///< smallest range value [mm]
 }  // namespace urg_code
 
 /// @brief Sick LMS200 reported values (raw, in the range mode's unit): kNoEcho and above are errors.
 namespace lms_code {
-constexpr long long kNoEcho = 8183;            ///< measured value > maximum (no echo within range)
-constexpr long long kWeakOrAmbiguous = 8189;   ///< echo too weak or too wide
-constexpr long long kDazzled = 8191;           ///< dazzled
+constexpr long long kNoEcho = 8183;  ///< measured value > maximum (no echo within range)
+constexpr long long kWeakOrAmbiguous = 8189;  ///< echo too weak or too wide
+constexpr long long kDazzled = 8191;  ///< dazzled
 }  // namespace lms_code
 
 }  // namespace smokescan

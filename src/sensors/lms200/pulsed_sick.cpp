@@ -26,9 +26,6 @@ double PulsedSickModel::errorProbability(const BeamWorld& w, const Ray& ray) con
     return pulsedErrorProbability(spec(), config().physical, physicalTrace(*this, w, ray, false).signal);
 }
 
-std::string PulsedSickModel::smokeParameter() const
-{
-    return namedValue("noise_floor", config().physical.noise_floor);
-}
+std::string PulsedSickModel::smokeParameter() const { return namedValue("noise_floor", config().physical.noise_floor); }
 
 }  // namespace smokescan

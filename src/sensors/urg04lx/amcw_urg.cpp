@@ -26,9 +26,6 @@ double AmcwUrgModel::errorProbability(const BeamWorld& w, const Ray& ray) const
     return amcwErrorProbability(spec(), config().physical, physicalTrace(*this, w, ray, false).signal);
 }
 
-std::string AmcwUrgModel::smokeParameter() const
-{
-    return namedValue("noise_floor", config().physical.noise_floor);
-}
+std::string AmcwUrgModel::smokeParameter() const { return namedValue("noise_floor", config().physical.noise_floor); }
 
 }  // namespace smokescan
