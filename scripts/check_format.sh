@@ -3,10 +3,14 @@
 # exit 77 (skipped) when clang-format is not installed. Fix with: clang-format -i FILE...
 set -euo pipefail
 cd "$(dirname "$0")/.."
-command -v clang-format >/dev/null || { echo "clang-format not installed: style not checked"; exit 77; }
+# SMOKESCAN_REQUIRE_FORMAT=1 (CI): a missing clang-format is a failure, not a skip.
+skip=77
+[ "${SMOKESCAN_REQUIRE_FORMAT:-0}" = 1 ] && skip=1
+command -v clang-format >/dev/null || { echo "clang-format not installed: style not checked"; exit $skip; }
+clang-format --version | grep -q 'version 14\.' || { echo "clang-format 14 expected (Debian 12): $(clang-format --version)"; exit $skip; }
 files=$(git ls-files 'src/*.cpp' 'src/*.hpp' 'include/*.hpp' 'tests/*.cpp' 'tests/*.hpp' 'bench/*.cpp' 'fuzz/*.cpp' \
         'fuzz/*.hpp' 'volumes/*.cpp' 2>/dev/null || true)
-[ -n "$files" ] || { echo "not a git checkout: style not checked"; exit 77; }
+[ -n "$files" ] || { echo "not a git checkout: style not checked"; exit $skip; }
 bad=()
 for f in $files; do
   clang-format --dry-run --Werror "$f" >/dev/null 2>&1 || bad+=("$f")

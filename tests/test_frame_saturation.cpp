@@ -53,15 +53,18 @@ TEST(FrameSaturation, LinearFramesAreMeasuredAsTheCameraDeliversThem)
 
 TEST(FrameSaturation, PolygonsComeFirstThenObjectIds)
 {
-    // Left half blue-ish by a rectangle; the right half by object id 3 of a scene whose surface 3
-    // is target_yellow. A pixel in both counts for the polygon only.
+    // Columns 0–4 blue-ish by a rectangle; columns 4–8 by object id 3 of a scene whose surface 3
+    // is target_yellow (yellow-ish, less saturated); column 9 is neither (and very saturated). A
+    // pixel in both counts for the polygon only.
     Image img = flat(10, 4, 0.1f, 0.1f, 0.4f);
-    for (int y = 0; y < 4; ++y)
-        for (int x = 5; x < 10; ++x) img.at(x, y, 2) = 0.1f, img.at(x, y, 0) = 0.4f, img.at(x, y, 1) = 0.4f;
+    for (int y = 0; y < 4; ++y) {
+        for (int x = 5; x < 9; ++x) img.at(x, y, 2) = 0.2f, img.at(x, y, 0) = 0.4f, img.at(x, y, 1) = 0.4f;
+        img.at(9, y, 0) = 1.0f, img.at(9, y, 1) = 0.0f, img.at(9, y, 2) = 0.0f;
+    }
     Image ids(10, 4, 1);
     ids.channel_names = {"object"};
     for (int y = 0; y < 4; ++y)
-        for (int x = 4; x < 10; ++x) ids.at(x, y, 0) = 3;
+        for (int x = 4; x < 9; ++x) ids.at(x, y, 0) = 3;
     FrameRegions regions;
     regions.patches.push_back(parseFramePatch("blue=0,0,5,4", true, "--rect"));
     regions.target.names = {"yellow"};
@@ -71,10 +74,11 @@ TEST(FrameSaturation, PolygonsComeFirstThenObjectIds)
     ASSERT_EQ(names.size(), 2u);
     const auto m = measureFrame(img, false, &ids, regions, names);
     EXPECT_EQ(m.patch[0].pixels, 20);  // columns 0–4: column 4 is in the rectangle and has id 3
-    EXPECT_EQ(m.patch[1].pixels, 20);  // columns 5–9
-    EXPECT_EQ(m.all.pixels, 40);
+    EXPECT_EQ(m.patch[1].pixels, 16);  // columns 5–8
+    EXPECT_EQ(m.all.pixels, 36);  // not column 9
     EXPECT_NEAR(m.patch[0].mean, (102.0 - 26.0) / 102.0, 1e-12);
-    EXPECT_NEAR(m.patch[1].mean, (102.0 - 26.0) / 102.0, 1e-12);
+    EXPECT_NEAR(m.patch[1].mean, (102.0 - 51.0) / 102.0, 1e-12);
+    EXPECT_NEAR(m.all.mean, (20 * 76.0 / 102.0 + 16 * 51.0 / 102.0) / 36, 1e-12);
 }
 
 TEST(FrameSaturation, BadPatchSpecsAndNamesAreOneLineErrors)

@@ -330,7 +330,13 @@ TEST(Hardening, AFailedRunLeavesNoneOfItsOutputs)
     expectBad("render bocas --spp 1 --width 8 --height 6 --out " + png + " --exr " + folder + ".exr", "is a directory",
               png);
     // A fit that fails writes its report (the diagnosis) and nothing else.
-    const std::string flat_log = file("flat.log", "0 0.1 2500\n1 0.1 2500\n2 0.1 2500\n");
+    std::string flat;  // three scans of the URG's 682 beams, all reading 2.5 m: no smoke event
+    for (int t = 0; t < 3; ++t) {
+        flat += std::to_string(t);
+        for (int i = 0; i < 682; ++i) flat += " " + std::to_string((44 + i - 384) * 2 * M_PI / 1024) + " 2500";
+        flat += "\n";
+    }
+    const std::string flat_log = file("flat.log", flat);
     const std::string flat_sat = file("flat.csv", "time_s,saturation\n0,0.3\n1,0.3\n2,0.3\n");
     const CliRun r =
         cli("fit --laser " + flat_log + " --saturation " + flat_sat + " --surface t=0:10 --out " + file("ff.toml"));

@@ -10,6 +10,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/plot/format.hpp"
 #include "smokescan/render/renderer.hpp"
 
 namespace smokescan {
@@ -175,17 +176,25 @@ SaturationSeries measureFrames(const std::vector<std::string>& frames, const std
     s.patch_sd.resize(P);
     for (size_t k = 0; k < frames.size(); ++k) {
         const Image img = readImage(frames[k]);
-        if (img.channels < 3) throw Error(frames[k], "is not an RGB image");
+        if (img.channels < 3 || (!img.channel_names.empty() && img.channel("R", -1) < 0))
+            throw Error(frames[k], "is not an RGB image (an id image among the frames?)");
         Image ids;
         if (regions.by_id) {
             ids = readImage(id_frames[k]);
             if (ids.width != img.width || ids.height != img.height)
                 throw Error(id_frames[k], "size differs from " + frames[k]);
+            if (ids.channel("object", -1) < 0) throw Error(id_frames[k], "has no 'object' channel (not an id image)");
         }
         const bool linear = fs::path(frames[k]).extension() == ".exr";
         const FrameSaturation m = measureFrame(img, linear, regions.by_id ? &ids : nullptr, regions, s.patch_names);
         if (m.all.pixels == 0) throw Error(frames[k], "the target region holds no pixels");
-        s.time_s.push_back(time_of(k));
+        const double t = time_of(k);
+        if (!s.time_s.empty() && !(t > s.time_s.back()))
+            throw Error(frames[k],
+                        fmt("its time %.6g s does not follow the previous frame's (%.6g s): frames are measured in "
+                            "time order, each once",
+                            t, s.time_s.back()));
+        s.time_s.push_back(t);
         s.saturation.push_back(m.all.mean);
         s.median.push_back(m.all.median);
         s.sd.push_back(m.all.stddev);

@@ -60,5 +60,6 @@ void addRender(CLI::App& app, Runner& run);
 void addCalibration(CLI::App& app, Runner& run);
 void addFit(CLI::App& app, Runner& run);
 void addFitPlume(CLI::App& app, Runner& run);
+void addDiagnose(CLI::App& app, Runner& run);
 
 }  // namespace smokescan::cli

@@ -76,6 +76,15 @@ int runFit(const FitArgs& a0)
     FitInputs in = loadFitInputs(ic);
     if (std::isfinite(in.sigma_t_per_density)) a.cfg.sigma_t_per_density = in.sigma_t_per_density;
     const LrfSpec spec = specFor(in.mount.config);
+    if (!a.cfg.reference.empty()) {
+        std::string names;
+        bool known = false;
+        for (const auto& g : in.groups) {
+            names += (names.empty() ? "" : ", ") + g.name;
+            known |= g.name == a.cfg.reference;
+        }
+        if (!known) throw Error("--reference", "no group '" + a.cfg.reference + "' (groups: " + names + ")");
+    }
     a.cfg.offset_s = a.offset;
     a.cfg.estimate_offset = !a.fixed_offset;
     if (model == SensorModel::Physical && spec.type != SensorType::Urg04lx)

@@ -19,6 +19,7 @@ int main(int argc, char** argv)
     smokescan::cli::addCalibration(app, run);
     smokescan::cli::addFit(app, run);
     smokescan::cli::addFitPlume(app, run);
+    smokescan::cli::addDiagnose(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -76,6 +76,13 @@ FitInputs loadFitInputs(const FitInputsConfig& cfg)
         in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
     }
     in.mount = chooseSensor(cfg, in.scene.get());
+    const LrfSpec spec = specFor(in.mount.config);
+    const size_t beams = in.log.scans.front().range.size();
+    if (beams != size_t(spec.n_beams))
+        throw Error(in.log.path,
+                    "has " + std::to_string(beams) + " beams a scan; the sensor '" + in.mount.name + "' (" +
+                        sensorTypeName(spec.type) + ") has " + std::to_string(spec.n_beams) +
+                        " (a log of another sensor? give --sensor or --sensor-type)");
     chooseGroups(cfg, in);
     if (in.scene)
         for (const auto& v : in.scene->volumes)

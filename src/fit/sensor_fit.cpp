@@ -20,22 +20,6 @@ RangeFit fitRangeBiasNoise(const std::string& group, const std::vector<std::vect
 
 namespace {
 
-/// The series averaged over a centred window of 2h + 1 samples (shrunk at the ends). The fit needs
-/// the saturation's slope in time to align the clocks; the raw series' slope between frames is
-/// mostly noise.
-SaturationSeries movingAverage(const SaturationSeries& s, int h)
-{
-    SaturationSeries out = s;
-    const int n = int(s.time_s.size());
-    for (int i = 0; i < n; ++i) {
-        const int r = std::min({h, i, n - 1 - i});
-        double sum = 0;
-        for (int j = i - r; j <= i + r; ++j) sum += s.saturation[size_t(j)];
-        out.saturation[size_t(i)] = sum / (2 * r + 1);
-    }
-    return out;
-}
-
 /// Per group: the beams of the log it holds, and per scan the errors and valid ranges.
 struct GroupData {
     std::vector<int> beams;
@@ -118,6 +102,21 @@ double saturationAt(const SaturationSeries& s, double t)
     if (s.time_s.empty() || t < s.time_s.front() || t > s.time_s.back()) return NAN;
     return detail::interpolate(s, t);
 }
+
+SaturationSeries movingAverage(const SaturationSeries& s, int h)
+{
+    SaturationSeries out = s;
+    const int n = int(s.time_s.size());
+    for (int i = 0; i < n; ++i) {
+        const int r = std::min({h, i, n - 1 - i});
+        double sum = 0;
+        for (int j = i - r; j <= i + r; ++j) sum += s.saturation[size_t(j)];
+        out.saturation[size_t(i)] = sum / (2 * r + 1);
+    }
+    return out;
+}
+
+double saturationNoise(const SaturationSeries& s) { return detail::noiseOfSeries(s.saturation); }
 
 const char* errorLinkName(ErrorLink link) { return link == ErrorLink::Logistic ? "logistic" : "probit"; }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 
+#include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/image.hpp"
 
 namespace smokescan {
@@ -15,10 +16,6 @@ class FrameFolder {
 public:
     /// @throw Error when `dir` exists and is not an empty folder, or cannot be created.
     explicit FrameFolder(std::string dir);
-    /// Removes the temporary folder unless committed.
-    ~FrameFolder();
-    FrameFolder(const FrameFolder&) = delete;
-    FrameFolder& operator=(const FrameFolder&) = delete;
 
     /// @brief Frame k, delivered at camera time camera_time_s [s], with its id image.
     void add(uint64_t k, double camera_time_s, const Image& display, const Image& ids);
@@ -26,8 +23,8 @@ public:
     void commit();
 
 private:
-    std::string dir_, tmp_, times_;
-    bool done_ = false;
+    AtomicFolder folder_;  ///< removed unless committed
+    std::string times_;
 };
 
 }  // namespace smokescan

@@ -41,6 +41,12 @@
 
 namespace smokescan {
 
+/// @brief The series averaged over a centred window of 2h + 1 samples (shrunk at the ends).
+SaturationSeries movingAverage(const SaturationSeries& s, int h);
+/// @brief The series' white-noise level: the MAD of its second differences (which have variance
+/// 6σ² where the series is locally linear), as σ.
+double saturationNoise(const SaturationSeries& s);
+
 /// The threshold's link function F in P(error | S) = F((S* − S)/w).
 enum class ErrorLink { Probit, Logistic };
 /// @brief "probit" or "logistic".

@@ -1,0 +1,97 @@
+#pragma once
+/// @file predictive.hpp
+/// @brief The predictive distribution of one logged beam: the probability that it reports an
+/// error value, and the density of the range it reports when it does not, under the paper model
+/// and the candidate extensions (docs/diagnosis.md). The log-likelihood of the recorded value is
+/// the currency of the diagnosis.
+///
+/// Generative story of a beam at smoke column C [density·m] along it, to a surface at L [m]:
+///  1. with probability d (sector dropout) it fails whatever the smoke;
+///  2. else the smoke stops it with probability p_s = Φ((ln C − ln P)/w) (the paper's
+///     penetration power P, a step when w → 0); a stopped beam returns a short range, uniform
+///     on (0, L), with probability q (smoke obstacle return), else an error value;
+///  3. else it reads N(L·(1 + β·C), σ₀(L)² + (γ·C)²), σ₀ the datasheet noise;
+///  4. robustness: with probability ε = 1e-3 a beam lapses — it errs or reads a uniform range,
+///     even odds — and a surface reading is an outlier, uniform over the sensor's range, with
+///     probability η = 1e-3: no recorded value has probability zero, and no single beam costs
+///     more than about 9 nats. These two are fixed, not fitted.
+///
+/// | parameter        | null (today's model) | unit          | extension                          |
+/// |------------------|----------------------|---------------|------------------------------------|
+/// | clock_offset_s   | 0                    | s             | clock_offset                        |
+/// | ln P factor      | 0 per surface        | –             | surface_threshold                   |
+/// | width w          | 0.02                 | ln(column)    | threshold_width                     |
+/// | β                | 0 per surface        | 1/(density·m) | surface_range_bias                  |
+/// | γ                | 0                    | m/(density·m) | range_noise_growth                  |
+/// | q                | 0                    | –             | smoke_obstacle_return               |
+/// | d                | 0 per sector         | –             | sector_dropout                      |
+/// | h                | 0                    | –             | hysteresis: ln P(falling) − ln P(rising) |
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace smokescan {
+
+/// The null width of the paper model's step, in ln(column): a 2 % blur, a step for the data.
+constexpr double kBaseWidth = 0.02;
+constexpr double kLapse = 1e-3;  ///< ε
+constexpr double kOutlier = 1e-3;  ///< η
+
+/// The extensions' parameters; default-constructed: today's model.
+struct Extensions {
+    double clock_offset_s = 0;
+    std::map<int, double> threshold_factor;  ///< surface index → ln(P_surface / P)
+    double width = kBaseWidth;
+    std::map<int, double> range_bias;  ///< surface index → β [1/(density·m)]
+    double noise_growth_m = 0;  ///< γ [m per density·m]
+    double obstacle_return = 0;  ///< q
+    struct Sector {
+        double from_rad = 0, to_rad = 0, dropout = 0;
+    };
+    std::vector<Sector> sectors;
+    double hysteresis = 0;  ///< h
+};
+
+/// One beam's terms of the predictive distribution; T a double or a Ceres Jet.
+template <class T>
+struct BeamTerms {
+    T column;  ///< C [density·m]
+    T lnP;  ///< ln of the penetration power that applies (surface, rising or falling)
+    T width;  ///< w
+    T beta;  ///< β
+    T gamma;  ///< γ
+    T q;  ///< obstacle return share
+    T d;  ///< dropout
+};
+
+/// @brief ln of the probability (error) or density [1/m] (range) of a recorded value.
+/// @param recorded_m the recorded range, NaN for an error value
+/// @param L_m the distance to the surface, @param sigma0_m the datasheet noise at L
+/// @param rmax_m the sensor's maximum range
+template <class T>
+T logLikelihood(const BeamTerms<T>& x, double recorded_m, double L_m, double sigma0_m, double rmax_m)
+{
+    using std::erfc;
+    using std::exp;
+    using std::log;
+    using std::sqrt;
+    T ps = T(0.0);
+    if (x.column > T(0.0)) {
+        const T z = (log(x.column) - x.lnP) / x.width;
+        ps = T(0.5) * erfc(-z / T(M_SQRT2));
+    }
+    const T stop = x.d + (T(1.0) - x.d) * ps;  // P(no surface reading)
+    if (std::isnan(recorded_m)) {
+        const T err = x.d + (T(1.0) - x.d) * ps * (T(1.0) - x.q);
+        return log(T(0.5 * kLapse) + T(1.0 - kLapse) * err);
+    }
+    const T mu = T(L_m) * (T(1.0) + x.beta * x.column);
+    const T var = T(sigma0_m * sigma0_m) + x.gamma * x.gamma * x.column * x.column;
+    const T r = T(recorded_m) - mu;
+    const T normal = exp(-r * r / (T(2.0) * var)) / sqrt(T(2.0 * M_PI) * var);
+    const T surface = (T(1.0) - stop) * (T(1.0 - kOutlier) * normal + T(kOutlier / rmax_m));
+    const T shortr = recorded_m < L_m ? (T(1.0) - x.d) * ps * x.q / T(L_m) : T(0.0);
+    return log(T(0.5 * kLapse / rmax_m) + T(1.0 - kLapse) * (surface + shortr));
+}
+
+}  // namespace smokescan

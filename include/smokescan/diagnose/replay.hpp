@@ -1,0 +1,107 @@
+#pragma once
+/// @file replay.hpp
+/// @brief A recorded run replayed beam by beam: every logged beam with what the simulation knows
+/// of it (its surface, distance, incidence, the smoke column along it at each scan) beside what the
+/// sensor reported. The smoke is the measured one: at each scan time the scene's regional smoke is
+/// scaled so that the camera's predicted target saturation equals the recorded saturation (through
+/// the calibration curve), whatever the smoke's shape; without a saturation series the scene's own
+/// time line is traced.
+///
+/// | field          | default   | unit | meaning                                                     |
+/// |----------------|-----------|------|-------------------------------------------------------------|
+/// | offset_s       | 0         | s    | camera clock − laser clock (the saturation is read at t + offset) |
+/// | block_s        | 3         | s    | time block of the held-out split and of the covariance       |
+/// | camera         | ""        | –    | the scene camera that saw the target ("" = the first)        |
+/// | target_prefix  | "target_" | –    | the camera's target surfaces                                 |
+/// | time_step_s    | 1         | s    | step of the search for the scene's densest smoke state       |
+/// | smooth_s       | 0         | s    | the saturation is averaged over this window (0: raw; its noise widens the threshold) |
+///
+/// The saturation's own noise (its white-noise level, shrunk by the smoothing) makes each scan's
+/// density uncertain: its standard error in ln(density) is kept per scan, and the predictive
+/// model widens the threshold by it.
+#include <string>
+#include <vector>
+
+#include "smokescan/fit/fit_inputs.hpp"
+#include "smokescan/sensors/lrf.hpp"
+#include "smokescan/sensors/sensor_config.hpp"
+
+namespace smokescan {
+
+struct ReplayConfig {
+    double offset_s = 0;
+    double block_s = 3;
+    std::string camera, target_prefix = "target_";
+    double time_step_s = 1.0;
+    double smooth_s = 0.0;
+};
+
+/// What the simulation knows of one beam of the log (the same for every scan).
+struct ReplayBeam {
+    int surface = -1;  ///< scene surface index; −1: nothing within range
+    double range_m = 0;  ///< distance to the surface (or the sensor's maximum range)
+    double angle_rad = 0;  ///< beam angle in the sensor's convention
+    double incidence_rad = 0;  ///< angle between the beam and the surface normal
+    double column_ref = 0;  ///< regional smoke column to the surface in the reference state [density·m]
+};
+
+/// One scan: its time, the smoke it saw, its block.
+struct ReplayScan {
+    double time_s = 0;
+    double saturation = NAN;  ///< the camera's, at time_s + offset (NaN: outside the series)
+    double density = 0;  ///< the camera's density (saturation through the curve) [density]
+    bool rising = false;  ///< the density is rising at this scan
+    double ln_density_sd = 0;  ///< standard error of ln(density) from the saturation's noise
+    int block = 0;  ///< time block (block_s)
+};
+
+struct Replay {
+    LrfSpec spec;
+    SensorConfig config;
+    std::vector<std::string> surface_names;  ///< scene surface names, by index
+    std::vector<ReplayBeam> beams;
+    std::vector<ReplayScan> scans;
+    std::vector<std::vector<float>> range_m;  ///< recorded [scan][beam] [m]; NaN = an error value
+    /// The camera's density over camera time (for a clock offset): samples of the saturation
+    /// series through the curve, on laser time (offset removed).
+    std::vector<double> density_time_s, density_series;
+    double density_ref = 1;  ///< the camera's density in the reference state
+    double saturation_noise = 0;  ///< the smoothed saturation's noise σ
+    bool from_saturation = true;
+    std::vector<std::vector<float>> column;  ///< without saturation: traced columns [scan][beam]
+
+    /// @brief The regional column along beam b at scan k [density·m].
+    double columnAt(size_t k, size_t b) const
+    {
+        return from_saturation ? scans[k].density / density_ref * beams[b].column_ref : double(column[k][b]);
+    }
+    /// @brief The camera's density at laser time t [density], linear between samples; T a double
+    /// or a Ceres Jet (a clock offset is differentiated through it).
+    template <class T>
+    T densityAt(const T& t) const;
+    int blocks() const { return scans.empty() ? 0 : scans.back().block + 1; }
+};
+
+/// @brief Replays a run. @throw Error naming the log when its beams do not match the sensor's,
+/// or the saturation when it does not overlap the log.
+Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg);
+
+template <class T>
+T Replay::densityAt(const T& t) const
+{
+    const auto& ts = density_time_s;
+    double td;
+    if constexpr (std::is_same_v<T, double>)
+        td = t;
+    else
+        td = t.a;
+    if (ts.empty()) return T(0.0);
+    if (ts.size() == 1 || td <= ts.front()) return T(density_series.front());
+    if (td >= ts.back()) return T(density_series.back());
+    const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), td) - ts.begin()) - 1;
+    const double dt = ts[i + 1] - ts[i];
+    if (!(dt > 0)) return T(density_series[i]);
+    return T(density_series[i]) + T(density_series[i + 1] - density_series[i]) * (t - T(ts[i])) / T(dt);
+}
+
+}  // namespace smokescan

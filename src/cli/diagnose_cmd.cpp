@@ -1,0 +1,107 @@
+// `smokescan diagnose`: a recorded run replayed through the simulation, what the simulation gets
+// wrong, the cause, the extended model and its gain on held-out data (docs/diagnosis.md).
+#include <cstdio>
+#include <memory>
+
+#include "commands.hpp"
+#include "smokescan/diagnose/diagnosis.hpp"
+#include "smokescan/diagnose/diagnosis_report.hpp"
+#include "smokescan/fit/fit_inputs.hpp"
+#include "smokescan/io/atomic_folder.hpp"
+#include "smokescan/io/run_files.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
+
+namespace smokescan::cli {
+namespace {
+
+struct DiagnoseArgs {
+    FitInputsConfig in;
+    std::string unit = "mm", sensor_file, model, out;
+    bool lenient = false;
+    ReplayConfig replay;
+    DiagnosisConfig diag;
+};
+
+int runDiagnose(const DiagnoseArgs& a0)
+{
+    DiagnoseArgs a = a0;
+    RunFiles files;
+    files.input(a.in.laser, "--laser");
+    files.input(a.in.saturation, "--saturation");
+    files.input(a.in.scene, "--scene");
+    files.input(a.in.calibration, "--calibration");
+    files.input(a.sensor_file, "--sensor-file");
+    files.outputFolder(a.out, "--out");
+    if (!a.model.empty() && sensorModelOption("--model", a.model) != SensorModel::Paper)
+        throw Error("--model",
+                    "diagnose replays the paper model only so far (the physical model's predictive form is open)");
+    a.in.read = {parseRangeUnit(a.unit), a.lenient};
+    a.in.prefix = a.replay.target_prefix;
+    const FitInputs in = loadFitInputs(a.in);
+    SensorConfig config = in.mount.config;
+    if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);
+    config.model = SensorModel::Paper;
+    const Replay replay = replayRun(in, config, a.replay);
+    const DiagnosisResult r = diagnose(replay, a.diag);
+    AtomicFolder out(a.out, "the diagnosis folder", "--out");
+    const DiagnosisSources src{a.in.laser,    a.in.saturation,   a.in.scene,      a.in.calibration,
+                               a.sensor_file, a.replay.offset_s, a.replay.block_s};
+    writeDiagnosisJson(out.path("diagnosis.json"), r, src);
+    writeDiagnosisReport(out.path("report.md"), replay, r, src);
+    out.commit();
+    std::printf("verdict: %s\n", r.verdict.c_str());
+    for (const auto& f : r.findings) {
+        std::printf("  %s%s%s:", f.cause.c_str(), f.target.empty() ? "" : " on ", f.target.c_str());
+        for (const auto& [name, e] : f.parameters) std::printf(" %s = %.5g +/- %.2g;", name.c_str(), e.value, e.se);
+        std::printf(" held-out gain %.4g nats, p = %.2g\n", f.loglik_gain, f.p_value);
+    }
+    const ModelFigures& b = r.baseline.front();
+    const ModelFigures& e = r.extended.front();
+    std::printf("log-likelihood per beam %.4f -> %.4f (held out); missed errors %.3f -> %.3f; invented %.3f -> %.3f\n",
+                b.loglik_per_beam, e.loglik_per_beam, b.missed_error_rate, e.missed_error_rate, b.invented_error_rate,
+                e.invented_error_rate);
+    std::printf("wrote %s/diagnosis.json and %s/report.md\n", a.out.c_str(), a.out.c_str());
+    return 0;
+}
+
+}  // namespace
+
+void addDiagnose(CLI::App& app, Runner& run)
+{
+    auto a = std::make_shared<DiagnoseArgs>();
+    auto* c = app.add_subcommand("diagnose",
+                                 "Replay a recorded run, name what the simulation gets wrong and measure the extended "
+                                 "model's gain on held-out data");
+    c->add_option("--laser", a->in.laser, "Recorded laser log (the paper's format)")->required();
+    c->add_option("--saturation", a->in.saturation, "The camera's saturation CSV (drives the replayed smoke)")
+        ->required();
+    c->add_option("--scene", a->in.scene, "Scene the run was recorded in (built-in name or file)")->required();
+    c->add_option("--out", a->out, "Folder to write (new): diagnosis.json, report.md")->required();
+    c->add_option("--sensor", a->in.sensor, "Sensor in the scene (default: the first of --sensor-type)");
+    c->add_option("--sensor-type", a->in.sensor_type, "urg04lx or lms200")->capture_default_str();
+    c->add_option("--sensor-file", a->sensor_file, "Sensor file whose model is diagnosed (default: the scene's)");
+    c->add_option("--model", a->model, "Sensor model: paper (the only one diagnose replays so far)");
+    c->add_option("--calibration", a->in.calibration, "Density-saturation calibration JSON, or a built-in name")
+        ->capture_default_str();
+    c->add_option("--patch", a->in.patch, "Use this patch's saturation column and calibration curve");
+    c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
+    c->add_flag("--lenient", a->lenient, "Skip bad lines instead of failing");
+    c->add_option("--offset", a->replay.offset_s, "Camera clock - laser clock [s]")
+        ->capture_default_str()
+        ->check(finite());
+    c->add_option("--block", a->replay.block_s, "Time block of the held-out split [s]")
+        ->capture_default_str()
+        ->check(positive());
+    c->add_option("--camera", a->replay.camera, "Scene camera that saw the target (default: the first)");
+    c->add_option("--target-prefix", a->replay.target_prefix, "The camera's target surfaces")->capture_default_str();
+    c->add_option("--alpha", a->diag.alpha, "False-alarm level of each round")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-9, 0.5));
+    c->add_option("--max-findings", a->diag.max_findings, "Greedy rounds at most")
+        ->capture_default_str()
+        ->check(intRange(1, 8));
+    c->add_option("--seed", a->diag.seed, "Seed of the sign-flip draws")->capture_default_str();
+    c->callback([a, &run] { run = [a] { return runDiagnose(*a); }; });
+}
+
+}  // namespace smokescan::cli

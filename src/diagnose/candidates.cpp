@@ -1,0 +1,287 @@
+#include "candidates.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "smokescan/plot/format.hpp"
+
+namespace smokescan::detail {
+namespace {
+
+double sigmoid(double z) { return 1 / (1 + std::exp(-z)); }
+J sigmoid(const J& z) { return J(1.0) / (J(1.0) + exp(-z)); }
+
+double sectorDropout(const Extensions& m, double angle)
+{
+    double keep = 1;
+    for (const auto& s : m.sectors)
+        if (angle >= s.from_rad && angle <= s.to_rad) keep *= 1 - s.dropout;
+    return 1 - keep;
+}
+
+template <class T>
+T valueOr(const std::map<int, double>& m, int key)
+{
+    const auto it = m.find(key);
+    return T(it == m.end() ? 0.0 : it->second);
+}
+
+}  // namespace
+
+const char* causeName(Cause c)
+{
+    switch (c) {
+    case Cause::ClockOffset:
+        return "clock_offset";
+    case Cause::SurfaceThreshold:
+        return "surface_threshold";
+    case Cause::ThresholdWidth:
+        return "threshold_width";
+    case Cause::SurfaceRangeBias:
+        return "surface_range_bias";
+    case Cause::RangeNoiseGrowth:
+        return "range_noise_growth";
+    case Cause::SmokeObstacleReturn:
+        return "smoke_obstacle_return";
+    case Cause::SectorDropout:
+        return "sector_dropout";
+    case Cause::Hysteresis:
+        return "hysteresis";
+    }
+    return "?";
+}
+
+template <class T>
+BeamTerms<T> baseTerms(const Replay& r, const Extensions& m, const Obs& o)
+{
+    const ReplayBeam& beam = r.beams[size_t(o.b)];
+    const ReplayScan& scan = r.scans[size_t(o.k)];
+    BeamTerms<T> x;
+    if (r.from_saturation && m.clock_offset_s != 0)
+        x.column = T(r.densityAt(scan.time_s + m.clock_offset_s) / r.density_ref * beam.column_ref);
+    else
+        x.column = T(r.columnAt(size_t(o.k), size_t(o.b)));
+    x.lnP = T(std::log(r.config.paper.penetration_power)) + valueOr<T>(m.threshold_factor, beam.surface) +
+        T(scan.rising ? -0.5 * m.hysteresis : 0.5 * m.hysteresis);
+    x.width = T(std::hypot(m.width, scan.ln_density_sd));
+    x.beta = valueOr<T>(m.range_bias, beam.surface);
+    x.gamma = T(m.noise_growth_m);
+    x.q = T(m.obstacle_return);
+    x.d = T(sectorDropout(m, beam.angle_rad));
+    return x;
+}
+template BeamTerms<double> baseTerms<double>(const Replay&, const Extensions&, const Obs&);
+template BeamTerms<J> baseTerms<J>(const Replay&, const Extensions&, const Obs&);
+
+std::vector<double> Candidate::starts() const
+{
+    switch (cause) {
+    case Cause::ClockOffset: {  // the likelihood in an offset is rugged (one step per camera frame)
+        std::vector<double> t;
+        for (int i = -48; i <= 48; ++i) t.push_back(0.25 * i);
+        return t;
+    }
+    case Cause::SurfaceThreshold:
+        return {-0.7, -0.35, 0, 0.35, 0.7};
+    case Cause::ThresholdWidth:
+        return {std::log(0.05), std::log(0.1), std::log(0.2), std::log(0.4)};
+    case Cause::SurfaceRangeBias:
+        return {-20, -10, -5, 0, 5, 10, 20, 40};
+    case Cause::RangeNoiseGrowth:
+        return {0.5, 2, 5, 10};
+    case Cause::SmokeObstacleReturn:
+        return {-4, -2, -1, 0};
+    case Cause::SectorDropout:
+        return {-3, -1.5, 0, 1};
+    case Cause::Hysteresis:
+        return {-0.8, -0.4, 0, 0.4, 0.8};
+    }
+    return {theta_start};
+}
+
+std::string Candidate::target(const Replay& r) const
+{
+    switch (cause) {
+    case Cause::SurfaceThreshold:
+    case Cause::SurfaceRangeBias:
+        return r.surface_names[size_t(surface)];
+    case Cause::SectorDropout:
+        return fmt("sector %.1f..%.1f deg", from_rad * 180 / M_PI, to_rad * 180 / M_PI);
+    default:
+        return "";
+    }
+}
+
+bool Candidate::touches(const Replay& r, int b) const
+{
+    const ReplayBeam& beam = r.beams[size_t(b)];
+    if (beam.surface < 0) return false;
+    switch (cause) {
+    case Cause::SurfaceThreshold:
+    case Cause::SurfaceRangeBias:
+        return beam.surface == surface;
+    case Cause::SectorDropout:
+        return beam.angle_rad >= from_rad && beam.angle_rad <= to_rad;
+    default:
+        return true;
+    }
+}
+
+void Candidate::apply(const Replay& r, const Extensions& m, const Obs& o, const J& theta, BeamTerms<J>& x) const
+{
+    const ReplayBeam& beam = r.beams[size_t(o.b)];
+    const ReplayScan& scan = r.scans[size_t(o.k)];
+    switch (cause) {
+    case Cause::ClockOffset:
+        x.column = r.densityAt(J(scan.time_s + m.clock_offset_s) + theta) / J(r.density_ref) * J(beam.column_ref);
+        break;
+    case Cause::SurfaceThreshold:
+        x.lnP += theta;
+        break;
+    case Cause::ThresholdWidth: {
+        const J w = exp(theta);
+        x.width = sqrt(w * w + J(scan.ln_density_sd * scan.ln_density_sd));
+        break;
+    }
+    case Cause::SurfaceRangeBias:
+        x.beta = theta;
+        break;
+    case Cause::RangeNoiseGrowth:
+        x.gamma = theta;
+        break;
+    case Cause::SmokeObstacleReturn:
+        x.q = sigmoid(theta);
+        break;
+    case Cause::SectorDropout:
+        x.d = J(1.0) - (J(1.0) - x.d) * (J(1.0) - sigmoid(theta));
+        break;
+    case Cause::Hysteresis:
+        x.lnP += (scan.rising ? J(-0.5) : J(0.5)) * theta;
+        break;
+    }
+}
+
+void Candidate::commit(double theta, Extensions& m) const
+{
+    switch (cause) {
+    case Cause::ClockOffset:
+        m.clock_offset_s += theta;
+        break;
+    case Cause::SurfaceThreshold:
+        m.threshold_factor[surface] += theta;
+        break;
+    case Cause::ThresholdWidth:
+        m.width = std::exp(theta);
+        break;
+    case Cause::SurfaceRangeBias:
+        m.range_bias[surface] = theta;
+        break;
+    case Cause::RangeNoiseGrowth:
+        m.noise_growth_m = theta;
+        break;
+    case Cause::SmokeObstacleReturn:
+        m.obstacle_return = sigmoid(theta);
+        break;
+    case Cause::SectorDropout:
+        m.sectors.push_back({from_rad, to_rad, sigmoid(theta)});
+        break;
+    case Cause::Hysteresis:
+        m.hysteresis += theta;
+        break;
+    }
+}
+
+std::vector<std::pair<std::string, Estimate>> Candidate::report(double theta, double se) const
+{
+    switch (cause) {
+    case Cause::ClockOffset:
+        return {{"offset_s", {theta, se}}};
+    case Cause::SurfaceThreshold:
+        return {{"ln_threshold_factor", {theta, se}}, {"threshold_factor", {std::exp(theta), std::exp(theta) * se}}};
+    case Cause::ThresholdWidth:
+        return {{"width_ln_column", {std::exp(theta), std::exp(theta) * se}}};
+    case Cause::SurfaceRangeBias:
+        return {{"bias_per_column_per_density_m", {theta, se}}};
+    case Cause::RangeNoiseGrowth:
+        return {{"noise_growth_m_per_density_m", {std::abs(theta), se}}};
+    case Cause::SmokeObstacleReturn:
+    case Cause::SectorDropout: {
+        const double p = sigmoid(theta);
+        return {{cause == Cause::SectorDropout ? "dropout" : "short_return_share", {p, p * (1 - p) * se}}};
+    }
+    case Cause::Hysteresis:
+        return {{"ln_threshold_falling_over_rising", {theta, se}}};
+    }
+    return {};
+}
+
+J candidateLogLik(const Replay& r, const Extensions& m, const Candidate& c, const Obs& o, const J& theta)
+{
+    BeamTerms<J> x = baseTerms<J>(r, m, o);
+    c.apply(r, m, o, theta, x);
+    const ReplayBeam& beam = r.beams[size_t(o.b)];
+    return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.rangeSigma(beam.range_m),
+                         r.spec.range_max_m);
+}
+
+double modelLogLik(const Replay& r, const Extensions& m, const Obs& o)
+{
+    const ReplayBeam& beam = r.beams[size_t(o.b)];
+    return logLikelihood(baseTerms<double>(r, m, o), double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m,
+                         r.spec.rangeSigma(beam.range_m), r.spec.range_max_m);
+}
+
+std::pair<double, double> modelPrediction(const Replay& r, const Extensions& m, const Obs& o)
+{
+    const BeamTerms<double> x = baseTerms<double>(r, m, o);
+    double ps = 0;
+    if (x.column > 0) ps = 0.5 * std::erfc(-(std::log(x.column) - x.lnP) / x.width / M_SQRT2);
+    const double err = 0.5 * kLapse + (1 - kLapse) * (x.d + (1 - x.d) * ps * (1 - x.q));
+    return {err, r.beams[size_t(o.b)].range_m * (1 + x.beta * x.column)};
+}
+
+bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& from_rad, double& to_rad)
+{
+    const size_t B = r.beams.size();
+    std::vector<int> clear(B, 0), errs(B, 0);
+    for (size_t k = 0; k < r.scans.size(); ++k) {
+        if (fold >= 0 && r.scans[k].block % 2 != fold) continue;
+        for (size_t b = 0; b < B; ++b) {
+            if (r.beams[b].surface < 0) continue;
+            const auto [p_err, mu] = modelPrediction(r, m, {int(k), int(b)});
+            if (p_err > 0.01) continue;  // the model expects errors here: not clear air
+            ++clear[b];
+            errs[b] += std::isnan(r.range_m[k][b]);
+        }
+    }
+    size_t best0 = 0, best_n = 0;
+    auto marked = [&](size_t i) { return clear[i] >= 5 && errs[i] > 0.15 * clear[i]; };
+    for (size_t b = 0; b < B;) {
+        if (!marked(b)) {
+            ++b;
+            continue;
+        }
+        // The run goes on over gaps of up to two beams that chance left below the mark.
+        size_t e = b;
+        while (true) {
+            size_t next = e + 1;
+            while (next < B && next <= e + 3 && !marked(next)) ++next;
+            if (next < B && next <= e + 3 && marked(next))
+                e = next;
+            else
+                break;
+        }
+        if (e - b + 1 > best_n) {
+            best_n = e - b + 1;
+            best0 = b;
+        }
+        b = e + 1;
+    }
+    if (best_n < 2) return false;
+    const double half = 0.5 * std::abs(r.spec.dangle_rad);
+    from_rad = r.beams[best0].angle_rad - half;
+    to_rad = r.beams[best0 + best_n - 1].angle_rad + half;
+    return true;
+}
+
+}  // namespace smokescan::detail

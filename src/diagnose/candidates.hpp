@@ -1,0 +1,73 @@
+#pragma once
+// Internal: the candidate extensions of the diagnosis (docs/diagnosis.md) — how each one changes
+// a beam's predictive terms, which observations it touches, its parameter and how it is reported.
+#include <ceres/jet.h>
+
+#include <string>
+#include <vector>
+
+#include "smokescan/core/estimate.hpp"
+#include "smokescan/diagnose/predictive.hpp"
+#include "smokescan/diagnose/replay.hpp"
+
+namespace smokescan::detail {
+
+using J = ceres::Jet<double, 1>;
+
+/// The causes, in the order they are tried (their names are a public interface).
+enum class Cause {
+    ClockOffset,
+    SurfaceThreshold,
+    ThresholdWidth,
+    SurfaceRangeBias,
+    RangeNoiseGrowth,
+    SmokeObstacleReturn,
+    SectorDropout,
+    Hysteresis
+};
+const char* causeName(Cause c);
+
+/// One observation: scan k, beam b.
+struct Obs {
+    int k, b;
+};
+
+/// One candidate extension: a cause, its target, one parameter θ (null: today's model).
+struct Candidate {
+    Cause cause = Cause::ThresholdWidth;
+    int surface = -1;  ///< SurfaceThreshold, SurfaceRangeBias
+    double from_rad = 0, to_rad = 0;  ///< SectorDropout
+    double theta_null = 0, theta_start = 0;
+
+    /// @brief Starting values to try (the fit starts from the best): the likelihood of a range
+    /// bias or an offset is flat far from its optimum, where the outlier share takes the readings.
+    std::vector<double> starts() const;
+    std::string target(const Replay& r) const;
+    /// @brief Whether the candidate changes beam b's prediction at all.
+    bool touches(const Replay& r, int b) const;
+    /// @brief The candidate's change to a beam's terms at parameter θ.
+    void apply(const Replay& r, const Extensions& model, const Obs& o, const J& theta, BeamTerms<J>& x) const;
+    /// @brief θ into the extension model (the accepted finding).
+    void commit(double theta, Extensions& model) const;
+    /// @brief The reported parameters: θ and its standard error in the cause's own units.
+    std::vector<std::pair<std::string, Estimate>> report(double theta, double se) const;
+};
+
+/// @brief The terms of today's model plus `model`'s extensions at observation o (no candidate).
+template <class T>
+BeamTerms<T> baseTerms(const Replay& r, const Extensions& model, const Obs& o);
+
+/// @brief ln L of observation o with candidate c at θ.
+J candidateLogLik(const Replay& r, const Extensions& model, const Candidate& c, const Obs& o, const J& theta);
+/// @brief ln L of observation o under `model` alone.
+double modelLogLik(const Replay& r, const Extensions& model, const Obs& o);
+/// @brief P(error value) of observation o under `model`, and the predicted range [m].
+std::pair<double, double> modelPrediction(const Replay& r, const Extensions& model, const Obs& o);
+
+/// @brief The sector where beams fail in clear air (error share > 15 % over ≥ 5 clear scans, the
+/// longest run of such beams with gaps of at most two, at least 2 beams), among the scans of
+/// `fold` (−1: all).
+/// Returns false when there is none.
+bool findDropoutSector(const Replay& r, const Extensions& model, int fold, double& from_rad, double& to_rad);
+
+}  // namespace smokescan::detail

@@ -1,0 +1,183 @@
+#include "smokescan/diagnose/replay.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "smokescan/calib/saturation_predict.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/order_stats.hpp"
+#include "smokescan/fit/sensor_fit.hpp"
+#include "smokescan/plot/format.hpp"
+
+namespace smokescan {
+namespace {
+
+/// Half-window of the density's trend (rising or falling) [s]: wider than the smoothing, so that
+/// the saturation's noise rarely flips the sign on a plateau.
+constexpr double kTrend_s = 3.0;
+
+/// The scene's regional smoke volumes (the camera's calibration is for regional smoke).
+std::vector<SmokeVolume> regionalVolumes(const Scene& scene)
+{
+    std::vector<SmokeVolume> v;
+    for (const auto& s : scene.volumes)
+        if (s.role == SmokeRole::Regional) v.push_back(s);
+    return v;
+}
+
+/// The camera's mean density over [t0, t1] (21 samples): the trend's two sides, noise averaged.
+double meanDensity(const Replay& r, double t0, double t1)
+{
+    double sum = 0;
+    for (int i = 0; i <= 20; ++i) sum += r.densityAt(t0 + (t1 - t0) * i / 20.0);
+    return sum / 21;
+}
+
+/// The log's beams must be the sensor's: the same count and angles.
+void checkBeams(const RecordedLog& log, const LrfSpec& spec, const std::string& sensor)
+{
+    const auto& a = log.scans.front().angle_rad;
+    if (a.size() != size_t(spec.n_beams))
+        throw Error(log.path,
+                    fmt("has %zu beams a scan; the scene's sensor '%s' (%s) has %d (a log of another sensor?)",
+                        a.size(), sensor.c_str(), sensorTypeName(spec.type), spec.n_beams));
+    for (size_t i = 0; i < a.size(); ++i)
+        if (std::abs(a[i] - spec.angle(int(i))) > 1e-3)
+            throw Error(log.path,
+                        fmt("beam %zu is at %.4f rad; the sensor's beam %zu is at %.4f rad (another mounting or "
+                            "resolution?)",
+                            i, a[i], i, spec.angle(int(i))));
+}
+
+/// The scene's densest regional state as the camera sees it: its field and camera density.
+std::pair<SmokeField, double> referenceState(const Scene& scene, const std::vector<SmokeVolume>& regional,
+                                             const SaturationPredictor& camera, double step_s)
+{
+    SmokeField best;
+    double best_rho = 0;
+    for (double t = scene.t_start_s; t <= scene.t_end_s + 1e-9; t += step_s) {
+        SmokeField f = SmokeField::at(regional, t);
+        const double rho = camera.column(f) / camera.path_m();
+        if (rho > best_rho) {
+            best_rho = rho;
+            best = std::move(f);
+        }
+    }
+    if (!(best_rho > 0))
+        throw Error(scene.source,
+                    "has no regional smoke in the camera's view: nothing to scale to the measured saturation");
+    return {std::move(best), best_rho};
+}
+
+/// The camera's density series on laser time: each saturation sample, smoothed over smooth_s,
+/// through the curve; and the smoothed series' noise.
+void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, double offset_s, double smooth_s,
+                   Replay& r)
+{
+    std::vector<double> dt;
+    for (size_t i = 1; i < raw.time_s.size(); ++i) dt.push_back(raw.time_s[i] - raw.time_s[i - 1]);
+    const double frame_s = dt.empty() ? 1.0 : std::max(quantile(dt, 0.5), 1e-6);
+    const int h = int(std::min(std::floor(0.5 * smooth_s / frame_s + 1e-9), double(raw.time_s.size())));
+    const SaturationSeries sat = movingAverage(raw, h);
+    r.saturation_noise = saturationNoise(raw) / std::sqrt(2.0 * h + 1);
+    for (size_t j = 0; j < sat.time_s.size(); ++j) {
+        double rho = 0;
+        if (sat.saturation[j] < curve.S0) {
+            try {
+                rho = curve.invert(sat.saturation[j]);
+            } catch (const Error&) {
+                continue;  // at or below the curve's floor: no density
+            }
+        }
+        r.density_time_s.push_back(sat.time_s[j] - offset_s);
+        r.density_series.push_back(rho);
+    }
+    if (r.density_time_s.empty())
+        throw Error(sat.path, "holds no saturation the calibration curve can read as a density");
+}
+
+}  // namespace
+
+Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
+{
+    if (!in.scene) throw Error("diagnose", "needs --scene (the geometry the run is replayed in)");
+    if (!(cfg.block_s > 0)) throw Error("--block", "must be > 0");
+    Replay r;
+    r.spec = specFor(config);
+    r.config = config;
+    const Scene& scene = *in.scene;
+    checkBeams(in.log, r.spec, in.mount.name);
+    for (const auto& s : scene.surfaces) r.surface_names.push_back(s.name);
+    const std::vector<SmokeVolume> regional = regionalVolumes(scene);
+    // Beams: what each one hits.
+    std::vector<Ray> rays;
+    for (int i = 0; i < r.spec.n_beams; ++i) {
+        rays.push_back(in.mount.beamRay(r.spec.angle(i)));
+        const SurfaceHit h = in.surfaces->closest(rays.back(), r.spec.range_max_m);
+        ReplayBeam b;
+        b.surface = h.surface;
+        b.range_m = h.endOr(r.spec.range_max_m);
+        b.angle_rad = r.spec.angle(i);
+        b.incidence_rad = h.hit ? std::acos(std::min(1.0, std::abs(rays.back().d.dot(h.normal)))) : 0.0;
+        r.beams.push_back(b);
+    }
+    BeamQuery q;
+    q.wavelength_nm = r.spec.wavelength_nm;
+    r.from_saturation = !in.saturation.time_s.empty();
+    const double t0 = in.log.scans.front().time_s;
+    if (r.from_saturation) {
+        const SaturationPredictor camera(scene, *in.surfaces, in.calibration.curve, cfg.camera, cfg.target_prefix);
+        const auto [ref, rho_ref] = referenceState(scene, regional, camera, cfg.time_step_s);
+        r.density_ref = rho_ref;
+        for (size_t b = 0; b < r.beams.size(); ++b)
+            r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional;
+        densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
+        const double c0 = r.density_time_s.front(), c1 = r.density_time_s.back();
+        if (in.log.scans.back().time_s < c0 || t0 > c1)
+            throw Error(in.saturation.path,
+                        fmt("does not overlap the laser log: laser %.1f-%.1f s, camera %.1f-%.1f s on the "
+                            "laser's clock (offset %.2f s); give --offset",
+                            t0, in.log.scans.back().time_s, c0, c1, cfg.offset_s));
+    }
+    for (const LaserLogScan& s : in.log.scans) {
+        ReplayScan sc;
+        sc.time_s = s.time_s;
+        sc.block = int(std::floor((s.time_s - t0) / cfg.block_s));
+        std::vector<float> rec(s.range.size());
+        for (size_t b = 0; b < s.range.size(); ++b) {
+            const double m = s.range[b] * in.log.unit_m;
+            rec[b] = r.spec.isErrorRange(m) ? NAN : float(m);
+        }
+        r.range_m.push_back(std::move(rec));
+        if (r.from_saturation) {
+            sc.density = r.densityAt(s.time_s);
+            sc.rising = meanDensity(r, s.time_s, s.time_s + kTrend_s) > meanDensity(r, s.time_s - kTrend_s, s.time_s);
+            if (s.time_s >= r.density_time_s.front() && s.time_s <= r.density_time_s.back())
+                sc.saturation = in.calibration.curve(sc.density);
+            // σ_S through the curve's slope: the density's relative error.
+            const SaturationCurve& c = in.calibration.curve;
+            const double d = 1e-6 + 1e-3 * sc.density;
+            const double slope = std::abs(c(sc.density + d) - c(std::max(0.0, sc.density - d))) /
+                (sc.density + d - std::max(0.0, sc.density - d));
+            sc.ln_density_sd = sc.density > 0 && slope > 0 ? r.saturation_noise / (slope * sc.density) : 0.0;
+        } else {
+            const SmokeField now = SmokeField::at(regional, s.time_s), later = SmokeField::at(regional, s.time_s + 2.0),
+                             before = SmokeField::at(regional, s.time_s - 2.0);
+            std::vector<float> col(rays.size());
+            double now_sum = 0, trend = 0;
+            for (size_t b = 0; b < rays.size(); ++b) {
+                col[b] = float(now.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional);
+                now_sum += col[b];
+                trend += later.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional -
+                    before.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional;
+            }
+            sc.density = now_sum / double(rays.size());
+            sc.rising = trend > 0;
+            r.column.push_back(std::move(col));
+        }
+        r.scans.push_back(sc);
+    }
+    return r;
+}
+
+}  // namespace smokescan

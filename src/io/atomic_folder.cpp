@@ -1,0 +1,56 @@
+#include "smokescan/io/atomic_folder.hpp"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/io/atomic_file.hpp"
+
+namespace smokescan {
+
+namespace fs = std::filesystem;
+
+AtomicFolder::AtomicFolder(std::string dir, std::string what, const std::string& option)
+    : dir_(std::move(dir)), what_(std::move(what))
+{
+    struct stat st {};
+    if (::lstat(dir_.c_str(), &st) == 0 && !(S_ISDIR(st.st_mode) && fs::is_empty(dir_)))
+        throw Error(dir_, "exists and is not an empty folder (" + option + " writes a new one)");
+    const fs::path parent = fs::path(dir_).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent)) throw Error(dir_, "cannot write (no such directory)");
+    std::string tmpl = dir_ + ".tmpXXXXXX";
+    if (!::mkdtemp(tmpl.data())) throw Error(dir_, "cannot create " + what_ + ": " + std::string(std::strerror(errno)));
+    tmp_ = tmpl;
+    registerTemporary(tmp_);
+}
+
+AtomicFolder::~AtomicFolder()
+{
+    if (done_) return;
+    std::error_code ec;
+    fs::remove_all(tmp_, ec);
+    releaseTemporary(tmp_);
+}
+
+void AtomicFolder::makeFolder(const std::string& relative)
+{
+    std::error_code ec;
+    fs::create_directory(fs::path(tmp_) / relative, ec);
+    if (ec) throw Error(dir_, "cannot create " + what_ + ": " + ec.message());
+}
+
+void AtomicFolder::commit()
+{
+    std::error_code ec;
+    fs::remove(dir_, ec);  // an empty folder given as the target
+    fs::rename(tmp_, dir_, ec);
+    if (ec) throw Error(dir_, "cannot move " + what_ + " into place: " + ec.message());
+    releaseTemporary(tmp_);
+    done_ = true;
+}
+
+}  // namespace smokescan

@@ -1,0 +1,45 @@
+// `smokescan diagnose` end to end: a simulated run diagnosed into a new folder; bad input is a
+// one-line error naming the file and the problem, with no folder left.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "cli_run.hpp"
+
+using namespace smokescan::test;
+namespace fs = std::filesystem;
+
+TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
+{
+    const std::string log = file("d_rec.log"), sat = file("d_sat.csv"), out = file("diag");
+    CliRun r = cli("scan bocas --rate 1 --seed 3 --quiet --out " + log + " --saturation-out " + sat +
+                   " --saturation-sigma 0.01 --saturation-rate 5");
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = cli("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --out " + out);
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
+    EXPECT_NE(slurp(fs::path(out) / "diagnosis.json").find("\"verdict\": \"none\""), std::string::npos);
+    EXPECT_NE(slurp(fs::path(out) / "report.md").find("### smoke_trend"), std::string::npos);
+    // The folder exists now: a second run is refused and leaves it as it was.
+    expectBad("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --out " + out, "not an empty folder",
+              file("none"));
+
+    // A Sick's log on the BOCAS URG; a saturation on another day; a run too short to hold out.
+    const std::string sick = file("d_sick.log"), late = file("d_late.csv", "time_s,saturation\n10000,0.3\n10001,0.3\n");
+    ASSERT_EQ(cli("scan plume --sensor lms200 --from 0 --to 3 --quiet --out " + sick).status, 0);
+    expectBad("diagnose --laser " + sick + " --saturation " + sat + " --scene bocas --out " + file("d1"),
+              "d_sick.log: has 361 beams a scan", file("d1"));
+    expectBad("diagnose --laser " + log + " --saturation " + late + " --scene bocas --out " + file("d2"),
+              "d_late.csv: does not overlap the laser log", file("d2"));
+    const std::string shortlog = file("d_short.log");
+    ASSERT_EQ(cli("scan bocas --from 100 --to 106 --quiet --out " + shortlog).status, 0);
+    expectBad("diagnose --laser " + shortlog + " --saturation " + sat + " --scene bocas --out " + file("d3"),
+              "at least 4 are needed", file("d3"));
+    const std::string badsensor = file("d_bad.toml", "type = \"urg04lx\"\n[extensions]\nx = 1\n");
+    expectBad("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --sensor-file " + badsensor +
+                  " --out " + file("d4"),
+              "d_bad.toml", file("d4"));
+    expectBad(
+        "diagnose --laser " + log + " --saturation " + sat + " --scene bocas --model physical --out " + file("d5"),
+        "paper model only", file("d5"));
+}

@@ -1,0 +1,285 @@
+// The diagnosis finds what was planted, by its own mechanism, into simulated runs: the right cause
+// and target at a stated magnitude, over random seeds; and names nothing on clean runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "plant.hpp"
+#include "smokescan/diagnose/diagnosis.hpp"
+
+using namespace smokescan;
+using namespace smokescan::test;
+
+namespace {
+
+/// Seeds per test: one or two under the sanitizers (the suite's slow build checks memory, the
+/// Release build the statistics).
+int seeds(int n)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    return std::min(n, 2);
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+    return std::min(n, 2);
+#endif
+#endif
+    return n;
+}
+
+DiagnosisResult diagnoseRun(const TrueRun& r, double offset_s = 0)
+{
+    const FitInputs in = inputsOf(r);
+    ReplayConfig rc;
+    rc.offset_s = offset_s;
+    const Replay replay = replayRun(in, in.mount.config, rc);
+    return diagnose(replay);
+}
+
+bool found(const DiagnosisResult& d, const std::string& cause, const std::string& target = "")
+{
+    for (const auto& f : d.findings)
+        if (f.cause == cause && (target.empty() || f.target == target)) return true;
+    return false;
+}
+
+const Finding* finding(const DiagnosisResult& d, const std::string& cause)
+{
+    for (const auto& f : d.findings)
+        if (f.cause == cause) return &f;
+    return nullptr;
+}
+
+std::string describe(const DiagnosisResult& d)
+{
+    std::string s = "verdict: " + d.verdict;
+    for (const auto& f : d.findings) {
+        s += "\n  " + f.cause + " " + f.target;
+        for (const auto& [n, e] : f.parameters)
+            s += " " + n + "=" + std::to_string(e.value) + "±" + std::to_string(e.se);
+        s += " gain " + std::to_string(f.loglik_gain) + " p " + std::to_string(f.p_value);
+    }
+    return s;
+}
+
+/// One planted cause: its name, target, and the value the diagnosis should report.
+struct Planted {
+    std::string cause, target, parameter;
+    double value = 0;
+};
+
+double normalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+
+/// Plants cause `which` at a random magnitude above its stated detectability into run r.
+Planted plantCause(int which, TrueRun& r, uint64_t seed)
+{
+    KeyedRng rng(seed, 4242, uint64_t(which));
+    const double P = bocasWorld().scene.sensors[0].config.paper.penetration_power;
+    auto smokeError = [](const BeamView& v) {
+        return v.truth.error && std::string(v.truth.cause) == "penetration_power";
+    };
+    switch (which) {
+    case 0: {  // the gold paper reads long as smoke thickens: 5.6–14 % at the threshold
+        const double beta = 8 + 12 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (v.surface == "target_gold" && !v.truth.error)
+                v.value = std::llround(double(v.value) * (1 + beta * v.column));
+        });
+        return {"surface_range_bias", "target_gold", "bias_per_column_per_density_m", beta};
+    }
+    case 1: {  // the yellow paper fails at a 35–70 % higher or 25–40 % lower column
+        const double f = rng.uniform() < 0.5 ? 1.35 + 0.35 * rng.uniform() : 0.6 + 0.15 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (v.surface != "target_yellow" || !v.truth.hit.hit) return;
+            const bool err = v.column > P * f;
+            if (err && !v.truth.error) v.value = 0;
+            if (!err && smokeError(v)) v.value = surfaceReading(r, v, rng);
+        });
+        return {"surface_threshold", "target_yellow", "ln_threshold_factor", std::log(f)};
+    }
+    case 2: {  // a gradual onset: width 0.15–0.3 in ln(column)
+        const double w = 0.15 + 0.15 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (!v.truth.hit.hit || !(v.column > 0) || (v.truth.error && !smokeError(v))) return;
+            const bool err = rng.uniform() < normalCdf((std::log(v.column) - std::log(P)) / w);
+            if (err)
+                v.value = 0;
+            else if (smokeError(v))
+                v.value = surfaceReading(r, v, rng);
+        });
+        return {"threshold_width", "", "width_ln_column", w};
+    }
+    case 3: {  // range noise growing with the column: 3–6 m per density·m
+        const double g = 3 + 3 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (!v.truth.error) v.value += std::llround(g * v.column * rng.normal() / r.spec.unit_m);
+        });
+        return {"range_noise_growth", "", "noise_growth_m_per_density_m", g};
+    }
+    case 4: {  // 25–45 % of the smoke failures return a short range instead
+        const double q = 0.25 + 0.2 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (smokeError(v) && v.truth.hit.hit && rng.uniform() < q)
+                v.value = std::llround((0.1 + (v.truth.hit.t_m - 0.1) * rng.uniform()) / r.spec.unit_m);
+        });
+        return {"smoke_obstacle_return", "", "short_return_share", q};
+    }
+    case 5: {  // a dirty window: beams between −50° and −35° fail 30–60 % of the time
+        const double d = 0.3 + 0.3 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            const double deg = v.angle_rad * 180 / M_PI;
+            if (deg >= -50 && deg <= -35 && v.truth.hit.hit && rng.uniform() < d) v.value = 0;
+        });
+        return {"sector_dropout", "", "dropout", d};
+    }
+    case 6: {  // the onset while smoke falls lies 0.5–0.8 higher in ln(column) than while it rises
+        const double h = 0.5 + 0.3 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (!v.truth.hit.hit || (v.truth.error && !smokeError(v))) return;
+            const bool rising = v.column > v.previous_column;
+            const bool err = v.column > P * std::exp(rising ? -0.5 * h : 0.5 * h);
+            if (err && !v.truth.error) v.value = 0;
+            if (!err && smokeError(v)) v.value = surfaceReading(r, v, rng);
+        });
+        return {"hysteresis", "", "ln_threshold_falling_over_rising", h};
+    }
+    }
+    return {};
+}
+
+const char* const kCauseNames[] = {"surface_range_bias", "surface_threshold",     "threshold_width",
+                                   "range_noise_growth", "smoke_obstacle_return", "sector_dropout",
+                                   "hysteresis"};
+
+/// Plants cause `which` into `n` seeds; each must be found with its target, and its magnitude
+/// within 3 of its reported standard errors.
+void expectFound(int which, int n)
+{
+    for (int s = 0; s < n; ++s) {
+        const uint64_t seed = 100 * uint64_t(which + 1) + uint64_t(s);
+        TrueRun r = simulateBocas(seed);
+        const Planted p = plantCause(which, r, seed);
+        const DiagnosisResult d = diagnoseRun(r);
+        ASSERT_TRUE(found(d, p.cause, p.target)) << p.cause << " " << p.value << " seed " << seed << "\n"
+                                                 << describe(d);
+        const Finding* f = finding(d, p.cause);
+        for (const auto& [name, e] : f->parameters)
+            if (name == p.parameter)
+                EXPECT_NEAR(e.value, p.value, 3 * e.se + 0.05 * std::abs(p.value)) << p.cause << " seed " << seed;
+    }
+}
+
+}  // namespace
+
+TEST(Diagnose, CleanRunsNameNothing)
+{
+    // 20 seeds of the plain BOCAS run: the verdict is `none` in all but at most one (the test's
+    // level is 5 % a round).
+    const int n = seeds(20);
+    int named = 0;
+    std::string seen;
+    for (int s = 0; s < n; ++s) {
+        const DiagnosisResult d = diagnoseRun(simulateBocas(900 + uint64_t(s)));
+        if (!d.findings.empty()) {
+            ++named;
+            seen += describe(d) + "\n";
+        }
+    }
+    EXPECT_LE(named, std::max(1, n / 20)) << seen;
+}
+
+TEST(Diagnose, SurfaceRangeBiasIsFound) { expectFound(0, seeds(4)); }
+TEST(Diagnose, SurfaceThresholdIsFound) { expectFound(1, seeds(4)); }
+TEST(Diagnose, ThresholdWidthIsFound) { expectFound(2, seeds(4)); }
+TEST(Diagnose, RangeNoiseGrowthIsFound) { expectFound(3, seeds(4)); }
+TEST(Diagnose, SmokeObstacleReturnIsFound) { expectFound(4, seeds(4)); }
+TEST(Diagnose, SectorDropoutIsFound) { expectFound(5, seeds(4)); }
+TEST(Diagnose, HysteresisIsFound) { expectFound(6, seeds(4)); }
+
+TEST(Diagnose, ClockOffsetIsFound)
+{
+    // The camera's clock 4–8 s ahead of the laser's.
+    for (int s = 0; s < seeds(4); ++s) {
+        const uint64_t seed = 800 + uint64_t(s);
+        KeyedRng rng(seed, 17);
+        const double delta = 4 + 4 * rng.uniform();
+        const DiagnosisResult d = diagnoseRun(simulateBocas(seed, 360, 1, 0.01, delta));
+        ASSERT_TRUE(found(d, "clock_offset")) << delta << "\n" << describe(d);
+        const Estimate e = finding(d, "clock_offset")->parameters.front().second;
+        // Found to about ±0.5 s: the likelihood is rugged at the camera's 0.2 s frame steps and the
+        // replay itself lags by up to 0.3 s; the reported error (the curvature's) understates
+        // that (docs/diagnosis.md: open).
+        EXPECT_NEAR(e.value, delta, 3 * e.se + 0.6) << "seed " << seed;
+    }
+}
+
+TEST(Diagnose, ThreeEffectsTogetherAreAllFound)
+{
+    for (int s = 0; s < seeds(2); ++s) {
+        const uint64_t seed = 1700 + uint64_t(s);
+        TrueRun r = simulateBocas(seed);
+        const Planted a = plantCause(0, r, seed), b = plantCause(5, r, seed), c = plantCause(1, r, seed);
+        const DiagnosisResult d = diagnoseRun(r);
+        for (const Planted* p : {&a, &b, &c})
+            EXPECT_TRUE(found(d, p->cause, p->target)) << p->cause << "\n" << describe(d);
+    }
+}
+
+TEST(Diagnose, BelowDetectabilityIsNotClaimed)
+{
+    // The gold reading 0.007 % long at the threshold (β = 0.01, under one standard error of its
+    // fit over a BOCAS run, about 0.03): named in at most one run of eight.
+    const int n = seeds(8);
+    int named = 0;
+    for (int s = 0; s < n; ++s) {
+        TrueRun r = simulateBocas(2000 + uint64_t(s));
+        plant(r, [&](BeamView& v) {
+            if (v.surface == "target_gold" && !v.truth.error)
+                v.value = std::llround(double(v.value) * (1 + 0.01 * v.column));
+        });
+        named += found(diagnoseRun(r), "surface_range_bias");
+    }
+    EXPECT_LE(named, std::max(1, n / 10));
+}
+
+TEST(Diagnose, ExploreMagnitudes)
+{
+    if (!std::getenv("SMOKESCAN_EXPLORE")) GTEST_SKIP() << "exploration only";
+    if (std::getenv("SMOKESCAN_EXPLORE_COMBO")) {
+        TrueRun r = simulateBocas(1700);
+        plantCause(0, r, 1700), plantCause(5, r, 1700), plantCause(1, r, 1700);
+        const DiagnosisResult d = diagnoseRun(r);
+        std::printf("combo: %s\n", describe(d).c_str());
+        for (const auto& t : d.tried)
+            if (t.loglik_gain > 20)
+                std::printf("   tried %d %s %s gain %.1f p %.2g\n", t.round, t.cause.c_str(), t.target.c_str(),
+                            t.loglik_gain, t.p_value);
+        KeyedRng crng(801, 17);
+        const double cd = 4 + 4 * crng.uniform();
+        std::printf("clock planted %.3f\n", cd);
+        const DiagnosisResult c = diagnoseRun(simulateBocas(801, 360, 1, 0.01, cd));
+        std::printf("clock: %s\n", describe(c).c_str());
+        for (const auto& t : c.tried)
+            if (t.loglik_gain > 20 || t.cause == "clock_offset")
+                std::printf("   tried %d %s %s gain %.1f p %.2g\n", t.round, t.cause.c_str(), t.target.c_str(),
+                            t.loglik_gain, t.p_value);
+        return;
+    }
+    const int only = std::getenv("SMOKESCAN_EXPLORE_CAUSE") ? std::atoi(std::getenv("SMOKESCAN_EXPLORE_CAUSE")) : -1;
+    for (uint64_t seed = 1; seed <= 2; ++seed) {
+        TrueRun r = simulateBocas(seed);
+        for (int which = 0; which < 7; ++which) {
+            if (only >= 0 && which != only) continue;
+            TrueRun rr = r;
+            const Planted p = plantCause(which, rr, seed);
+            const DiagnosisResult d = diagnoseRun(rr);
+            std::printf("seed %llu %s %.3f: %s\n", (unsigned long long)seed, p.cause.c_str(), p.value,
+                        describe(d).c_str());
+            if (std::getenv("SMOKESCAN_EXPLORE_TRIED"))
+                for (const auto& t : d.tried)
+                    if (t.loglik_gain > 20)
+                        std::printf("   tried %d %s %s gain %.1f p %.2g\n", t.round, t.cause.c_str(), t.target.c_str(),
+                                    t.loglik_gain, t.p_value);
+        }
+    }
+}
