@@ -43,10 +43,10 @@ bool found(const DiagnosisResult& d, const std::string& cause, const std::string
     return false;
 }
 
-const Finding* finding(const DiagnosisResult& d, const std::string& cause)
+const Finding* finding(const DiagnosisResult& d, const std::string& cause, const std::string& target = "")
 {
     for (const auto& f : d.findings)
-        if (f.cause == cause) return &f;
+        if (f.cause == cause && (target.empty() || f.target == target)) return &f;
     return nullptr;
 }
 
@@ -162,10 +162,16 @@ void expectFound(int which, int n)
         const DiagnosisResult d = diagnoseRun(r);
         ASSERT_TRUE(found(d, p.cause, p.target)) << p.cause << " " << p.value << " seed " << seed << "\n"
                                                  << describe(d);
-        const Finding* f = finding(d, p.cause);
+        const Finding* f = finding(d, p.cause, p.target);
+        bool reported = false;
         for (const auto& [name, e] : f->parameters)
-            if (name == p.parameter)
+            if (name == p.parameter) {
+                reported = true;
                 EXPECT_NEAR(e.value, p.value, 3 * e.se + 0.05 * std::abs(p.value)) << p.cause << " seed " << seed;
+            }
+        EXPECT_TRUE(reported) << p.cause << " reports no " << p.parameter;
+        if (p.cause == "sector_dropout")  // the planted sector, −50° to −35°, within a beam's width
+            EXPECT_EQ(f->target, "sector -50.1..-35.0 deg") << "seed " << seed;
     }
 }
 

@@ -279,8 +279,9 @@ bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& f
     }
     if (best_n < 2) return false;
     const double half = 0.5 * std::abs(r.spec.dangle_rad);
-    from_rad = r.beams[best0].angle_rad - half;
-    to_rad = r.beams[best0 + best_n - 1].angle_rad + half;
+    const double a0 = r.beams[best0].angle_rad, a1 = r.beams[best0 + best_n - 1].angle_rad;
+    from_rad = std::min(a0, a1) - half;
+    to_rad = std::max(a0, a1) + half;
     return true;
 }
 

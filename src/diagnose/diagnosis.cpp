@@ -372,11 +372,15 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
         if (!dropped) break;
         res.model = Extensions{};
         res.findings.clear();
-        for (Accepted& a : acc) {
-            a = accept(r, res.model, scoreCandidate(r, res.model, a.c, cfg));
+        std::vector<Accepted> kept;
+        for (const Accepted& prev : acc) {
+            Accepted a = accept(r, res.model, scoreCandidate(r, res.model, prev.c, cfg));
+            if (!a.all.ok) continue;  // a refit that fails drops the finding rather than commit a null θ
             a.c.commit(a.all.theta, res.model);
             res.findings.push_back(a.f);
+            kept.push_back(a);
         }
+        acc = kept;
     }
     Extensions fold_model[2];  // fold_model[f]: fitted without fold f, predicts its scans
     for (const Accepted& a : acc)
