@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "beam_models.hpp"
+#include "smokescan/core/random.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
 
@@ -23,6 +24,27 @@ std::unique_ptr<BeamModel> makeBeamModel(const SensorConfig& c)
     return nullptr;
 }
 
+namespace {
+
+std::string namedValue(const char* name, double value)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s=%g", name, value);
+    return buf;
+}
+
+}  // namespace
+
+// ---- the paper model's plumbing ----
+
+namespace {
+
+struct PaperTrace {
+    SurfaceHit hit;
+    BeamSmoke smoke;
+};
+
+/// The first surface within range and the smoke up to it.
 PaperTrace paperTrace(const BeamModel& m, const BeamWorld& w, const Ray& ray)
 {
     PaperTrace t;
@@ -34,6 +56,42 @@ PaperTrace paperTrace(const BeamModel& m, const BeamWorld& w, const Ray& ray)
     return t;
 }
 
+}  // namespace
+
+BeamResult PaperBeamModel::read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool) const
+{
+    const PaperTrace t = paperTrace(*this, w, ray);
+    return rule(t.hit, t.smoke, rng.normal());
+}
+
+BeamResult PaperBeamModel::expected(const BeamWorld& w, const Ray& ray) const
+{
+    const PaperTrace t = paperTrace(*this, w, ray);
+    return rule(t.hit, t.smoke, 0.0);
+}
+
+double PaperBeamModel::errorProbability(const BeamWorld& w, const Ray& ray) const
+{
+    const BeamResult r = expected(w, ray);
+    return r.error ? 1.0 : reportErrorProbability(spec(), r.true_range_m);
+}
+
+std::string PaperBeamModel::smokeParameter() const
+{
+    return namedValue("penetration_power", config().paper.penetration_power);
+}
+
+// ---- the physical model's plumbing ----
+
+namespace {
+
+struct PhysicalTrace {
+    BeamSignal signal;
+    SurfaceHit hit;
+    BeamSmoke smoke;
+};
+
+/// The beam's echoes, and the central ray's hit and smoke (when `details`).
 PhysicalTrace physicalTrace(const BeamModel& m, const BeamWorld& w, const Ray& ray, bool details)
 {
     PhysicalTrace t;
@@ -42,11 +100,34 @@ PhysicalTrace physicalTrace(const BeamModel& m, const BeamWorld& w, const Ray& r
     return t;
 }
 
-std::string namedValue(const char* name, double value)
+}  // namespace
+
+BeamResult PhysicalBeamModel::read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const
 {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%s=%g", name, value);
-    return buf;
+    PhysicalTrace t = physicalTrace(*this, w, ray, details);
+    BeamResult r = receive(t.signal, &rng);
+    r.hit = t.hit;
+    r.smoke = std::move(t.smoke);
+    return r;
+}
+
+BeamResult PhysicalBeamModel::expected(const BeamWorld& w, const Ray& ray) const
+{
+    PhysicalTrace t = physicalTrace(*this, w, ray, true);
+    BeamResult r = receive(t.signal, nullptr);
+    r.hit = t.hit;
+    r.smoke = std::move(t.smoke);
+    return r;
+}
+
+double PhysicalBeamModel::errorProbability(const BeamWorld& w, const Ray& ray) const
+{
+    return receiveErrorProbability(physicalTrace(*this, w, ray, false).signal);
+}
+
+std::string PhysicalBeamModel::smokeParameter() const
+{
+    return namedValue("noise_floor", config().physical.noise_floor);
 }
 
 }  // namespace smokescan

@@ -1,67 +1,78 @@
 #pragma once
-// Internal: the four BeamModel implementations, made by makeBeamModel (beam_model.cpp).
+// Internal: the BeamModel implementations, made by makeBeamModel (beam_model.cpp). The paper and
+// the physical models each share their plumbing (tracing, the three forms, the log's parameter);
+// each sensor supplies only its own rule or receiver, in its folder.
 #include "smokescan/sensors/beam_model.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 
 namespace smokescan {
 
-/// Paper model, URG-04LX: regional smoke column above the penetration power, or any local
-/// smoke, gives error 0.
-class PaperUrgModel final : public BeamModel {
+/// The paper model: the first surface within range and the smoke up to it, then the sensor's rule.
+class PaperBeamModel : public BeamModel {
 public:
-    explicit PaperUrgModel(const SensorConfig& c) : BeamModel(c) {}
-    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const override;
-    BeamResult expected(const BeamWorld& w, const Ray& ray) const override;
-    double errorProbability(const BeamWorld& w, const Ray& ray) const override;
-    std::string smokeParameter() const override;
+    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const final;
+    BeamResult expected(const BeamWorld& w, const Ray& ray) const final;
+    double errorProbability(const BeamWorld& w, const Ray& ray) const final;
+    std::string smokeParameter() const final;
+
+protected:
+    using BeamModel::BeamModel;
+    /// The sensor's rule for a beam that met `smoke` before `hit`; `noise` a standard normal draw.
+    virtual BeamResult rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const = 0;
 };
 
-/// Paper model, LMS200: local smoke is an obstacle; regional smoke is seen through.
-class PaperSickModel final : public BeamModel {
+/// Paper model, URG-04LX (urg04lx/paper_urg.cpp): paperUrgBeam.
+class PaperUrgModel final : public PaperBeamModel {
 public:
-    explicit PaperSickModel(const SensorConfig& c) : BeamModel(c) {}
-    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const override;
-    BeamResult expected(const BeamWorld& w, const Ray& ray) const override;
-    double errorProbability(const BeamWorld& w, const Ray& ray) const override;
-    std::string smokeParameter() const override;
+    explicit PaperUrgModel(const SensorConfig& c) : PaperBeamModel(c) {}
+
+private:
+    BeamResult rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const override;
 };
 
-/// Physical model, URG-04LX: AMCW phase of the summed lidar-equation echoes.
-class AmcwUrgModel final : public BeamModel {
+/// Paper model, LMS200 (lms200/paper_sick.cpp): paperSickBeam.
+class PaperSickModel final : public PaperBeamModel {
 public:
-    explicit AmcwUrgModel(const SensorConfig& c) : BeamModel(c) {}
-    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const override;
-    BeamResult expected(const BeamWorld& w, const Ray& ray) const override;
-    double errorProbability(const BeamWorld& w, const Ray& ray) const override;
-    std::string smokeParameter() const override;
+    explicit PaperSickModel(const SensorConfig& c) : PaperBeamModel(c) {}
+
+private:
+    BeamResult rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const override;
 };
 
-/// Physical model, LMS200: first echo of the pulsed waveform.
-class PulsedSickModel final : public BeamModel {
+/// The physical model: the lidar equation over the beam's footprint, then the sensor's receiver.
+class PhysicalBeamModel : public BeamModel {
 public:
-    explicit PulsedSickModel(const SensorConfig& c) : BeamModel(c) {}
-    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const override;
-    BeamResult expected(const BeamWorld& w, const Ray& ray) const override;
-    double errorProbability(const BeamWorld& w, const Ray& ray) const override;
-    std::string smokeParameter() const override;
+    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const final;
+    BeamResult expected(const BeamWorld& w, const Ray& ray) const final;
+    double errorProbability(const BeamWorld& w, const Ray& ray) const final;
+    std::string smokeParameter() const final;
+
+protected:
+    using BeamModel::BeamModel;
+    /// The receiver's reading of a signal; rng null: without noise.
+    virtual BeamResult receive(const BeamSignal& s, KeyedRng* rng) const = 0;
+    /// The probability that the receiver reports an error value for the signal.
+    virtual double receiveErrorProbability(const BeamSignal& s) const = 0;
 };
 
-/// The paper models' trace: the first surface within range and the smoke up to it.
-struct PaperTrace {
-    SurfaceHit hit;
-    BeamSmoke smoke;
-};
-PaperTrace paperTrace(const BeamModel& m, const BeamWorld& w, const Ray& ray);
+/// Physical model, URG-04LX (urg04lx/amcw_urg.cpp): AMCW phase of the summed echoes.
+class AmcwUrgModel final : public PhysicalBeamModel {
+public:
+    explicit AmcwUrgModel(const SensorConfig& c) : PhysicalBeamModel(c) {}
 
-/// The physical models' trace: the beam's echoes, and the central ray's hit and smoke.
-struct PhysicalTrace {
-    BeamSignal signal;
-    SurfaceHit hit;
-    BeamSmoke smoke;
+private:
+    BeamResult receive(const BeamSignal& s, KeyedRng* rng) const override;
+    double receiveErrorProbability(const BeamSignal& s) const override;
 };
-PhysicalTrace physicalTrace(const BeamModel& m, const BeamWorld& w, const Ray& ray, bool details);
 
-/// `name=value` with %g, for smokeParameter().
-std::string namedValue(const char* name, double value);
+/// Physical model, LMS200 (lms200/pulsed_sick.cpp): first echo of the pulsed waveform.
+class PulsedSickModel final : public PhysicalBeamModel {
+public:
+    explicit PulsedSickModel(const SensorConfig& c) : PhysicalBeamModel(c) {}
+
+private:
+    BeamResult receive(const BeamSignal& s, KeyedRng* rng) const override;
+    double receiveErrorProbability(const BeamSignal& s) const override;
+};
 
 }  // namespace smokescan

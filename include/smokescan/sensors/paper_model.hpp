@@ -15,8 +15,14 @@
 
 namespace smokescan {
 
-/// @brief Applies the paper model to one beam. `noise` is a standard normal draw.
-BeamResult paperBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit, const BeamSmoke& smoke,
-                     double noise);
+/// @brief The URG-04LX's rule for one beam (sensors/urg04lx/paper_urg.cpp): error 0 for any local
+/// smoke or a regional column over the penetration power, else the surface's range.
+/// @param noise a standard normal draw (0: the noise-free reading)
+BeamResult paperUrgBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit, const BeamSmoke& smoke,
+                        double noise);
+
+/// @brief The LMS200's rule for one beam (sensors/lms200/paper_sick.cpp): local smoke is an obstacle
+/// at the distance the beam meets it; regional smoke is seen through.
+BeamResult paperSickBeam(const LrfSpec& spec, const SurfaceHit& hit, const BeamSmoke& smoke, double noise);
 
 }  // namespace smokescan

@@ -1,31 +1,25 @@
-// The smoke paper's rule for the LMS200 (paper_model.hpp), as a BeamModel.
+// The smoke paper's rule for the LMS200 (paper_model.hpp).
+#include <cmath>
+
 #include "../beam_models.hpp"
-#include "smokescan/core/random.hpp"
 #include "smokescan/sensors/paper_model.hpp"
 
 namespace smokescan {
 
-BeamResult PaperSickModel::read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool) const
+BeamResult paperSickBeam(const LrfSpec& spec, const SurfaceHit& hit, const BeamSmoke& smoke, double noise)
 {
-    const PaperTrace t = paperTrace(*this, w, ray);
-    return paperBeam(spec(), config().paper, t.hit, t.smoke, rng.normal());
+    BeamResult r;
+    r.hit = hit;
+    r.smoke = smoke;
+    double range = hit.endOr(kInf);
+    if (std::isfinite(smoke.first_local_m) && smoke.first_local_m < range)
+        range = smoke.first_local_m;  // the Sick sees particle smoke as a solid object
+    return reportRange(spec, range, noise, r);
 }
 
-BeamResult PaperSickModel::expected(const BeamWorld& w, const Ray& ray) const
+BeamResult PaperSickModel::rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const
 {
-    const PaperTrace t = paperTrace(*this, w, ray);
-    return paperBeam(spec(), config().paper, t.hit, t.smoke, 0.0);
-}
-
-double PaperSickModel::errorProbability(const BeamWorld& w, const Ray& ray) const
-{
-    const BeamResult r = expected(w, ray);
-    return r.error ? 1.0 : reportErrorProbability(spec(), r.true_range_m);
-}
-
-std::string PaperSickModel::smokeParameter() const
-{
-    return namedValue("penetration_power", config().paper.penetration_power);
+    return paperSickBeam(spec(), hit, smoke, noise);
 }
 
 }  // namespace smokescan

@@ -1,31 +1,16 @@
-// The physical model of the LMS200 (physical_model.hpp: pulsedBeam), as a BeamModel.
+// The LMS200's receiver in the physical model (physical_model.hpp: first echo of the waveform).
 #include "../beam_models.hpp"
 
 namespace smokescan {
 
-BeamResult PulsedSickModel::read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const
+BeamResult PulsedSickModel::receive(const BeamSignal& s, KeyedRng* rng) const
 {
-    PhysicalTrace t = physicalTrace(*this, w, ray, details);
-    BeamResult r = pulsedBeam(spec(), config().physical, t.signal, rng);
-    r.hit = t.hit;
-    r.smoke = std::move(t.smoke);
-    return r;
+    return rng ? pulsedBeam(spec(), config().physical, s, *rng) : pulsedBeamExpected(spec(), config().physical, s);
 }
 
-BeamResult PulsedSickModel::expected(const BeamWorld& w, const Ray& ray) const
+double PulsedSickModel::receiveErrorProbability(const BeamSignal& s) const
 {
-    PhysicalTrace t = physicalTrace(*this, w, ray, true);
-    BeamResult r = pulsedBeamExpected(spec(), config().physical, t.signal);
-    r.hit = t.hit;
-    r.smoke = std::move(t.smoke);
-    return r;
+    return pulsedErrorProbability(spec(), config().physical, s);
 }
-
-double PulsedSickModel::errorProbability(const BeamWorld& w, const Ray& ray) const
-{
-    return pulsedErrorProbability(spec(), config().physical, physicalTrace(*this, w, ray, false).signal);
-}
-
-std::string PulsedSickModel::smokeParameter() const { return namedValue("noise_floor", config().physical.noise_floor); }
 
 }  // namespace smokescan

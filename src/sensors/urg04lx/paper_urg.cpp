@@ -1,31 +1,25 @@
-// The smoke paper's rule for the URG-04LX (paper_model.hpp), as a BeamModel.
+// The smoke paper's rule for the URG-04LX (paper_model.hpp).
+#include <cmath>
+
 #include "../beam_models.hpp"
-#include "smokescan/core/random.hpp"
 #include "smokescan/sensors/paper_model.hpp"
 
 namespace smokescan {
 
-BeamResult PaperUrgModel::read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool) const
+BeamResult paperUrgBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const SurfaceHit& hit, const BeamSmoke& smoke,
+                        double noise)
 {
-    const PaperTrace t = paperTrace(*this, w, ray);
-    return paperBeam(spec(), config().paper, t.hit, t.smoke, rng.normal());
+    BeamResult r;
+    r.hit = hit;
+    r.smoke = smoke;
+    if (std::isfinite(smoke.first_local_m)) return markError(r, spec.no_return_code, "local_smoke");
+    if (smoke.column_regional > cfg.penetration_power) return markError(r, spec.no_return_code, "penetration_power");
+    return reportRange(spec, hit.endOr(kInf), noise, r);
 }
 
-BeamResult PaperUrgModel::expected(const BeamWorld& w, const Ray& ray) const
+BeamResult PaperUrgModel::rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const
 {
-    const PaperTrace t = paperTrace(*this, w, ray);
-    return paperBeam(spec(), config().paper, t.hit, t.smoke, 0.0);
-}
-
-double PaperUrgModel::errorProbability(const BeamWorld& w, const Ray& ray) const
-{
-    const BeamResult r = expected(w, ray);
-    return r.error ? 1.0 : reportErrorProbability(spec(), r.true_range_m);
-}
-
-std::string PaperUrgModel::smokeParameter() const
-{
-    return namedValue("penetration_power", config().paper.penetration_power);
+    return paperUrgBeam(spec(), config().paper, hit, smoke, noise);
 }
 
 }  // namespace smokescan
