@@ -21,9 +21,10 @@ const std::map<std::string, int> kRank = {
     {"core", 0}, {"io", 1},     {"media", 2}, {"sensor_config", 3}, {"scene", 4},     {"sensors", 5}, {"render", 5},
     {"plot", 6}, {"camera", 7}, {"calib", 8}, {"fit", 9},           {"diagnose", 10}, {"cli", 11}};
 
-/// The sensors module's lower layer: what a sensor is (CMakeLists.txt: sensor_config_names).
-const std::set<std::string> kSensorConfig = {"sensor_kind",   "lrf",           "physical_params",
-                                             "sensor_config", "sensor_tables", "sensor_file"};
+/// The sensors module's lower layer: what a sensor is (CMakeLists.txt: sensor_config_names, and
+/// the header-only extensions.hpp).
+const std::set<std::string> kSensorConfig = {"sensor_kind",   "lrf",         "physical_params", "sensor_config",
+                                             "sensor_tables", "sensor_file", "extensions"};
 
 /// The module a folder name and file stem belong to.
 std::string moduleOf(const std::string& folder, const std::string& stem)

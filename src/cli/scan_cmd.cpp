@@ -128,6 +128,8 @@ int runScan(const ScanArgs& a0)
     if (!std::isnan(a.to)) a.cfg.to_s = a.to;
     if (!a.model.empty()) a.cfg.model = sensorModelOption("--model", a.model);
     const Scanner sc(scene, surfaces, a.cfg);
+    // The clock offset a sensor file learned (smokescan diagnose) is the default of --camera-offset.
+    if (std::isnan(a.sat.clock_offset_s)) a.sat.clock_offset_s = sc.mount().config.extensions.clock_offset_s;
     const auto times = sc.times();
     if (!a.image.empty() && (long long)times.size() > limits::kImageScans)
         throw Error("--image",
@@ -251,8 +253,10 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")
         ->capture_default_str()
         ->check(nonnegative());
-    c->add_option("--camera-offset", a->sat.clock_offset_s, "Camera clock - laser clock [s] in --saturation-out")
-        ->capture_default_str()
+    a->sat.clock_offset_s = NAN;
+    c->add_option("--camera-offset", a->sat.clock_offset_s,
+                  "Camera clock - laser clock [s] in --saturation-out (default: the sensor file's clock_offset_s, "
+                  "else 0)")
         ->check(finite());
     c->callback([a, &run] { run = [a] { return runScan(*a); }; });
 }

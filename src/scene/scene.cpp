@@ -21,6 +21,13 @@ const Camera* Scene::findCamera(const std::string& name) const
     return nullptr;
 }
 
+int Scene::findSurface(const std::string& name) const
+{
+    for (size_t i = 0; i < surfaces.size(); ++i)
+        if (surfaces[i].name == name) return int(i);
+    return -1;
+}
+
 int Scene::findSensor(const std::string& key) const
 {
     for (size_t i = 0; i < sensors.size(); ++i)

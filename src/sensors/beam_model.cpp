@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "beam_models.hpp"
+#include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
@@ -13,6 +14,10 @@ BeamModel::BeamModel(const SensorConfig& c) : config_(c), spec_(specFor(c)) {}
 
 std::unique_ptr<BeamModel> makeBeamModel(const SensorConfig& c)
 {
+    if (c.extensions.changesBeams() && !(c.type == SensorType::Urg04lx && c.model == SensorModel::Paper))
+        throw Error(c.sensor_file.empty() ? std::string("sensor") : c.sensor_file,
+                    std::string("[extensions] extend the urg04lx's paper model, not the ") + sensorTypeName(c.type) +
+                        "'s " + sensorModelName(c.model) + " model");
     switch (c.type) {
     case SensorType::Urg04lx:
         if (c.model == SensorModel::Physical) return std::make_unique<AmcwUrgModel>(c);
@@ -22,6 +27,19 @@ std::unique_ptr<BeamModel> makeBeamModel(const SensorConfig& c)
         return std::make_unique<PaperSickModel>(c);
     }
     return nullptr;
+}
+
+bool regionalSmokeRising(const Scene& scene, double t_s)
+{
+    constexpr double kTrend_s = 3.0;
+    auto mean = [&](double t0, double t1) {
+        double sum = 0;
+        for (int i = 0; i <= 20; ++i)
+            for (const SmokeVolume& v : scene.volumes)
+                if (v.role == SmokeRole::Regional) sum += v.timeline.at(t0 + (t1 - t0) * i / 20.0);
+        return sum;
+    };
+    return mean(t_s, t_s + kTrend_s) > mean(t_s - kTrend_s, t_s);
 }
 
 namespace {
@@ -58,21 +76,33 @@ PaperTrace paperTrace(const BeamModel& m, const BeamWorld& w, const Ray& ray)
 
 }  // namespace
 
-BeamResult PaperBeamModel::read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool) const
+BeamResult PaperBeamModel::read(const BeamWorld& w, const LaserBeam& beam, KeyedRng& rng, bool) const
 {
-    const PaperTrace t = paperTrace(*this, w, ray);
-    return rule(t.hit, t.smoke, rng.normal());
+    const PaperTrace t = paperTrace(*this, w, beam.ray);
+    PaperDraws d;
+    d.noise = rng.normal();
+    if (config().extensions.changesBeams()) {  // drawn after the noise: a plain model's stream is unchanged
+        d.u_dropout = rng.uniform();
+        d.z_threshold = rng.normal();
+        d.u_return = rng.uniform();
+        d.u_short = rng.uniform();
+    }
+    return rule(w, beam, t.hit, t.smoke, d);
 }
 
-BeamResult PaperBeamModel::expected(const BeamWorld& w, const Ray& ray) const
+BeamResult PaperBeamModel::expected(const BeamWorld& w, const LaserBeam& beam) const
 {
-    const PaperTrace t = paperTrace(*this, w, ray);
-    return rule(t.hit, t.smoke, 0.0);
+    const PaperTrace t = paperTrace(*this, w, beam.ray);
+    return rule(w, beam, t.hit, t.smoke, PaperDraws{});
 }
 
-double PaperBeamModel::errorProbability(const BeamWorld& w, const Ray& ray) const
+double PaperBeamModel::errorProbability(const BeamWorld& w, const LaserBeam& beam) const
 {
-    const BeamResult r = expected(w, ray);
+    return ruleErrorProbability(w, beam, expected(w, beam));
+}
+
+double PaperBeamModel::ruleErrorProbability(const BeamWorld&, const LaserBeam&, const BeamResult& r) const
+{
     return r.error ? 1.0 : reportErrorProbability(spec(), r.true_range_m);
 }
 
@@ -102,27 +132,27 @@ PhysicalTrace physicalTrace(const BeamModel& m, const BeamWorld& w, const Ray& r
 
 }  // namespace
 
-BeamResult PhysicalBeamModel::read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const
+BeamResult PhysicalBeamModel::read(const BeamWorld& w, const LaserBeam& beam, KeyedRng& rng, bool details) const
 {
-    PhysicalTrace t = physicalTrace(*this, w, ray, details);
+    PhysicalTrace t = physicalTrace(*this, w, beam.ray, details);
     BeamResult r = receive(t.signal, &rng);
     r.hit = t.hit;
     r.smoke = std::move(t.smoke);
     return r;
 }
 
-BeamResult PhysicalBeamModel::expected(const BeamWorld& w, const Ray& ray) const
+BeamResult PhysicalBeamModel::expected(const BeamWorld& w, const LaserBeam& beam) const
 {
-    PhysicalTrace t = physicalTrace(*this, w, ray, true);
+    PhysicalTrace t = physicalTrace(*this, w, beam.ray, true);
     BeamResult r = receive(t.signal, nullptr);
     r.hit = t.hit;
     r.smoke = std::move(t.smoke);
     return r;
 }
 
-double PhysicalBeamModel::errorProbability(const BeamWorld& w, const Ray& ray) const
+double PhysicalBeamModel::errorProbability(const BeamWorld& w, const LaserBeam& beam) const
 {
-    return receiveErrorProbability(physicalTrace(*this, w, ray, false).signal);
+    return receiveErrorProbability(physicalTrace(*this, w, beam.ray, false).signal);
 }
 
 std::string PhysicalBeamModel::smokeParameter() const

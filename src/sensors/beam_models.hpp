@@ -7,27 +7,43 @@
 
 namespace smokescan {
 
+/// The random draws of one paper-model beam: the datasheet noise, and the extensions' draws
+/// (sensors/extensions.hpp). The defaults are the medians: the noise-free, expected reading.
+struct PaperDraws {
+    double noise = 0;  ///< standard normal: the range noise
+    double u_dropout = 0.5;  ///< uniform: a dropout sector's failure
+    double z_threshold = 0;  ///< standard normal: where in the onset's spread this beam stops
+    double u_return = 0.5;  ///< uniform: a smoke-stopped beam's short return
+    double u_short = 0.5;  ///< uniform: where in (0, L) the short return lands
+};
+
 /// The paper model: the first surface within range and the smoke up to it, then the sensor's rule.
 class PaperBeamModel : public BeamModel {
 public:
-    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const final;
-    BeamResult expected(const BeamWorld& w, const Ray& ray) const final;
-    double errorProbability(const BeamWorld& w, const Ray& ray) const final;
+    BeamResult read(const BeamWorld& w, const LaserBeam& beam, KeyedRng& rng, bool details) const final;
+    BeamResult expected(const BeamWorld& w, const LaserBeam& beam) const final;
+    double errorProbability(const BeamWorld& w, const LaserBeam& beam) const final;
     std::string smokeParameter() const final;
 
 protected:
     using BeamModel::BeamModel;
-    /// The sensor's rule for a beam that met `smoke` before `hit`; `noise` a standard normal draw.
-    virtual BeamResult rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const = 0;
+    /// The sensor's rule for a beam that met `smoke` before `hit`.
+    virtual BeamResult rule(const BeamWorld& w, const LaserBeam& beam, const SurfaceHit& hit, const BeamSmoke& smoke,
+                            const PaperDraws& draws) const = 0;
+    /// The probability that the rule reports an error value (for the expected reading `r`).
+    virtual double ruleErrorProbability(const BeamWorld& w, const LaserBeam& beam, const BeamResult& r) const;
 };
 
 /// Paper model, URG-04LX (urg04lx/paper_urg.cpp): paperUrgBeam.
+/// With extensions (sensors/extensions.hpp) it simulates what a diagnosis learned.
 class PaperUrgModel final : public PaperBeamModel {
 public:
     explicit PaperUrgModel(const SensorConfig& c) : PaperBeamModel(c) {}
 
 private:
-    BeamResult rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const override;
+    BeamResult rule(const BeamWorld& w, const LaserBeam& beam, const SurfaceHit& hit, const BeamSmoke& smoke,
+                    const PaperDraws& draws) const override;
+    double ruleErrorProbability(const BeamWorld& w, const LaserBeam& beam, const BeamResult& r) const override;
 };
 
 /// Paper model, LMS200 (lms200/paper_sick.cpp): paperSickBeam.
@@ -36,15 +52,16 @@ public:
     explicit PaperSickModel(const SensorConfig& c) : PaperBeamModel(c) {}
 
 private:
-    BeamResult rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const override;
+    BeamResult rule(const BeamWorld& w, const LaserBeam& beam, const SurfaceHit& hit, const BeamSmoke& smoke,
+                    const PaperDraws& draws) const override;
 };
 
 /// The physical model: the lidar equation over the beam's footprint, then the sensor's receiver.
 class PhysicalBeamModel : public BeamModel {
 public:
-    BeamResult read(const BeamWorld& w, const Ray& ray, KeyedRng& rng, bool details) const final;
-    BeamResult expected(const BeamWorld& w, const Ray& ray) const final;
-    double errorProbability(const BeamWorld& w, const Ray& ray) const final;
+    BeamResult read(const BeamWorld& w, const LaserBeam& beam, KeyedRng& rng, bool details) const final;
+    BeamResult expected(const BeamWorld& w, const LaserBeam& beam) const final;
+    double errorProbability(const BeamWorld& w, const LaserBeam& beam) const final;
     std::string smokeParameter() const final;
 
 protected:

@@ -25,6 +25,10 @@ Scanner::Scanner(const Scene& scene, const SurfaceSet& surfaces, const ScanConfi
     if (!cfg.sensor_file.empty()) applySensorFile(cfg.sensor_file, mount_.config);
     if (cfg.model) mount_.config.model = *cfg.model;
     if (cfg.penetration_power > 0) mount_.config.paper.penetration_power = cfg.penetration_power;
+    for (const auto& [name, ext] : mount_.config.extensions.surfaces)
+        if (scene.findSurface(name) < 0)
+            throw Error(mount_.config.sensor_file.empty() ? scene.source : mount_.config.sensor_file,
+                        "[extensions] name surface '" + name + "', which the scene " + scene.source + " does not have");
     model_ = makeBeamModel(mount_.config);
     if (!std::isfinite(cfg_.from_s)) cfg_.from_s = scene.t_start_s;
     if (!std::isfinite(cfg_.to_s)) cfg_.to_s = scene.t_end_s;
@@ -46,7 +50,7 @@ Ray Scanner::beamRay(int i) const { return mount_.beamRay(spec().angle(i)); }
 Scan Scanner::scanAt(double t_s, uint64_t index) const
 {
     const SmokeField field = SmokeField::at(scene_.volumes, t_s);
-    const BeamWorld world{scene_, surfaces_, field};
+    const BeamWorld world{scene_, surfaces_, field, regionalSmokeRising(scene_, t_s)};
     Scan scan;
     scan.time_s = t_s;
     const int n = spec().n_beams;
@@ -55,7 +59,7 @@ Scan Scanner::scanAt(double t_s, uint64_t index) const
     scan.beams.resize(cfg_.keep_beams ? size_t(n) : 0);
     tbb::parallel_for(0, n, [&](int i) {
         KeyedRng rng(cfg_.seed, index, uint64_t(i));
-        BeamResult r = model_->read(world, beamRay(i), rng, cfg_.keep_beams);
+        BeamResult r = model_->read(world, LaserBeam(beamRay(i), spec().angle(i)), rng, cfg_.keep_beams);
         scan.angle_rad[size_t(i)] = spec().angle(i);
         scan.value[size_t(i)] = r.value;
         if (cfg_.keep_beams) scan.beams[size_t(i)] = std::move(r);

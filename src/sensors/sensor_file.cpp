@@ -24,6 +24,13 @@ void applySensorText(const std::string& text, const std::string& path, SensorCon
     c.model = readSensorModel(t, "model", c.model);
     if (t.has("paper")) readPaperTable(t.table("paper"), c.paper);
     if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical);
+    if (t.has("extensions")) {
+        readExtensionsTable(t.table("extensions"), c.extensions);
+        if (c.extensions.changesBeams() && !(c.type == SensorType::Urg04lx && c.model == SensorModel::Paper))
+            t.error("extensions",
+                    "extend the urg04lx's paper model; this file's sensor is the " +
+                        std::string(sensorTypeName(c.type)) + "'s " + sensorModelName(c.model) + " model");
+    }
     t.finish();
     c.sensor_file = path;
 }
@@ -41,6 +48,10 @@ void writeSensorFile(const std::string& path, const SensorConfig& c, const std::
     writePaperTable(o, c.paper);
     o << "\n[physical]\n";
     writePhysicalTable(o, c.physical);
+    if (c.extensions.changesBeams() || c.extensions.clock_offset_s != 0) {
+        o << "\n";
+        writeExtensionsTable(o, c.extensions);
+    }
     AtomicFile f(path);
     f.stream() << o.str();
     f.commit();

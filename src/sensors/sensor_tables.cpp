@@ -1,5 +1,7 @@
 #include "sensor_tables.hpp"
 
+#include <cmath>
+
 namespace smokescan {
 namespace {
 
@@ -59,6 +61,59 @@ void writePaperTable(std::ostream& o, const PaperModelConfig& p)
 {
     o << "penetration_power = " << p.penetration_power << "  # density·m\n"
       << "local_threshold = " << p.local_threshold << "  # density\n";
+}
+
+void readExtensionsTable(TomlTable t, ModelExtensions& e)
+{
+    e = ModelExtensions{};  // a learned model is one whole: the section replaces any earlier one
+    e.clock_offset_s = t.num("clock_offset_s", e.clock_offset_s);
+    e.threshold_width = t.positive("threshold_width", e.threshold_width);
+    if (e.threshold_width > 5) t.error("threshold_width", "must be <= 5 (ln column)");
+    e.range_noise_growth_m = t.nonneg("range_noise_growth_m", e.range_noise_growth_m);
+    e.smoke_obstacle_return = t.nonneg("smoke_obstacle_return", e.smoke_obstacle_return);
+    if (e.smoke_obstacle_return > 1) t.error("smoke_obstacle_return", "must be a share in [0, 1]");
+    e.hysteresis = t.num("hysteresis", e.hysteresis);
+    for (TomlTable s : t.tables("surface")) {
+        const std::string name = s.strReq("name");
+        if (name.empty()) s.error("name", "must not be empty");
+        if (e.surfaces.count(name)) s.error("name", "'" + name + "' appears twice");
+        SurfaceExtension x;
+        x.threshold_factor = s.num("threshold_factor", 0.0);
+        x.range_bias = s.num("range_bias", 0.0);
+        if (std::abs(x.threshold_factor) > 10) s.error("threshold_factor", "must lie in -10…10 (ln of a factor)");
+        s.finish();
+        e.surfaces[name] = x;
+    }
+    for (TomlTable s : t.tables("sector")) {
+        SectorExtension x;
+        x.from_deg = s.numReq("from_deg");
+        x.to_deg = s.numReq("to_deg");
+        x.dropout = s.nonneg("dropout", 0.0);
+        if (!(x.to_deg >= x.from_deg)) s.error("to_deg", "must not be below from_deg");
+        if (std::abs(x.from_deg) > 360 || std::abs(x.to_deg) > 360) s.error("from_deg", "angles must lie in -360…360");
+        if (x.dropout > 1) s.error("dropout", "must be a probability in [0, 1]");
+        s.finish();
+        e.sectors.push_back(x);
+    }
+    t.finish();
+}
+
+void writeExtensionsTable(std::ostream& o, const ModelExtensions& e)
+{
+    const auto precision = o.precision(12);  // learned values: 12 digits, a round trip to 1e-11
+    o << "[extensions]  # learned by smokescan diagnose (docs/diagnosis.md)\n"
+      << "clock_offset_s = " << e.clock_offset_s << "  # camera clock - laser clock [s]\n"
+      << "threshold_width = " << e.threshold_width << "  # the onset's spread [ln column]\n"
+      << "range_noise_growth_m = " << e.range_noise_growth_m << "  # range noise per density·m of smoke [m]\n"
+      << "smoke_obstacle_return = " << e.smoke_obstacle_return << "  # share of smoke-stopped beams reading short\n"
+      << "hysteresis = " << e.hysteresis << "  # ln P(falling) - ln P(rising)\n";
+    for (const auto& [name, x] : e.surfaces)
+        o << "\n[[extensions.surface]]\nname = \"" << name << "\"\nthreshold_factor = " << x.threshold_factor
+          << "  # ln(P_surface / P)\nrange_bias = " << x.range_bias << "  # reads L(1 + bias·column) [1/(density·m)]\n";
+    for (const SectorExtension& x : e.sectors)
+        o << "\n[[extensions.sector]]\nfrom_deg = " << x.from_deg << "\nto_deg = " << x.to_deg
+          << "\ndropout = " << x.dropout << "  # probability that a beam in the sector fails\n";
+    o.precision(precision);
 }
 
 SensorModel readSensorModel(TomlTable& t, const char* key, SensorModel def)

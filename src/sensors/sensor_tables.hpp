@@ -16,6 +16,10 @@ void writePhysicalTable(std::ostream& o, const PhysicalParams& p);
 void readPaperTable(TomlTable t, PaperModelConfig& p);
 /// Writes the paper model's keys as `key = value` lines.
 void writePaperTable(std::ostream& o, const PaperModelConfig& p);
+/// Reads an [extensions] table (sensors/extensions.hpp) into e and validates it.
+void readExtensionsTable(TomlTable t, ModelExtensions& e);
+/// Writes the extensions as an [extensions] section with its surface and sector tables.
+void writeExtensionsTable(std::ostream& o, const ModelExtensions& e);
 /// Reads a sensor model name at `key` ("paper" or "physical"); absent keeps `def`.
 SensorModel readSensorModel(TomlTable& t, const char* key, SensorModel def);
 /// Reads a scene's `[[sensor]]` keys beyond name, pose and sensor_file, in the scene format:

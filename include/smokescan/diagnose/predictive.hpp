@@ -30,10 +30,10 @@
 #include <map>
 #include <vector>
 
+#include "smokescan/sensors/extensions.hpp"
+
 namespace smokescan {
 
-/// The null width of the paper model's step, in ln(column): a 2 % blur, a step for the data.
-constexpr double kBaseWidth = 0.02;
 constexpr double kLapse = 1e-3;  ///< ε
 constexpr double kOutlier = 1e-3;  ///< η
 

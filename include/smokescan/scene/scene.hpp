@@ -109,6 +109,8 @@ struct Scene {
 
     /// @brief Index of the sensor with this name, else of the first of this type; −1 if none.
     int findSensor(const std::string& name_or_type) const;
+    /// @brief Index of the surface with this name; −1 if none.
+    int findSurface(const std::string& name) const;
     /// @brief The camera with this name ("" = the first); null if none.
     const Camera* findCamera(const std::string& name) const;
 };

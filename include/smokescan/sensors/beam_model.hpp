@@ -32,6 +32,14 @@ struct BeamWorld {
     const Scene& scene;
     const SurfaceSet& surfaces;
     const SmokeField& field;
+    bool smoke_rising = false;  ///< the regional smoke is thickening now (an extension's hysteresis)
+};
+
+/// One beam of a scan: its world ray and its angle in the sensor's convention.
+struct LaserBeam {
+    Ray ray;
+    double angle_rad = 0;  ///< (an extension's dropout sector)
+    LaserBeam(const Ray& r, double angle = 0) : ray(r), angle_rad(angle) {}  // NOLINT: a ray is a beam
 };
 
 /// A sensor model: one implementation per sensor type and model.
@@ -44,11 +52,11 @@ public:
 
     /// @brief One beam's reading, the sensor's noise drawn from `rng`.
     /// @param details fill the result's smoke bookkeeping (columns, optical depth to the surface)
-    virtual BeamResult read(const BeamWorld& world, const Ray& ray, KeyedRng& rng, bool details) const = 0;
+    virtual BeamResult read(const BeamWorld& world, const LaserBeam& beam, KeyedRng& rng, bool details) const = 0;
     /// @brief The reading without any noise.
-    virtual BeamResult expected(const BeamWorld& world, const Ray& ray) const = 0;
+    virtual BeamResult expected(const BeamWorld& world, const LaserBeam& beam) const = 0;
     /// @brief Probability that the beam reports an error value.
-    virtual double errorProbability(const BeamWorld& world, const Ray& ray) const = 0;
+    virtual double errorProbability(const BeamWorld& world, const LaserBeam& beam) const = 0;
     /// @brief The model's smoke parameter as `name=value`, for log headers.
     virtual std::string smokeParameter() const = 0;
 
@@ -61,6 +69,13 @@ private:
 };
 
 /// @brief The model a config names (its type and model), built once.
+/// @throw Error naming the config's sensor file when it extends (sensors/extensions.hpp) another
+/// model than the URG-04LX's paper model.
 std::unique_ptr<BeamModel> makeBeamModel(const SensorConfig& config);
+
+/// @brief Whether the scene's regional smoke is thickening at t_s: the sum of its regional volumes'
+/// time-line scales, averaged over the next 3 s, exceeds its average over the last 3 s (the trend
+/// the diagnosis reads from the camera's saturation, diagnose/replay.hpp).
+bool regionalSmokeRising(const Scene& scene, double t_s);
 
 }  // namespace smokescan

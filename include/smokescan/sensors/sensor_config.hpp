@@ -12,9 +12,10 @@
 /// | local_threshold    | 0.002   | density    | local (plume) density at which a beam counts as meeting a particle |
 ///
 /// LMS200 options: `resolution_deg` 1 or 0.5 (default 0.5), `range_mode_m` 8 (mm) or 80 (cm), default 8.
-/// Physical model: sensors/physical_params.hpp.
+/// Physical model: sensors/physical_params.hpp. Learned extensions of the paper model: sensors/extensions.hpp.
 #include <string>
 
+#include "smokescan/sensors/extensions.hpp"
 #include "smokescan/sensors/physical_params.hpp"
 #include "smokescan/sensors/sensor_kind.hpp"
 
@@ -40,6 +41,7 @@ struct SensorConfig {
     PaperModelConfig paper;
     LmsOptions lms;
     PhysicalParams physical;  ///< defaults per type: physicalDefaults
+    ModelExtensions extensions;  ///< learned by `smokescan diagnose` (sensors/extensions.hpp)
 
     /// @brief The built-in configuration of a sensor type (paper model, calibrated physical defaults).
     static SensorConfig defaults(SensorType type);

@@ -1,13 +1,16 @@
 #pragma once
 /// @file sensor_file.hpp
 /// @brief Sensor files: a sensor's model and parameters in TOML, used by `scan --sensor-file`,
-/// by a scene's `sensor_file = "…"`, and written by `smokescan fit`. Format: docs/sensors.md.
+/// by a scene's `sensor_file = "…"`, and written by `smokescan fit` and `smokescan diagnose`.
+/// Format: docs/sensors.md; the `[extensions]` section: sensors/extensions.hpp.
 ///
 /// ```toml
 /// type = "urg04lx"          # must match the sensor it is applied to
 /// model = "physical"        # optional: paper | physical
 /// [paper]                   # optional: penetration_power [density·m], local_threshold [density]
 /// [physical]                # optional: any PhysicalParams field by name (physical_params.hpp)
+/// [extensions]              # optional: what a diagnosis learned (extensions.hpp); replaces any
+///                           # extensions the config had (a learned model is one whole)
 /// ```
 #include <string>
 

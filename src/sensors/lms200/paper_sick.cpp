@@ -17,9 +17,10 @@ BeamResult paperSickBeam(const LrfSpec& spec, const SurfaceHit& hit, const BeamS
     return reportRange(spec, range, noise, r);
 }
 
-BeamResult PaperSickModel::rule(const SurfaceHit& hit, const BeamSmoke& smoke, double noise) const
+BeamResult PaperSickModel::rule(const BeamWorld&, const LaserBeam&, const SurfaceHit& hit, const BeamSmoke& smoke,
+                                const PaperDraws& draws) const
 {
-    return paperSickBeam(spec(), hit, smoke, noise);
+    return paperSickBeam(spec(), hit, smoke, draws.noise);
 }
 
 }  // namespace smokescan
