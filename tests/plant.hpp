@@ -40,9 +40,10 @@ struct TrueRun {
 };
 
 /// @brief The BOCAS run of the URG-04LX (paper model) from 0 to `to_s` at rate_hz, saturation at
-/// 5 Hz with noise sigma_S; the camera's clock runs `camera_offset_s` ahead of the laser's.
+/// 5 Hz with noise sigma_S; the camera's clock runs `camera_offset_s` ahead of the laser's;
+/// `sensor_file` applied to the URG (its extensions simulated).
 inline TrueRun simulateBocas(uint64_t seed, double to_s = 360, double rate_hz = 1, double sigma_S = 0.01,
-                             double camera_offset_s = 0)
+                             double camera_offset_s = 0, const std::string& sensor_file = "")
 {
     BocasWorld& w = bocasWorld();
     ScanConfig sc;
@@ -51,6 +52,7 @@ inline TrueRun simulateBocas(uint64_t seed, double to_s = 360, double rate_hz = 
     sc.to_s = to_s;
     sc.rate_hz = rate_hz;
     sc.seed = seed;
+    sc.sensor_file = sensor_file;
     const Scanner scanner(w.scene, w.surfaces, sc);
     TrueRun r;
     r.spec = scanner.spec();

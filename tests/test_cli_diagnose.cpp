@@ -20,6 +20,28 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
     EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
     EXPECT_NE(slurp(fs::path(out) / "diagnosis.json").find("\"verdict\": \"none\""), std::string::npos);
     EXPECT_NE(slurp(fs::path(out) / "report.md").find("### smoke_trend"), std::string::npos);
+    // The extended sensor file (nothing learned: the paper model) scans.
+    const std::string toml = (fs::path(out) / "sensor.toml").string();
+    EXPECT_NE(slurp(toml).find("model = \"paper\""), std::string::npos);
+    r = cli("scan bocas --from 0 --to 5 --quiet --sensor-file " + toml + " --out " + file("d_rescan.log"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    // A sensor file with extensions scans them (a dropout sector over the beams ahead), and its
+    // clock offset is the diagnosis' default --offset.
+    const std::string ext = file("d_ext.toml",
+                                 "type = \"urg04lx\"\nmodel = \"paper\"\n[extensions]\nclock_offset_s = 0.75\n"
+                                 "[[extensions.sector]]\nfrom_deg = -10\nto_deg = 10\ndropout = 1\n");
+    r = cli("scan bocas --from 0 --to 2 --quiet --sensor-file " + ext + " --out " + file("d_ext.log") + " --tau " +
+            file("d_ext.csv"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(slurp(file("d_ext.csv")).find("sector_dropout"), std::string::npos);
+    r = cli("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --sensor-file " + ext + " --out " +
+            file("diag_ext"));
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(slurp(fs::path(file("diag_ext")) / "diagnosis.json").find("\"offset_s\": 0.75"), std::string::npos);
+    // Without a saturation series the scene's own time line is replayed.
+    r = cli("diagnose --laser " + log + " --scene bocas --out " + file("diag_traced"));
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
     // The folder exists now: a second run is refused and leaves it as it was.
     expectBad("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --out " + out, "not an empty folder",
               file("none"));
@@ -42,4 +64,12 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
     expectBad(
         "diagnose --laser " + log + " --saturation " + sat + " --scene bocas --model physical --out " + file("d5"),
         "paper model only", file("d5"));
+    // Extensions on a surface the scene does not have.
+    const std::string alien =
+        file("d_alien.toml", "type = \"urg04lx\"\n[extensions]\n[[extensions.surface]]\nname = \"nowhere\"\n");
+    expectBad("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --sensor-file " + alien + " --out " +
+                  file("d6"),
+              "d_alien.toml: [extensions] name surface 'nowhere'", file("d6"));
+    expectBad("scan bocas --from 0 --to 2 --sensor-file " + alien + " --out " + file("d_alien.log"), "'nowhere'",
+              file("d_alien.log"));
 }

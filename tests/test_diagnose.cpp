@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "plant.hpp"
@@ -35,11 +36,12 @@ int seeds(int n) { return sanitized() ? 1 : n; }
 #define SKIP_WHEN_SANITIZED() \
     if (sanitized()) GTEST_SKIP() << "statistics over seeds: checked in the Release build"
 
-DiagnosisResult diagnoseRun(const TrueRun& r, double offset_s = 0)
+DiagnosisResult diagnoseRun(const TrueRun& r, double offset_s = 0, double block_s = 3)
 {
     const FitInputs in = inputsOf(r);
     ReplayConfig rc;
     rc.offset_s = offset_s;
+    rc.block_s = block_s;
     const Replay replay = replayRun(in, in.mount.config, rc);
     return diagnose(replay);
 }
@@ -159,28 +161,98 @@ const char* const kCauseNames[] = {"surface_range_bias", "surface_threshold",   
                                    "range_noise_growth", "smoke_obstacle_return", "sector_dropout",
                                    "hysteresis"};
 
-/// Plants cause `which` into `n` seeds; each must be found with its target, and its magnitude
-/// within 3 of its reported standard errors.
-void expectFound(int which, int n)
+/// What planting one cause into seeds gave: how often it was found, the pulls of its magnitude,
+/// and the runs that named something else beside it.
+struct FoundStats {
+    int runs = 0, found = 0, with_extra = 0;
+    std::vector<double> pulls;
+    std::string extras;
+};
+
+/// Plants cause `which` into `n` seeds (from `first`); each must be found with its target, and its
+/// magnitude within 3 of its reported standard errors (plus 5 %).
+FoundStats expectFound(int which, int n, uint64_t first = 0, bool each = true)
 {
+    FoundStats st;
     for (int s = 0; s < n; ++s) {
-        const uint64_t seed = 100 * uint64_t(which + 1) + uint64_t(s);
+        const uint64_t seed = 100 * uint64_t(which + 1) + first + uint64_t(s);
         TrueRun r = simulateBocas(seed);
         const Planted p = plantCause(which, r, seed);
         const DiagnosisResult d = diagnoseRun(r);
-        ASSERT_TRUE(found(d, p.cause, p.target)) << p.cause << " " << p.value << " seed " << seed << "\n"
-                                                 << describe(d);
+        ++st.runs;
+        bool extra = false;
+        for (const auto& f : d.findings) extra |= !(f.cause == p.cause && (p.target.empty() || f.target == p.target));
+        if (extra) {
+            ++st.with_extra;
+            st.extras += "seed " + std::to_string(seed) + ": " + describe(d) + "\n";
+        }
+        if (each)
+            EXPECT_TRUE(found(d, p.cause, p.target)) << p.cause << " " << p.value << " seed " << seed << "\n"
+                                                     << describe(d);
+        if (!found(d, p.cause, p.target)) continue;
+        ++st.found;
         const Finding* f = finding(d, p.cause, p.target);
         bool reported = false;
         for (const auto& [name, e] : f->parameters)
             if (name == p.parameter) {
                 reported = true;
                 EXPECT_NEAR(e.value, p.value, 3 * e.se + 0.05 * std::abs(p.value)) << p.cause << " seed " << seed;
+                st.pulls.push_back((e.value - p.value) / e.se);
             }
         EXPECT_TRUE(reported) << p.cause << " reports no " << p.parameter;
         if (p.cause == "sector_dropout")  // the planted sector, −50° to −35°, within a beam's width
             EXPECT_EQ(f->target, "sector -50.1..-35.0 deg") << "seed " << seed;
     }
+    // Beside the planted cause, another is named in at most one run of four (the level allows
+    // one false alarm in twenty rounds; a planted effect may also leave a small misfit behind).
+    if (each) EXPECT_LE(st.with_extra, std::max(1, n / 4)) << st.extras;
+    return st;
+}
+
+/// The camera's clock 4–8 s ahead of the laser's, in `n` seeds from `first`: found, to about ±0.5 s.
+FoundStats expectClockOffsetFound(int n, uint64_t first, bool each = true)
+{
+    FoundStats st;
+    for (int s = 0; s < n; ++s) {
+        const uint64_t seed = first + uint64_t(s);
+        KeyedRng rng(seed, 17);
+        const double delta = 4 + 4 * rng.uniform();
+        // Blocks of 2 s: the offset's evidence lies in the smoke's rises and falls (three in a BOCAS
+        // run), and the sign-flip test needs enough blocks there (docs/diagnosis.md, known limits).
+        const DiagnosisResult d = diagnoseRun(simulateBocas(seed, 360, 1, 0.01, delta), 0, 2.0);
+        ++st.runs;
+        st.with_extra += d.findings.size() > (found(d, "clock_offset") ? 1u : 0u);
+        std::string tried;
+        for (const auto& t : d.tried)
+            if (t.cause == "clock_offset")
+                tried += " round " + std::to_string(t.round) + ": gain " + std::to_string(t.loglik_gain) + " p " +
+                    std::to_string(t.p_value);
+        if (each) EXPECT_TRUE(found(d, "clock_offset")) << delta << "\n" << describe(d) << "\ntried" << tried;
+        if (!found(d, "clock_offset")) continue;
+        ++st.found;
+        const Estimate e = finding(d, "clock_offset")->parameters.front().second;
+        // Found to about ±0.5 s: the likelihood is rugged at the camera's 0.2 s frame steps and the
+        // replay itself lags by up to 0.3 s; the reported error (the curvature's) understates
+        // that (docs/diagnosis.md: known limits).
+        EXPECT_NEAR(e.value, delta, 3 * e.se + 0.6) << "seed " << seed;
+        st.pulls.push_back((e.value - delta) / e.se);
+    }
+    return st;
+}
+
+/// Clean runs of `n` seeds from `first` in blocks of block_s: how many named a cause (their
+/// verdicts in `seen`).
+int cleanNamed(int n, uint64_t first, std::string& seen, double block_s = 3)
+{
+    int named = 0;
+    for (int s = 0; s < n; ++s) {
+        const DiagnosisResult d = diagnoseRun(simulateBocas(first + uint64_t(s)), 0, block_s);
+        if (!d.findings.empty()) {
+            ++named;
+            seen += describe(d) + "\n";
+        }
+    }
+    return named;
 }
 
 }  // namespace
@@ -188,19 +260,11 @@ void expectFound(int which, int n)
 TEST(Diagnose, CleanRunsNameNothing)
 {
     SKIP_WHEN_SANITIZED();
-    // 20 seeds of the plain BOCAS run: the verdict is `none` in all but at most one (the test's
-    // level is 5 % a round).
-    const int n = seeds(20);
-    int named = 0;
+    // 40 seeds of the plain BOCAS run: the verdict is `none` in all but at most two (5 %; the
+    // test's level is 5 % a round). The long suite (DiagnoseLong) runs 100.
+    const int n = seeds(40);
     std::string seen;
-    for (int s = 0; s < n; ++s) {
-        const DiagnosisResult d = diagnoseRun(simulateBocas(900 + uint64_t(s)));
-        if (!d.findings.empty()) {
-            ++named;
-            seen += describe(d) + "\n";
-        }
-    }
-    EXPECT_LE(named, std::max(1, n / 20)) << seen;
+    EXPECT_LE(cleanNamed(n, 900, seen), std::max(1, n / 20)) << seen;
 }
 
 TEST(Diagnose, SurfaceRangeBiasIsFound) { expectFound(0, seeds(4)); }
@@ -238,19 +302,7 @@ TEST(Diagnose, HysteresisIsFound)
 TEST(Diagnose, ClockOffsetIsFound)
 {
     SKIP_WHEN_SANITIZED();
-    // The camera's clock 4–8 s ahead of the laser's.
-    for (int s = 0; s < seeds(4); ++s) {
-        const uint64_t seed = 800 + uint64_t(s);
-        KeyedRng rng(seed, 17);
-        const double delta = 4 + 4 * rng.uniform();
-        const DiagnosisResult d = diagnoseRun(simulateBocas(seed, 360, 1, 0.01, delta));
-        ASSERT_TRUE(found(d, "clock_offset")) << delta << "\n" << describe(d);
-        const Estimate e = finding(d, "clock_offset")->parameters.front().second;
-        // Found to about ±0.5 s: the likelihood is rugged at the camera's 0.2 s frame steps and the
-        // replay itself lags by up to 0.3 s; the reported error (the curvature's) understates
-        // that (docs/diagnosis.md: open).
-        EXPECT_NEAR(e.value, delta, 3 * e.se + 0.6) << "seed " << seed;
-    }
+    expectClockOffsetFound(seeds(4), 800);
 }
 
 TEST(Diagnose, ThreeEffectsTogetherAreAllFound)
@@ -281,6 +333,73 @@ TEST(Diagnose, BelowDetectabilityIsNotClaimed)
         named += found(diagnoseRun(r), "surface_range_bias");
     }
     EXPECT_LE(named, std::max(1, n / 10));
+}
+
+TEST(Diagnose, EffectsOfAnotherFormAreNamed)
+{
+    SKIP_WHEN_SANITIZED();
+    // Mechanisms the candidates do not assume: the gold's lengthening saturates with the column
+    // (up to +12 %, a tanh, not a line through zero), and a smudge on the window whose dropout falls
+    // off smoothly (a cos² bump from −60° to −30°, 70 % at its centre −45°, not a box).
+    const double P = bocasWorld().scene.sensors[0].config.paper.penetration_power;
+    for (int s = 0; s < seeds(3); ++s) {
+        const uint64_t seed = 2600 + uint64_t(s);
+        TrueRun r = simulateBocas(seed);
+        KeyedRng rng(seed, 5);
+        plant(r, [&](BeamView& v) {
+            if (v.surface == "target_gold" && !v.truth.error)
+                v.value = std::llround(double(v.value) * (1 + 0.12 * std::tanh(1.5 * v.column / P)));
+            const double deg = v.angle_rad * 180 / M_PI;
+            if (deg > -60 && deg < -30 && v.truth.hit.hit) {
+                const double c = std::cos((deg + 45) / 15 * M_PI / 2);
+                if (rng.uniform() < 0.7 * c * c) v.value = 0;
+            }
+        });
+        const DiagnosisResult d = diagnoseRun(r);
+        EXPECT_TRUE(found(d, "surface_range_bias", "target_gold")) << describe(d);
+        const Finding* f = finding(d, "sector_dropout");
+        ASSERT_NE(f, nullptr) << describe(d);
+        double a = 0, b = 0;
+        ASSERT_EQ(std::sscanf(f->target.c_str(), "sector %lf..%lf deg", &a, &b), 2) << f->target;
+        EXPECT_GE(a, -61.0) << f->target;  // within the smudge, over its centre
+        EXPECT_LE(b, -29.0) << f->target;
+        EXPECT_LT(a, -45.0) << f->target;
+        EXPECT_GT(b, -45.0) << f->target;
+    }
+}
+
+TEST(DiagnoseLong, RatesOverManySeeds)
+{
+    if (!std::getenv("SMOKESCAN_LONG_TESTS"))
+        GTEST_SKIP() << "set SMOKESCAN_LONG_TESTS=1 (about 30 min on 2 cores): the rates in docs/diagnosis.md";
+    // Each cause planted into 20 seeds (not the short suite's), the clock offset too, and 100 clean
+    // runs. The rates the issue asks for: found ≥ 95 %, clean runs named ≤ 5 %.
+    std::printf("| cause | found | runs with another finding | pulls within 1 se | within 2 se | pull sd |\n");
+    auto row = [](const std::string& name, const FoundStats& st) {
+        double m = 0, m2 = 0;
+        int in1 = 0, in2 = 0;
+        for (double x : st.pulls) {
+            m += x;
+            m2 += x * x;
+            in1 += std::abs(x) < 1;
+            in2 += std::abs(x) < 2;
+        }
+        const double n = std::max<double>(1, double(st.pulls.size()));
+        std::printf("| %s | %d/%d | %d | %.2f | %.2f | %.2f |\n", name.c_str(), st.found, st.runs, st.with_extra,
+                    in1 / n, in2 / n, std::sqrt(std::max(0.0, m2 / n - (m / n) * (m / n))));
+        EXPECT_GE(st.found, int(std::ceil(0.95 * st.runs))) << name;
+        EXPECT_LE(st.with_extra, int(std::ceil(0.1 * st.runs))) << name << "\n" << st.extras;
+    };
+    for (int which = 0; which < 7; ++which) row(kCauseNames[which], expectFound(which, 20, 50, false));
+    row("clock_offset", expectClockOffsetFound(20, 3000, false));
+    std::string seen;
+    const int named = cleanNamed(100, 5000, seen);
+    std::printf("clean runs naming a cause: %d/100\n%s", named, seen.c_str());
+    EXPECT_LE(named, 5) << seen;
+    seen.clear();
+    const int named2 = cleanNamed(40, 7000, seen, 2.0);  // the clock-offset test's blocks
+    std::printf("clean runs in 2 s blocks naming a cause: %d/40\n%s", named2, seen.c_str());
+    EXPECT_LE(named2, 2) << seen;
 }
 
 TEST(Diagnose, ExploreMagnitudes)

@@ -1,5 +1,6 @@
 // `smokescan diagnose`: a recorded run replayed through the simulation, what the simulation gets
 // wrong, the cause, the extended model and its gain on held-out data (docs/diagnosis.md).
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -35,15 +36,23 @@ int runDiagnose(const DiagnoseArgs& a0)
     if (!a.model.empty() && sensorModelOption("--model", a.model) != SensorModel::Paper)
         throw Error("--model",
                     "diagnose replays the paper model only so far (the physical model's predictive form is open)");
+    if (a.in.saturation.empty() && !a.in.patch.empty()) throw Error("--patch", "needs --saturation");
     a.in.read = {parseRangeUnit(a.unit), a.lenient};
     a.in.prefix = a.replay.target_prefix;
     const FitInputs in = loadFitInputs(a.in);
     SensorConfig config = in.mount.config;
     if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);
     config.model = SensorModel::Paper;
+    // The clock offset a sensor file learned is the default of --offset.
+    if (std::isnan(a.replay.offset_s)) a.replay.offset_s = config.extensions.clock_offset_s;
     const Replay replay = replayRun(in, config, a.replay);
     const DiagnosisResult r = diagnose(replay, a.diag);
+    SensorConfig extended = config;
+    extended.extensions = sensorExtensions(replay, r.model);
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
+    writeSensorFile(out.path("sensor.toml"), extended,
+                    "the paper model of " + a.in.scene + "'s sensor with what `smokescan diagnose` learned from " +
+                        a.in.laser + " (verdict: " + r.verdict + ")");
     const DiagnosisSources src{a.in.laser,    a.in.saturation,   a.in.scene,      a.in.calibration,
                                a.sensor_file, a.replay.offset_s, a.replay.block_s};
     writeDiagnosisJson(out.path("diagnosis.json"), r, src);
@@ -60,7 +69,8 @@ int runDiagnose(const DiagnoseArgs& a0)
     std::printf("log-likelihood per beam %.4f -> %.4f (held out); missed errors %.3f -> %.3f; invented %.3f -> %.3f\n",
                 b.loglik_per_beam, e.loglik_per_beam, b.missed_error_rate, e.missed_error_rate, b.invented_error_rate,
                 e.invented_error_rate);
-    std::printf("wrote %s/diagnosis.json and %s/report.md\n", a.out.c_str(), a.out.c_str());
+    std::printf("wrote %s/diagnosis.json, %s/report.md and %s/sensor.toml\n", a.out.c_str(), a.out.c_str(),
+                a.out.c_str());
     return 0;
 }
 
@@ -73,10 +83,11 @@ void addDiagnose(CLI::App& app, Runner& run)
                                  "Replay a recorded run, name what the simulation gets wrong and measure the extended "
                                  "model's gain on held-out data");
     c->add_option("--laser", a->in.laser, "Recorded laser log (the paper's format)")->required();
-    c->add_option("--saturation", a->in.saturation, "The camera's saturation CSV (drives the replayed smoke)")
-        ->required();
+    c->add_option("--saturation", a->in.saturation,
+                  "The camera's saturation CSV (drives the replayed smoke; without it the scene's own smoke time "
+                  "line is replayed)");
     c->add_option("--scene", a->in.scene, "Scene the run was recorded in (built-in name or file)")->required();
-    c->add_option("--out", a->out, "Folder to write (new): diagnosis.json, report.md")->required();
+    c->add_option("--out", a->out, "Folder to write (new): diagnosis.json, report.md, sensor.toml")->required();
     c->add_option("--sensor", a->in.sensor, "Sensor in the scene (default: the first of --sensor-type)");
     c->add_option("--sensor-type", a->in.sensor_type, "urg04lx or lms200")->capture_default_str();
     c->add_option("--sensor-file", a->sensor_file, "Sensor file whose model is diagnosed (default: the scene's)");
@@ -86,8 +97,9 @@ void addDiagnose(CLI::App& app, Runner& run)
     c->add_option("--patch", a->in.patch, "Use this patch's saturation column and calibration curve");
     c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
     c->add_flag("--lenient", a->lenient, "Skip bad lines instead of failing");
-    c->add_option("--offset", a->replay.offset_s, "Camera clock - laser clock [s]")
-        ->capture_default_str()
+    a->replay.offset_s = NAN;
+    c->add_option("--offset", a->replay.offset_s,
+                  "Camera clock - laser clock [s] (default: the sensor file's clock_offset_s, else 0)")
         ->check(finite());
     c->add_option("--block", a->replay.block_s, "Time block of the held-out split [s]")
         ->capture_default_str()

@@ -144,13 +144,15 @@ void Candidate::apply(const Replay& r, const Extensions& m, const Obs& o, const 
         break;
     }
     case Cause::SurfaceRangeBias:
-        x.beta = theta;
+        x.beta += theta;
         break;
     case Cause::RangeNoiseGrowth:
-        x.gamma = theta;
+        // γ enters squared: added in quadrature to the model's own (θ alone when it has none, so
+        // that the derivative at θ = 0 stays finite).
+        x.gamma = m.noise_growth_m == 0 ? theta : sqrt(x.gamma * x.gamma + theta * theta);
         break;
     case Cause::SmokeObstacleReturn:
-        x.q = sigmoid(theta);
+        x.q = J(1.0) - (J(1.0) - x.q) * (J(1.0) - sigmoid(theta));
         break;
     case Cause::SectorDropout:
         x.d = J(1.0) - (J(1.0) - x.d) * (J(1.0) - sigmoid(theta));
@@ -174,13 +176,13 @@ void Candidate::commit(double theta, Extensions& m) const
         m.width = std::exp(theta);
         break;
     case Cause::SurfaceRangeBias:
-        m.range_bias[surface] = theta;
+        m.range_bias[surface] += theta;
         break;
     case Cause::RangeNoiseGrowth:
-        m.noise_growth_m = theta;
+        m.noise_growth_m = std::hypot(m.noise_growth_m, theta);
         break;
     case Cause::SmokeObstacleReturn:
-        m.obstacle_return = sigmoid(theta);
+        m.obstacle_return = 1 - (1 - m.obstacle_return) * (1 - sigmoid(theta));
         break;
     case Cause::SectorDropout:
         m.sectors.push_back({from_rad, to_rad, sigmoid(theta)});
@@ -231,13 +233,14 @@ double modelLogLik(const Replay& r, const Extensions& m, const Obs& o)
                          r.spec.rangeSigma(beam.range_m), r.spec.range_max_m);
 }
 
-std::pair<double, double> modelPrediction(const Replay& r, const Extensions& m, const Obs& o)
+Prediction modelPrediction(const Replay& r, const Extensions& m, const Obs& o)
 {
     const BeamTerms<double> x = baseTerms<double>(r, m, o);
     double ps = 0;
     if (x.column > 0) ps = 0.5 * std::erfc(-(std::log(x.column) - x.lnP) / x.width / M_SQRT2);
     const double err = 0.5 * kLapse + (1 - kLapse) * (x.d + (1 - x.d) * ps * (1 - x.q));
-    return {err, r.beams[size_t(o.b)].range_m * (1 + x.beta * x.column)};
+    const double L = r.beams[size_t(o.b)].range_m, s0 = r.spec.rangeSigma(L);
+    return {err, L * (1 + x.beta * x.column), std::sqrt(s0 * s0 + x.gamma * x.gamma * x.column * x.column)};
 }
 
 bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& from_rad, double& to_rad)
@@ -248,7 +251,7 @@ bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& f
         if (fold >= 0 && r.scans[k].block % 2 != fold) continue;
         for (size_t b = 0; b < B; ++b) {
             if (r.beams[b].surface < 0) continue;
-            const auto [p_err, mu] = modelPrediction(r, m, {int(k), int(b)});
+            const double p_err = modelPrediction(r, m, {int(k), int(b)}).p_err;
             if (p_err > 0.01) continue;  // the model expects errors here: not clear air
             ++clear[b];
             errs[b] += std::isnan(r.range_m[k][b]);

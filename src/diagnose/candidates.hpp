@@ -61,8 +61,14 @@ BeamTerms<T> baseTerms(const Replay& r, const Extensions& model, const Obs& o);
 J candidateLogLik(const Replay& r, const Extensions& model, const Candidate& c, const Obs& o, const J& theta);
 /// @brief ln L of observation o under `model` alone.
 double modelLogLik(const Replay& r, const Extensions& model, const Obs& o);
-/// @brief P(error value) of observation o under `model`, and the predicted range [m].
-std::pair<double, double> modelPrediction(const Replay& r, const Extensions& model, const Obs& o);
+/// What `model` predicts for one observation.
+struct Prediction {
+    double p_err;  ///< P(error value)
+    double mean_m;  ///< the range's mean when it reads the surface [m]
+    double sd_m;  ///< and its standard deviation [m]
+};
+/// @brief The prediction of observation o under `model`.
+Prediction modelPrediction(const Replay& r, const Extensions& model, const Obs& o);
 
 /// @brief The sector where beams fail in clear air (error share > 15 % over ≥ 5 clear scans, the
 /// longest run of such beams with gaps of at most two, at least 2 beams), among the scans of

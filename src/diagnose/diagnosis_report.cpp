@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
 #include "candidates.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/image.hpp"
 #include "smokescan/plot/format.hpp"
+#include "smokescan/plot/frame.hpp"
 
 namespace smokescan {
 namespace {
@@ -54,6 +57,85 @@ std::pair<std::string, double> binOf(const Replay& r, const Extensions& m, const
     throw Error("diagnose", "unknown covariate '" + cov + "'");
 }
 
+/// How a cause shows in the residuals: the covariate that names it, and the residual to plot.
+enum class Shown { ErrorShare, RangeMean, RangeSpread };
+struct CauseView {
+    const char* covariate;
+    Shown shown;
+};
+CauseView viewOf(const std::string& cause)
+{
+    if (cause == "clock_offset") return {"time_s", Shown::ErrorShare};
+    if (cause == "surface_range_bias") return {"column", Shown::RangeMean};
+    if (cause == "range_noise_growth") return {"column", Shown::RangeSpread};
+    if (cause == "sector_dropout") return {"beam_angle_deg", Shown::ErrorShare};
+    if (cause == "hysteresis") return {"smoke_trend", Shown::ErrorShare};
+    return {"column", Shown::ErrorShare};  // surface_threshold, threshold_width, smoke_obstacle_return
+}
+
+double shownValue(const ResidualRow& row, Shown s)
+{
+    switch (s) {
+    case Shown::ErrorShare:
+        return row.error_share - row.predicted_error_share;
+    case Shown::RangeMean:
+        return row.range_residual_m;
+    case Shown::RangeSpread:
+        return row.range_rms_m - row.predicted_sd_m;
+    }
+    return NAN;
+}
+
+const char* shownLabel(Shown s)
+{
+    switch (s) {
+    case Shown::ErrorShare:
+        return "error share: recorded - predicted";
+    case Shown::RangeMean:
+        return "range: mean recorded - predicted [m]";
+    case Shown::RangeSpread:
+        return "range: RMS residual - predicted sd [m]";
+    }
+    return "";
+}
+
+/// The residuals before (red) and after (blue) against the finding's covariate, bin by bin.
+void writeFindingPlot(const std::string& path, const std::string& title, const std::string& covariate, Shown shown,
+                      const std::vector<ResidualRow>& before, const std::vector<ResidualRow>& after)
+{
+    const int W = 900, H = 520;
+    double lo = 0, hi = 0;
+    for (const auto* rows : {&before, &after})
+        for (const auto& row : *rows) {
+            const double v = shownValue(row, shown);
+            if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+        }
+    const double pad = 0.1 * std::max(hi - lo, 1e-3);
+    const Frame f{100, 60, W - 30, H - 90, -0.5, std::max(0.5, double(before.size()) - 0.5), lo - pad, hi + pad};
+    Canvas c(W, H);
+    c.text(f.x0, 28, title, 15);
+    f.axes(c, "", shownLabel(shown), "", "%.3f");
+    c.line(f.x0, f.Y(0), f.x1, f.Y(0), {0.6f, 0.6f, 0.6f});
+    for (size_t i = 0; i < before.size(); ++i)
+        if (i % std::max<size_t>(1, before.size() / 8) == 0) c.text(f.X(double(i)) - 20, f.y1 + 20, before[i].bin, 11);
+    c.text((f.x0 + f.x1) / 2 - 90, f.y1 + 44,
+           covariate == "column" ? "smoke column / penetration power (bins)" : covariate + " (bins)", 13);
+    const Col red{0.8f, 0.1f, 0.1f}, blue{0.1f, 0.2f, 0.75f};
+    auto series = [&](const std::vector<ResidualRow>& rows, const Col& col, int dx) {
+        for (size_t i = 0; i < rows.size(); ++i) {
+            const double v = shownValue(rows[i], shown);
+            if (!std::isfinite(v)) continue;
+            const int x = f.X(double(i)) + dx, y = f.Y(v);
+            c.line(x, f.Y(0), x, y, col);
+            c.box(x - 3, y - 3, x + 3, y + 3, col, true);
+        }
+    };
+    series(before, red, -4);
+    series(after, blue, 4);
+    c.text(f.x1 - 260, f.y0 + 16, "red: today's model; blue: extended", 12);
+    writeImage(path, c.image());
+}
+
 const char* const kCovariates[] = {"surface", "incidence_deg", "range_m",     "beam_angle_deg",
                                    "column",  "saturation",    "smoke_trend", "time_s"};
 
@@ -72,36 +154,52 @@ void figuresTable(std::ostream& o, const std::vector<ModelFigures>& before, cons
     }
 }
 
+/// The surface a finding targets (−1: a sector, or none).
+int surfaceIndex(const Replay& r, const std::string& name)
+{
+    const auto it = std::find(r.surface_names.begin(), r.surface_names.end(), name);
+    return it == r.surface_names.end() ? -1 : int(it - r.surface_names.begin());
+}
+
 }  // namespace
 
-std::vector<ResidualRow> residualsBy(const Replay& r, const Extensions& m, const std::string& cov)
+std::vector<ResidualRow> residualsBy(const Replay& r, const Extensions& m, const std::string& cov, int surface)
 {
-    std::map<std::pair<double, std::string>, ResidualRow> rows;
-    std::map<std::pair<double, std::string>, long long> ranges;
+    struct Sums {
+        ResidualRow row;
+        long long ranges = 0;
+        double sum = 0, sum2 = 0, var = 0;
+    };
+    std::map<std::pair<double, std::string>, Sums> rows;
     for (size_t k = 0; k < r.scans.size(); ++k)
         for (size_t b = 0; b < r.beams.size(); ++b) {
-            if (r.beams[b].surface < 0) continue;
-            const auto [label, key] = binOf(r, m, cov, k, b);
-            ResidualRow& row = rows[{key, label}];
-            row.bin = label;
-            const auto [p_err, mu] = detail::modelPrediction(r, m, {int(k), int(b)});
+            if (r.beams[b].surface < 0 || (surface >= 0 && r.beams[b].surface != surface)) continue;
+            const auto [label, key] = binOf(r, r.prior, cov, k, b);  // the same bins for every model
+            Sums& s = rows[{key, label}];
+            s.row.bin = label;
+            const detail::Prediction p = detail::modelPrediction(r, m, {int(k), int(b)});
             const float v = r.range_m[k][b];
-            ++row.beams;
-            row.predicted_error_share += p_err;
+            ++s.row.beams;
+            s.row.predicted_error_share += p.p_err;
             if (std::isnan(v)) {
-                row.error_share += 1;
+                s.row.error_share += 1;
             } else {
-                long long& n = ranges[{key, label}];
-                row.range_residual_m = (n == 0 ? 0.0 : row.range_residual_m) + (v - mu);
-                ++n;
+                ++s.ranges;
+                s.sum += v - p.mean_m;
+                s.sum2 += (v - p.mean_m) * (v - p.mean_m);
+                s.var += p.sd_m * p.sd_m;
             }
         }
     std::vector<ResidualRow> out;
-    for (auto& [key, row] : rows) {
+    for (auto& [key, s] : rows) {
+        ResidualRow row = s.row;
         row.error_share /= double(row.beams);
         row.predicted_error_share /= double(row.beams);
-        const long long n = ranges[key];
-        if (n > 0) row.range_residual_m /= double(n);
+        if (s.ranges > 0) {
+            row.range_residual_m = s.sum / double(s.ranges);
+            row.range_rms_m = std::sqrt(s.sum2 / double(s.ranges));
+            row.predicted_sd_m = std::sqrt(s.var / double(s.ranges));
+        }
         out.push_back(row);
     }
     return out;
@@ -165,6 +263,23 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
         o << fmt("held-out gain %.4g nats (%.3g per beam it changes), p = %.2g over %d blocks\n", f.loglik_gain,
                  f.loglik_gain_per_beam, f.p_value, f.blocks);
     }
+    for (size_t i = 0; i < r.findings.size(); ++i) {
+        const Finding& fd = r.findings[i];
+        const CauseView v = viewOf(fd.cause);
+        const int surface = fd.target.empty() ? -1 : surfaceIndex(replay, fd.target);
+        const auto before = residualsBy(replay, replay.prior, v.covariate, surface);
+        const auto after = residualsBy(replay, r.model, v.covariate, surface);
+        const std::string png = fmt("finding_%zu.png", i + 1);
+        writeFindingPlot((std::filesystem::path(path).parent_path() / png).string(),
+                         fd.cause + (fd.target.empty() ? "" : " on " + fd.target) + ": residuals before and after",
+                         v.covariate, v.shown, before, after);
+        o << "\n### " << fd.cause << (fd.target.empty() ? "" : " on " + fd.target) << "\n\n![" << fd.cause << "]("
+          << png << ")\n\n| " << v.covariate << " | beams | " << shownLabel(v.shown)
+          << ", before | after |\n|---|---|---|---|\n";
+        for (size_t k = 0; k < before.size() && k < after.size(); ++k)
+            o << "| " << before[k].bin << " | " << before[k].beams << " | "
+              << fmt("%.4f | %.4f", shownValue(before[k], v.shown), shownValue(after[k], v.shown)) << " |\n";
+    }
     o << "\n## The model before and after (the extended figures held out: each fold predicted by the other's fit)\n\n";
     figuresTable(o, r.baseline, r.extended);
     o << "\n## Candidates tried\n\n| round | cause | target | held-out gain [nats] | p |\n|---|---|---|---|---|\n";
@@ -176,7 +291,7 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
     for (const char* cov : kCovariates) {
         o << "\n### " << cov
           << "\n\n| bin | beams | error share | predicted | range residual [m] |\n|---|---|---|---|---|\n";
-        for (const auto& row : residualsBy(replay, Extensions{}, cov))
+        for (const auto& row : residualsBy(replay, replay.prior, cov))
             o << "| " << row.bin << " | " << row.beams << " | "
               << fmt("%.3f | %.3f | %.4f", row.error_share, row.predicted_error_share, row.range_residual_m) << " |\n";
     }

@@ -8,6 +8,7 @@
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/plot/format.hpp"
+#include "smokescan/sensors/beam_model.hpp"
 
 namespace smokescan {
 namespace {
@@ -77,18 +78,15 @@ void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, do
     std::vector<double> dt;
     for (size_t i = 1; i < raw.time_s.size(); ++i) dt.push_back(raw.time_s[i] - raw.time_s[i - 1]);
     const double frame_s = dt.empty() ? 1.0 : std::max(quantile(dt, 0.5), 1e-6);
+    r.frame_s = frame_s;
     const int h = int(std::min(std::floor(0.5 * smooth_s / frame_s + 1e-9), double(raw.time_s.size())));
     const SaturationSeries sat = movingAverage(raw, h);
     r.saturation_noise = saturationNoise(raw) / std::sqrt(2.0 * h + 1);
     for (size_t j = 0; j < sat.time_s.size(); ++j) {
-        double rho = 0;
-        if (sat.saturation[j] < curve.S0) {
-            try {
-                rho = curve.invert(sat.saturation[j]);
-            } catch (const Error&) {
-                continue;  // at or below the curve's floor: no density
-            }
-        }
+        // A saturation at or below zero (noise in the densest smoke) reads as the curve's density at
+        // 1e-4: denser than any beam passes, rather than a gap that interpolation would fill low.
+        const double S = std::max(sat.saturation[j], 1e-4);
+        const double rho = S < curve(0.0) ? curve.invert(S) : 0.0;  // at or above the clear-air value: clear
         r.density_time_s.push_back(sat.time_s[j] - offset_s);
         r.density_series.push_back(rho);
     }
@@ -105,9 +103,11 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
     Replay r;
     r.spec = specFor(config);
     r.config = config;
+    r.offset_s = cfg.offset_s;
     const Scene& scene = *in.scene;
     checkBeams(in.log, r.spec, in.mount.name);
     for (const auto& s : scene.surfaces) r.surface_names.push_back(s.name);
+    r.prior = replayExtensions(r, config.extensions);
     const std::vector<SmokeVolume> regional = regionalVolumes(scene);
     // Beams: what each one hits.
     std::vector<Ray> rays;
@@ -124,7 +124,7 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
     BeamQuery q;
     q.wavelength_nm = r.spec.wavelength_nm;
     r.from_saturation = !in.saturation.time_s.empty();
-    const double t0 = in.log.scans.front().time_s;
+    double t0 = in.log.scans.front().time_s, t1 = in.log.scans.back().time_s;
     if (r.from_saturation) {
         const SaturationPredictor camera(scene, *in.surfaces, in.calibration.curve, cfg.camera, cfg.target_prefix);
         const auto [ref, rho_ref] = referenceState(scene, regional, camera, cfg.time_step_s);
@@ -133,13 +133,17 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
             r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional;
         densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
         const double c0 = r.density_time_s.front(), c1 = r.density_time_s.back();
-        if (in.log.scans.back().time_s < c0 || t0 > c1)
+        if (t1 < c0 || t0 > c1)
             throw Error(in.saturation.path,
                         fmt("does not overlap the laser log: laser %.1f-%.1f s, camera %.1f-%.1f s on the "
                             "laser's clock (offset %.2f s); give --offset",
-                            t0, in.log.scans.back().time_s, c0, c1, cfg.offset_s));
+                            t0, t1, c0, c1, cfg.offset_s));
+        // Scans the camera did not see have no measured smoke: they are left out.
+        t0 = std::max(t0, c0);
+        t1 = std::min(t1, c1);
     }
     for (const LaserLogScan& s : in.log.scans) {
+        if (s.time_s < t0 || s.time_s > t1) continue;
         ReplayScan sc;
         sc.time_s = s.time_s;
         sc.block = int(std::floor((s.time_s - t0) / cfg.block_s));
@@ -151,33 +155,70 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
         r.range_m.push_back(std::move(rec));
         if (r.from_saturation) {
             sc.density = r.densityAt(s.time_s);
-            sc.rising = meanDensity(r, s.time_s, s.time_s + kTrend_s) > meanDensity(r, s.time_s - kTrend_s, s.time_s);
-            if (s.time_s >= r.density_time_s.front() && s.time_s <= r.density_time_s.back())
-                sc.saturation = in.calibration.curve(sc.density);
+            sc.saturation = in.calibration.curve(sc.density);
             // σ_S through the curve's slope: the density's relative error.
             const SaturationCurve& c = in.calibration.curve;
             const double d = 1e-6 + 1e-3 * sc.density;
             const double slope = std::abs(c(sc.density + d) - c(std::max(0.0, sc.density - d))) /
                 (sc.density + d - std::max(0.0, sc.density - d));
             sc.ln_density_sd = sc.density > 0 && slope > 0 ? r.saturation_noise / (slope * sc.density) : 0.0;
+            // Rising: the next 3 s's mean density exceeds the last 3 s's by more than twice the
+            // difference's noise (each mean averages about kTrend_s / frame_s camera samples); on a
+            // plateau the smoke is steady, as the scan's own time lines say (regionalSmokeRising).
+            const double noise = slope > 0 ? r.saturation_noise / slope : 0.0;
+            const double trend_sd = noise * std::sqrt(2.0 * r.frame_s / kTrend_s);
+            sc.rising = meanDensity(r, s.time_s, s.time_s + kTrend_s) - meanDensity(r, s.time_s - kTrend_s, s.time_s) >
+                2 * trend_sd;
         } else {
-            const SmokeField now = SmokeField::at(regional, s.time_s), later = SmokeField::at(regional, s.time_s + 2.0),
-                             before = SmokeField::at(regional, s.time_s - 2.0);
+            const SmokeField now = SmokeField::at(regional, s.time_s);
             std::vector<float> col(rays.size());
-            double now_sum = 0, trend = 0;
+            double now_sum = 0;
             for (size_t b = 0; b < rays.size(); ++b) {
                 col[b] = float(now.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional);
                 now_sum += col[b];
-                trend += later.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional -
-                    before.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional;
             }
             sc.density = now_sum / double(rays.size());
-            sc.rising = trend > 0;
+            sc.rising = regionalSmokeRising(scene, s.time_s);  // as `scan` simulates a hysteresis
             r.column.push_back(std::move(col));
         }
         r.scans.push_back(sc);
     }
     return r;
+}
+
+Extensions replayExtensions(const Replay& r, const ModelExtensions& e)
+{
+    Extensions m;
+    m.width = e.threshold_width;
+    m.noise_growth_m = e.range_noise_growth_m;
+    m.obstacle_return = e.smoke_obstacle_return;
+    m.hysteresis = e.hysteresis;
+    for (const auto& [name, x] : e.surfaces) {
+        const auto it = std::find(r.surface_names.begin(), r.surface_names.end(), name);
+        if (it == r.surface_names.end())
+            throw Error(r.config.sensor_file.empty() ? std::string("sensor") : r.config.sensor_file,
+                        "[extensions] name surface '" + name + "', which the scene does not have");
+        const int s = int(it - r.surface_names.begin());
+        if (x.threshold_factor != 0) m.threshold_factor[s] = x.threshold_factor;
+        if (x.range_bias != 0) m.range_bias[s] = x.range_bias;
+    }
+    for (const SectorExtension& x : e.sectors)
+        m.sectors.push_back({x.from_deg * M_PI / 180, x.to_deg * M_PI / 180, x.dropout});
+    return m;
+}
+
+ModelExtensions sensorExtensions(const Replay& r, const Extensions& m)
+{
+    ModelExtensions e;
+    e.clock_offset_s = r.offset_s + m.clock_offset_s;
+    e.threshold_width = m.width;
+    e.range_noise_growth_m = m.noise_growth_m;
+    e.smoke_obstacle_return = m.obstacle_return;
+    e.hysteresis = m.hysteresis;
+    for (const auto& [s, f] : m.threshold_factor) e.surfaces[r.surface_names[size_t(s)]].threshold_factor = f;
+    for (const auto& [s, b] : m.range_bias) e.surfaces[r.surface_names[size_t(s)]].range_bias = b;
+    for (const auto& x : m.sectors) e.sectors.push_back({x.from_rad * 180 / M_PI, x.to_rad * 180 / M_PI, x.dropout});
+    return e;
 }
 
 }  // namespace smokescan

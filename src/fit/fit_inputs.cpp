@@ -67,8 +67,10 @@ FitInputs loadFitInputs(const FitInputsConfig& cfg)
 {
     FitInputs in;
     in.log = readRecordedLog(cfg.laser, cfg.read);
-    const SaturationSeries sat0 = readSaturationCsv(cfg.saturation, cfg.read);
-    in.saturation = cfg.patch.empty() ? sat0 : patchSeries(sat0, cfg.patch);
+    // No saturation (diagnose without a camera): the scene's own smoke time line is replayed.
+    const SaturationSeries sat0 =
+        cfg.saturation.empty() ? SaturationSeries{} : readSaturationCsv(cfg.saturation, cfg.read);
+    if (!cfg.saturation.empty()) in.saturation = cfg.patch.empty() ? sat0 : patchSeries(sat0, cfg.patch);
     in.calibration = readCalibrationJson(cfg.calibration, cfg.patch);
     in.sources = {cfg.laser, cfg.saturation, cfg.calibration, "", cfg.read.unit_m, {}};
     if (!cfg.scene.empty()) {

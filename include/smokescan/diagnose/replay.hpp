@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "smokescan/diagnose/predictive.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/sensors/lrf.hpp"
 #include "smokescan/sensors/sensor_config.hpp"
@@ -48,9 +49,10 @@ struct ReplayBeam {
 /// One scan: its time, the smoke it saw, its block.
 struct ReplayScan {
     double time_s = 0;
-    double saturation = NAN;  ///< the camera's, at time_s + offset (NaN: outside the series)
+    double saturation =
+        NAN;  ///< the camera's, at time_s + offset (NaN: no saturation series, the scene's time line traced)
     double density = 0;  ///< the camera's density (saturation through the curve) [density]
-    bool rising = false;  ///< the density is rising at this scan
+    bool rising = false;  ///< the density is rising at this scan (beyond its noise; a plateau is not)
     double ln_density_sd = 0;  ///< standard error of ln(density) from the saturation's noise
     int block = 0;  ///< time block (block_s)
 };
@@ -67,6 +69,9 @@ struct Replay {
     std::vector<double> density_time_s, density_series;
     double density_ref = 1;  ///< the camera's density in the reference state
     double saturation_noise = 0;  ///< the smoothed saturation's noise σ
+    double frame_s = 1;  ///< the camera's median frame interval [s]
+    double offset_s = 0;  ///< the camera clock − laser clock the replay assumed [s]
+    Extensions prior;  ///< the config's extensions (its sensor file's): the model diagnosed
     bool from_saturation = true;
     std::vector<std::vector<float>> column;  ///< without saturation: traced columns [scan][beam]
 
@@ -83,8 +88,16 @@ struct Replay {
 };
 
 /// @brief Replays a run. @throw Error naming the log when its beams do not match the sensor's,
-/// or the saturation when it does not overlap the log.
+/// the saturation when it does not overlap the log, or the sensor file when its extensions name
+/// a surface the scene does not have.
 Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg);
+
+/// @brief A sensor file's extensions on the replay's surfaces and beam angles (the clock offset
+/// stays out: the replay's offset_s holds it). @throw Error for a surface the scene lacks.
+Extensions replayExtensions(const Replay& r, const ModelExtensions& e);
+/// @brief The extensions in a sensor file's form: surfaces by name, sectors in degrees, the clock
+/// offset the replay assumed plus the model's.
+ModelExtensions sensorExtensions(const Replay& r, const Extensions& m);
 
 template <class T>
 T Replay::densityAt(const T& t) const

@@ -1,0 +1,119 @@
+#include "candidate_fit.hpp"
+
+#include <ceres/ceres.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "../calib/ceres_fit.hpp"
+
+namespace smokescan::detail {
+namespace {
+
+/// A deterministic parallel sum: fixed chunks summed in parallel, then added in order.
+template <class F>
+void chunkedSum(size_t n, double* value, double* grad, F&& term)
+{
+    constexpr size_t kChunk = 4096;
+    const size_t chunks = (n + kChunk - 1) / kChunk;
+    std::vector<double> v(chunks, 0.0), g(chunks, 0.0);
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+        for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+            const J t = term(i);
+            v[c] += t.a;
+            g[c] += t.v[0];
+        }
+    });
+    *value = 0;
+    if (grad) *grad = 0;
+    for (size_t c = 0; c < chunks; ++c) {
+        *value += v[c];
+        if (grad) *grad += g[c];
+    }
+}
+
+/// The candidate's negative log-likelihood over a set of observations, for Ceres.
+class CandidateNll : public ceres::FirstOrderFunction {
+public:
+    CandidateNll(const Replay& r, const Extensions& m, const Candidate& c, const std::vector<Obs>& obs)
+        : r_(r), m_(m), c_(c), obs_(obs)
+    {
+    }
+    bool Evaluate(const double* theta, double* cost, double* gradient) const override
+    {
+        J th(theta[0], 0);
+        double ll = 0, g = 0;
+        chunkedSum(obs_.size(), &ll, &g, [&](size_t i) { return candidateLogLik(r_, m_, c_, obs_[i], th); });
+        *cost = -ll;
+        if (gradient) gradient[0] = -g;
+        return std::isfinite(ll);
+    }
+    int NumParameters() const override { return 1; }
+
+private:
+    const Replay& r_;
+    const Extensions& m_;
+    const Candidate& c_;
+    const std::vector<Obs>& obs_;
+};
+
+}  // namespace
+
+ThetaFit fitCandidate(const Replay& r, const Extensions& m, const Candidate& c, const std::vector<Obs>& obs)
+{
+    ThetaFit f;
+    if (obs.empty()) return f;
+    ceres::GradientProblem problem(new CandidateNll(r, m, c, obs));
+    double theta = c.theta_start, best = kInf;
+    for (double t : c.starts()) {
+        double cost = kInf;
+        if (problem.Evaluate(&t, &cost, nullptr) && cost < best) {
+            best = cost;
+            theta = t;
+        }
+    }
+    ceres::GradientProblemSolver::Options opt;
+    opt.line_search_direction_type = ceres::LBFGS;
+    opt.max_num_iterations = 100;
+    opt.function_tolerance = 1e-10;
+    opt.gradient_tolerance = 1e-8;
+    ceres::GradientProblemSolver::Summary summary;
+    quietCeres();
+    ceres::Solve(opt, problem, &theta, &summary);
+    if (!summary.IsSolutionUsable() || !std::isfinite(theta)) return f;
+    // Observed information by central differences of the analytic gradient; scores per block.
+    auto gradAt = [&](double t) {
+        double cost = 0, g = 0;
+        problem.Evaluate(&t, &cost, &g);
+        return g;
+    };
+    const double h = 1e-4 * std::max(1.0, std::abs(theta));
+    const double info = (gradAt(theta + h) - gradAt(theta - h)) / (2 * h);
+    std::map<int, double> score;
+    const J th(theta, 0);
+    for (const Obs& o : obs) score[r.scans[size_t(o.k)].block] += candidateLogLik(r, m, c, o, th).v[0];
+    double meat = 0;
+    for (const auto& [blk, s] : score) meat += s * s;
+    const double blocks = double(score.size()), corr = blocks > 1 ? blocks / (blocks - 1) : 1.0;
+    if (info > 0) f.se = std::sqrt(std::max(1 / info, corr * meat / (info * info)));
+    f.theta = theta;
+    f.ok = true;
+    return f;
+}
+
+std::vector<Obs> touched(const Replay& r, const Candidate& c, int fold)
+{
+    std::vector<int> beams;
+    for (size_t b = 0; b < r.beams.size(); ++b)
+        if (c.touches(r, int(b))) beams.push_back(int(b));
+    std::vector<Obs> obs;
+    for (size_t k = 0; k < r.scans.size(); ++k) {
+        if (fold >= 0 && r.scans[k].block % 2 != fold) continue;
+        for (int b : beams) obs.push_back({int(k), b});
+    }
+    return obs;
+}
+
+}  // namespace smokescan::detail

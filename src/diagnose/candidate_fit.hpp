@@ -1,0 +1,23 @@
+#pragma once
+// Internal: a candidate extension's maximum-likelihood fit (Ceres) on a set of observations.
+#include <vector>
+
+#include "candidates.hpp"
+
+namespace smokescan::detail {
+
+/// A candidate's θ with its standard error (the larger of the observed information's and the
+/// cluster-robust sandwich's over time blocks).
+struct ThetaFit {
+    bool ok = false;
+    double theta = 0, se = NAN;
+};
+
+/// @brief The maximum-likelihood θ of candidate c on top of model m over `obs`, from the best
+/// of its start values.
+ThetaFit fitCandidate(const Replay& r, const Extensions& m, const Candidate& c, const std::vector<Obs>& obs);
+
+/// @brief The observations candidate c touches in fold `fold` (−1: all).
+std::vector<Obs> touched(const Replay& r, const Candidate& c, int fold);
+
+}  // namespace smokescan::detail
