@@ -12,9 +12,11 @@
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan::test {
 
@@ -131,6 +133,40 @@ inline FitInputs inputsOf(const TrueRun& r)
     in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
     in.mount = w.scene.sensors[size_t(w.scene.findSensor("hokuyo"))];
     return in;
+}
+
+/// True in the sanitizer build: it checks memory and undefined behaviour on one run of each
+/// path; the Release build checks the statistics over the seeds.
+inline bool sanitized()
+{
+#if defined(__SANITIZE_ADDRESS__)
+    return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+    return true;
+#endif
+#endif
+    return false;
+}
+
+/// A run diagnosed: its replay and the result.
+struct Diagnosed {
+    Replay replay;
+    DiagnosisResult result;
+};
+
+/// @brief The run diagnosed with the scene's URG, its model `model` (paper when unset), then
+/// `sensor_file` applied when given.
+inline Diagnosed diagnoseWith(const TrueRun& r, const std::string& sensor_file = "",
+                              SensorModel model = SensorModel::Paper)
+{
+    const FitInputs in = inputsOf(r);
+    SensorConfig c = in.mount.config;
+    c.model = model;
+    if (!sensor_file.empty()) applySensorFile(sensor_file, c);
+    Diagnosed d{replayRun(in, c, ReplayConfig{}), {}};
+    d.result = diagnose(d.replay);
+    return d;
 }
 
 }  // namespace smokescan::test

@@ -15,7 +15,7 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
     CliRun r = cli("scan bocas --rate 1 --seed 3 --quiet --out " + log + " --saturation-out " + sat +
                    " --saturation-sigma 0.01 --saturation-rate 5");
     ASSERT_EQ(r.status, 0) << r.err;
-    r = cli("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --out " + out);
+    r = cli("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --out " + out + "/");  // a folder/
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
     EXPECT_NE(slurp(fs::path(out) / "diagnosis.json").find("\"verdict\": \"none\""), std::string::npos);
@@ -47,7 +47,8 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
               file("none"));
 
     // A Sick's log on the BOCAS URG; a saturation on another day; a run too short to hold out.
-    const std::string sick = file("d_sick.log"), late = file("d_late.csv", "time_s,saturation\n10000,0.3\n10001,0.3\n");
+    const std::string sick = file("d_sick.log"),
+                      late = file("d_late.csv", "time_s,saturation\n10000,0.3\n10001,0.6\n10002,0.2\n10003,0.5\n");
     ASSERT_EQ(cli("scan plume --sensor lms200 --from 0 --to 3 --quiet --out " + sick).status, 0);
     expectBad("diagnose --laser " + sick + " --saturation " + sat + " --scene bocas --out " + file("d1"),
               "d_sick.log: has 361 beams a scan", file("d1"));
@@ -61,9 +62,14 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
     expectBad("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --sensor-file " + badsensor +
                   " --out " + file("d4"),
               "d_bad.toml", file("d4"));
-    expectBad(
-        "diagnose --laser " + log + " --saturation " + sat + " --scene bocas --model physical --out " + file("d5"),
-        "paper model only", file("d5"));
+    // A camera that saw no smoke vary; a log in cm read as mm.
+    const std::string flat = file("d_flat.csv", "time_s,saturation\n0,0.5\n100,0.5\n200,0.5\n300,0.5\n400,0.5\n");
+    expectBad("diagnose --laser " + log + " --saturation " + flat + " --scene bocas --out " + file("d7"),
+              "d_flat.csv: holds a saturation from 0.5 to 0.5", file("d7"));
+    expectBad("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --unit cm --out " + file("d8"),
+              "is --unit right?", file("d8"));
+    expectBad("diagnose --laser " + log + " --scene bocas --model physical --out " + file("d5"),
+              "replayed from a saturation series only", file("d5"));
     // Extensions on a surface the scene does not have.
     const std::string alien =
         file("d_alien.toml", "type = \"urg04lx\"\n[extensions]\n[[extensions.surface]]\nname = \"nowhere\"\n");

@@ -14,20 +14,6 @@ using namespace smokescan::test;
 
 namespace {
 
-/// True in the sanitizer build: it checks memory and undefined behaviour on one run of each
-/// path; the Release build checks the statistics over the seeds.
-bool sanitized()
-{
-#if defined(__SANITIZE_ADDRESS__)
-    return true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-    return true;
-#endif
-#endif
-    return false;
-}
-
 /// Seeds per test: one under the sanitizers.
 int seeds(int n) { return sanitized() ? 1 : n; }
 

@@ -14,22 +14,6 @@ using namespace smokescan::test;
 
 namespace {
 
-struct Diagnosed {
-    Replay replay;
-    DiagnosisResult result;
-};
-
-/// The run diagnosed with the scene's URG, its config from `sensor_file` when given.
-Diagnosed diagnoseWith(const TrueRun& r, const std::string& sensor_file = "")
-{
-    const FitInputs in = inputsOf(r);
-    SensorConfig c = in.mount.config;
-    if (!sensor_file.empty()) applySensorFile(sensor_file, c);
-    Diagnosed d{replayRun(in, c, ReplayConfig{}), {}};
-    d.result = diagnose(d.replay);
-    return d;
-}
-
 const Finding* findingOf(const DiagnosisResult& d, const std::string& cause, const std::string& target)
 {
     for (const auto& f : d.findings)

@@ -8,6 +8,7 @@
 
 #include "room_rig.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/quadrature.hpp"
 #include "smokescan/core/random.hpp"
 #include "smokescan/sensors/beam_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
@@ -157,6 +158,45 @@ TEST(Extensions, RangeLimitsAreThePlainModels)
     EXPECT_EQ(ext->errorProbability(w, LaserBeam(ray, 0.0)), plain->errorProbability(w, LaserBeam(ray, 0.0)));
 }
 
+TEST(Extensions, ThePhysicalModelMovesItsOnsetByScalingTheSmoke)
+{
+    // The URG's physical model with a threshold factor e^0.4 on the target and a width of 0.3:
+    // its error probability at smoke scale s is the plain model's at s·e^−0.4, averaged over
+    // e^(0.3 z) (the normal's quantiles), and the share of errors in the draws agrees with it.
+    Rig rig(roomScene(1.0, "gold_paper"));
+    SensorConfig cfg = rig.scene.sensors[size_t(rig.scene.findSensor("hokuyo"))].config;
+    cfg.model = SensorModel::Physical;
+    SensorConfig ext_cfg = cfg;
+    ext_cfg.extensions.surfaces["target"].threshold_factor = 0.4;
+    ext_cfg.extensions.threshold_width = 0.3;
+    const auto plain = makeBeamModel(cfg), ext = makeBeamModel(ext_cfg);
+    const SensorMount& mount = rig.scene.sensors[size_t(rig.scene.findSensor("hokuyo"))];
+    const LaserBeam beam(mount.beamRay(0.0), 0.0);
+    int informative = 0;
+    for (double rho = 0.0005; rho <= 0.008; rho += 0.0005) {
+        rig.scene.volumes[0].timeline = DensityTimeline::constant(rho);
+        const SmokeField field = SmokeField::at(rig.scene.volumes, 0.0);
+        const BeamWorld w{rig.scene, rig.surfaces, field, false};
+        double want = 0;
+        for (int i = 0; i < kNormalNodes; ++i) {
+            const SmokeField f = field.scaledRegional(std::exp(-0.4 + 0.3 * normalNodes()[i]));
+            want += plain->errorProbability(BeamWorld{rig.scene, rig.surfaces, f, false}, beam) / kNormalNodes;
+        }
+        const double p = ext->errorProbability(w, beam);
+        EXPECT_NEAR(p, want, 1e-12) << rho;
+        const int n = 1500;
+        int err = 0;
+        for (int k = 0; k < n; ++k) {
+            KeyedRng rng(13, uint64_t(k));
+            err += ext->read(w, beam, rng, false).error;
+        }
+        // The quantile rule is within 1/(2·32) of the average over z, even for a step.
+        EXPECT_NEAR(double(err) / n, p, 4 * std::sqrt(std::max(p * (1 - p), 1e-3) / n) + 0.5 / kNormalNodes) << rho;
+        informative += p > 0.05 && p < 0.95;
+    }
+    EXPECT_GE(informative, 3);
+}
+
 TEST(Extensions, ShortReturnsAreUniformBeforeTheSurface)
 {
     ModelExtensions e;
@@ -296,11 +336,14 @@ TEST(Extensions, SensorFileRoundTripsAndRefusesWhatItCannotSimulate)
     const std::string head = "type = \"urg04lx\"\n";
     refused(head + "[extensions]\nhysterisis = 0.2\n", "unknown key 'extensions.hysterisis'");
     refused(head + "[extensions]\n[[extensions.sector]]\nfrom_deg = 1\nto_deg = 2\ndropout = 1.5\n", "dropout");
-    refused(head + "[extensions]\n[[extensions.sector]]\nfrom_deg = 3\nto_deg = 2\n", "to_deg");
+    refused(head + "[extensions]\n[[extensions.sector]]\nfrom_deg = 3\nto_deg = 2\ndropout = 0.5\n", "to_deg");
+    refused(head + "[extensions]\n[[extensions.sector]]\nfrom_deg = 1\nto_deg = 2\n",
+            "missing field 'extensions.sector[0].dropout'");
+    refused(head + "[extensions]\nrange_noise_growth_m = 1e300\n", "range_noise_growth_m");
+    refused(head + "[paper]\npenetration_power = 1e300\n", "penetration_power");
     refused(head + "[extensions]\n[[extensions.surface]]\nname = \"a\"\n[[extensions.surface]]\nname = \"a\"\n",
             "twice");
     refused(head + "[extensions]\nsmoke_obstacle_return = -0.1\n", "smoke_obstacle_return");
-    refused(head + "model = \"physical\"\n[extensions]\nthreshold_width = 0.3\n", "paper model");
     refused(head + "[extensionz]\n", "unknown key 'extensionz'");
 
     // A surface the scene lacks is refused by the scan, naming the file.
@@ -316,9 +359,14 @@ TEST(Extensions, SensorFileRoundTripsAndRefusesWhatItCannotSimulate)
         EXPECT_NE(std::string(e.what()).find("target_gold"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
     }
-    // The physical model refuses a config with extensions.
-    SensorConfig phys = back;
-    phys.model = SensorModel::Physical;
-    EXPECT_THROW(makeBeamModel(phys), Error);
+    // The LMS200's models refuse extensions (a file of that type, and a config).
+    {
+        const std::string p = (dir / "sick.toml").string();
+        std::ofstream(p) << "type = \"lms200\"\n[extensions]\nthreshold_width = 0.3\n";
+        SensorConfig sick = SensorConfig::defaults(SensorType::Lms200);
+        EXPECT_THROW(applySensorFile(p, sick), Error);
+        sick.extensions = back.extensions;
+        EXPECT_THROW(makeBeamModel(sick), Error);
+    }
     std::filesystem::remove_all(dir);
 }

@@ -33,26 +33,25 @@ int runDiagnose(const DiagnoseArgs& a0)
     files.input(a.in.calibration, "--calibration");
     files.input(a.sensor_file, "--sensor-file");
     files.outputFolder(a.out, "--out");
-    if (!a.model.empty() && sensorModelOption("--model", a.model) != SensorModel::Paper)
-        throw Error("--model",
-                    "diagnose replays the paper model only so far (the physical model's predictive form is open)");
     if (a.in.saturation.empty() && !a.in.patch.empty()) throw Error("--patch", "needs --saturation");
     a.in.read = {parseRangeUnit(a.unit), a.lenient};
     a.in.prefix = a.replay.target_prefix;
+    // The folder is checked (and staged) before the work: a taken --out fails at once.
+    AtomicFolder out(a.out, "the diagnosis folder", "--out");
     const FitInputs in = loadFitInputs(a.in);
     SensorConfig config = in.mount.config;
     if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);
-    config.model = SensorModel::Paper;
+    if (!a.model.empty()) config.model = sensorModelOption("--model", a.model);
     // The clock offset a sensor file learned is the default of --offset.
     if (std::isnan(a.replay.offset_s)) a.replay.offset_s = config.extensions.clock_offset_s;
     const Replay replay = replayRun(in, config, a.replay);
     const DiagnosisResult r = diagnose(replay, a.diag);
     SensorConfig extended = config;
     extended.extensions = sensorExtensions(replay, r.model);
-    AtomicFolder out(a.out, "the diagnosis folder", "--out");
     writeSensorFile(out.path("sensor.toml"), extended,
-                    "the paper model of " + a.in.scene + "'s sensor with what `smokescan diagnose` learned from " +
-                        a.in.laser + " (verdict: " + r.verdict + ")");
+                    "the " + std::string(sensorModelName(config.model)) + " model of " + a.in.scene +
+                        "'s sensor with what `smokescan diagnose` learned from " + a.in.laser +
+                        " (verdict: " + r.verdict + ")");
     const DiagnosisSources src{a.in.laser,    a.in.saturation,   a.in.scene,      a.in.calibration,
                                a.sensor_file, a.replay.offset_s, a.replay.block_s};
     writeDiagnosisJson(out.path("diagnosis.json"), r, src);
@@ -91,7 +90,9 @@ void addDiagnose(CLI::App& app, Runner& run)
     c->add_option("--sensor", a->in.sensor, "Sensor in the scene (default: the first of --sensor-type)");
     c->add_option("--sensor-type", a->in.sensor_type, "urg04lx or lms200")->capture_default_str();
     c->add_option("--sensor-file", a->sensor_file, "Sensor file whose model is diagnosed (default: the scene's)");
-    c->add_option("--model", a->model, "Sensor model: paper (the only one diagnose replays so far)");
+    c->add_option("--model", a->model,
+                  "Sensor model: paper or physical (the urg04lx's, with --saturation; default: the scene's or the "
+                  "sensor file's)");
     c->add_option("--calibration", a->in.calibration, "Density-saturation calibration JSON, or a built-in name")
         ->capture_default_str();
     c->add_option("--patch", a->in.patch, "Use this patch's saturation column and calibration curve");
@@ -100,7 +101,7 @@ void addDiagnose(CLI::App& app, Runner& run)
     a->replay.offset_s = NAN;
     c->add_option("--offset", a->replay.offset_s,
                   "Camera clock - laser clock [s] (default: the sensor file's clock_offset_s, else 0)")
-        ->check(finite());
+        ->check(CLI::Range(-1e5, 1e5));
     c->add_option("--block", a->replay.block_s, "Time block of the held-out split [s]")
         ->capture_default_str()
         ->check(positive());

@@ -61,8 +61,9 @@ BeamTerms<T> baseTerms(const Replay& r, const Extensions& m, const Obs& o)
         x.column = T(r.densityAt(scan.time_s + m.clock_offset_s) / r.density_ref * beam.column_ref);
     else
         x.column = T(r.columnAt(size_t(o.k), size_t(o.b)));
-    x.lnP = T(std::log(r.config.paper.penetration_power)) + valueOr<T>(m.threshold_factor, beam.surface) +
-        T(scan.rising ? -0.5 * m.hysteresis : 0.5 * m.hysteresis);
+    // The paper model's threshold is ln P; the physical model's is its own, shifted by 0.
+    x.lnP = T(r.isPhysical() ? 0.0 : std::log(r.config.paper.penetration_power)) +
+        valueOr<T>(m.threshold_factor, beam.surface) + T(scan.rising ? -0.5 * m.hysteresis : 0.5 * m.hysteresis);
     x.width = T(std::hypot(m.width, scan.ln_density_sd));
     x.beta = valueOr<T>(m.range_bias, beam.surface);
     x.gamma = T(m.noise_growth_m);
@@ -72,6 +73,97 @@ BeamTerms<T> baseTerms(const Replay& r, const Extensions& m, const Obs& o)
 }
 template BeamTerms<double> baseTerms<double>(const Replay&, const Extensions&, const Obs&);
 template BeamTerms<J> baseTerms<J>(const Replay&, const Extensions&, const Obs&);
+
+namespace {
+
+/// A physical table's value at u = ln s: linear in u on the grid, linear in s from the clear
+/// value below it, the last value above it.
+template <class T>
+T tableAt(const Replay::PhysicalTable& t, const std::vector<float>& v, float clear, size_t b, const T& u)
+{
+    using std::exp;
+    const size_t G = size_t(t.grid);
+    const float* row = v.data() + b * G;
+    double ua;
+    if constexpr (std::is_same_v<T, double>)
+        ua = u;
+    else
+        ua = u.a;
+    if (ua <= t.u_lo) return T(clear) + T(row[0] - clear) * exp(u - T(t.u_lo));
+    const double x = (ua - t.u_lo) / t.du;
+    if (x >= double(G - 1)) return T(row[G - 1]);
+    const size_t j = size_t(x);
+    const T f = (u - T(t.u_lo + t.du * double(j))) / T(t.du);
+    return T(row[j]) + T(row[j + 1] - row[j]) * f;
+}
+
+template <class T>
+double valueOf(const T& v)
+{
+    if constexpr (std::is_same_v<T, double>)
+        return v;
+    else
+        return v.a;
+}
+
+/// Whether beam b's error table is constant (to 1e-6) over [u0, u1] on its grid (the clear value
+/// below it counts when u0 lies below the grid).
+bool flatBetween(const Replay::PhysicalTable& t, size_t b, double u0, double u1)
+{
+    const size_t G = size_t(t.grid);
+    const float* row = t.err.data() + b * G;
+    const auto cell = [&](double u) { return std::clamp(std::floor((u - t.u_lo) / t.du), -1.0, double(G - 1)); };
+    const long j0 = long(cell(u0)), j1 = long(cell(u1)) + 1;
+    float lo = j0 < 0 ? t.err_clear[b] : row[j0], hi = lo;
+    for (long j = std::max(0L, j0); j <= std::min(long(G) - 1, j1); ++j) {
+        lo = std::min(lo, row[j]);
+        hi = std::max(hi, row[j]);
+    }
+    return hi - lo < 1e-6f;
+}
+
+}  // namespace
+
+template <class T>
+void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
+{
+    using std::erfc;
+    using std::log;
+    const ReplayBeam& beam = r.beams[size_t(o.b)];
+    if (!r.isPhysical()) {
+        x.ps = x.column > T(0.0) ? T(0.5) * erfc(-(log(x.column) - x.lnP) / x.width / T(M_SQRT2)) : T(0.0);
+        x.mu0 = T(beam.range_m);
+        x.sd0 = T(r.spec.rangeSigma(beam.range_m));
+        return;
+    }
+    const Replay::PhysicalTable& t = r.physical;
+    const size_t b = size_t(o.b);
+    if (!(x.column > T(0.0)) || !(beam.column_ref > 0)) {
+        x.ps = T(double(t.err_clear[b]));
+        x.mu0 = T(double(t.range_clear[b]));
+        x.sd0 = T(double(t.sd_clear[b]));
+        return;
+    }
+    // The smoke's scale against the reference, with the threshold's shift: ln s − (ln P' − ln P).
+    const T u = log(x.column / T(beam.column_ref)) - x.lnP;
+    const double* z = normalNodes();
+    // Where the table is flat across the spread (clear air, dense smoke: most beams) the average
+    // is its value; else the average over the normal's quantiles.
+    const double lo = valueOf(tableAt(t, t.err, t.err_clear[b], b, u + x.width * T(z[0]))),
+                 hi = valueOf(tableAt(t, t.err, t.err_clear[b], b, u + x.width * T(z[kNormalNodes - 1])));
+    if (flatBetween(t, b, valueOf(u + x.width * T(z[0])), valueOf(u + x.width * T(z[kNormalNodes - 1]))) &&
+        std::abs(hi - lo) < 1e-9) {
+        x.ps = tableAt(t, t.err, t.err_clear[b], b, u);
+    } else {
+        x.ps = T(0.0);
+        for (int i = 0; i < kNormalNodes; ++i) x.ps += tableAt(t, t.err, t.err_clear[b], b, u + x.width * T(z[i]));
+        x.ps /= T(double(kNormalNodes));
+    }
+    x.mu0 = tableAt(t, t.range, t.range_clear[b], b, u);
+    x.sd0 = tableAt(t, t.sd, t.sd_clear[b], b, u);
+}
+template void finishTerms<double>(const Replay&, const Obs&, BeamTerms<double>&);
+template void finishTerms<J>(const Replay&, const Obs&, BeamTerms<J>&);
 
 std::vector<double> Candidate::starts() const
 {
@@ -221,26 +313,25 @@ J candidateLogLik(const Replay& r, const Extensions& m, const Candidate& c, cons
 {
     BeamTerms<J> x = baseTerms<J>(r, m, o);
     c.apply(r, m, o, theta, x);
+    finishTerms(r, o, x);
     const ReplayBeam& beam = r.beams[size_t(o.b)];
-    return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.rangeSigma(beam.range_m),
-                         r.spec.range_max_m);
+    return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.range_max_m);
 }
 
 double modelLogLik(const Replay& r, const Extensions& m, const Obs& o)
 {
     const ReplayBeam& beam = r.beams[size_t(o.b)];
-    return logLikelihood(baseTerms<double>(r, m, o), double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m,
-                         r.spec.rangeSigma(beam.range_m), r.spec.range_max_m);
+    BeamTerms<double> x = baseTerms<double>(r, m, o);
+    finishTerms(r, o, x);
+    return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.range_max_m);
 }
 
 Prediction modelPrediction(const Replay& r, const Extensions& m, const Obs& o)
 {
-    const BeamTerms<double> x = baseTerms<double>(r, m, o);
-    double ps = 0;
-    if (x.column > 0) ps = 0.5 * std::erfc(-(std::log(x.column) - x.lnP) / x.width / M_SQRT2);
-    const double err = 0.5 * kLapse + (1 - kLapse) * (x.d + (1 - x.d) * ps * (1 - x.q));
-    const double L = r.beams[size_t(o.b)].range_m, s0 = r.spec.rangeSigma(L);
-    return {err, L * (1 + x.beta * x.column), std::sqrt(s0 * s0 + x.gamma * x.gamma * x.column * x.column)};
+    BeamTerms<double> x = baseTerms<double>(r, m, o);
+    finishTerms(r, o, x);
+    const double err = 0.5 * kLapse + (1 - kLapse) * (x.d + (1 - x.d) * x.ps * (1 - x.q));
+    return {err, x.mu0 * (1 + x.beta * x.column), std::sqrt(x.sd0 * x.sd0 + x.gamma * x.gamma * x.column * x.column)};
 }
 
 bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& from_rad, double& to_rad)
@@ -285,7 +376,30 @@ bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& f
     const double a0 = r.beams[best0].angle_rad, a1 = r.beams[best0 + best_n - 1].angle_rad;
     from_rad = std::min(a0, a1) - half;
     to_rad = std::max(a0, a1) + half;
-    return true;
+    // A dirty window or an occluder is local: beams failing in clear air over more than 60° are
+    // the smoke (or its measurement) misread, not a sector.
+    return to_rad - from_rad <= kMaxSector_rad;
+}
+
+bool Candidate::plausible(double theta) const
+{
+    switch (cause) {
+    case Cause::ClockOffset:
+        return std::abs(theta) <= 60;
+    case Cause::SurfaceThreshold:
+    case Cause::Hysteresis:
+        return std::abs(theta) <= 5;
+    case Cause::ThresholdWidth:
+        return theta <= std::log(5.0);
+    case Cause::SurfaceRangeBias:
+        return std::abs(theta) <= 1e4;
+    case Cause::RangeNoiseGrowth:
+        return std::abs(theta) <= 1e3;
+    case Cause::SmokeObstacleReturn:
+    case Cause::SectorDropout:
+        return true;
+    }
+    return false;
 }
 
 }  // namespace smokescan::detail

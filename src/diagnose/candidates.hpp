@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "smokescan/core/estimate.hpp"
+#include "smokescan/core/quadrature.hpp"
 #include "smokescan/diagnose/predictive.hpp"
 #include "smokescan/diagnose/replay.hpp"
 
@@ -49,6 +50,9 @@ struct Candidate {
     void apply(const Replay& r, const Extensions& model, const Obs& o, const J& theta, BeamTerms<J>& x) const;
     /// @brief θ into the extension model (the accepted finding).
     void commit(double theta, Extensions& model) const;
+    /// @brief Whether θ is a value the cause can take (a sensor file's bounds,
+    /// sensor_tables.cpp): a fit beyond them is refused, not reported.
+    bool plausible(double theta) const;
     /// @brief The reported parameters: θ and its standard error in the cause's own units.
     std::vector<std::pair<std::string, Estimate>> report(double theta, double se) const;
 };
@@ -56,6 +60,13 @@ struct Candidate {
 /// @brief The terms of today's model plus `model`'s extensions at observation o (no candidate).
 template <class T>
 BeamTerms<T> baseTerms(const Replay& r, const Extensions& model, const Obs& o);
+
+/// @brief The stop probability and noise-free range of observation o's terms (after any
+/// candidate's change): the paper model's Φ((ln C − ln P)/w) and L, or the physical model's
+/// tables at the smoke's scale shifted by the threshold, averaged over the width (the normal's
+/// quantiles, core/quadrature.hpp).
+template <class T>
+void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x);
 
 /// @brief ln L of observation o with candidate c at θ.
 J candidateLogLik(const Replay& r, const Extensions& model, const Candidate& c, const Obs& o, const J& theta);
@@ -71,9 +82,11 @@ struct Prediction {
 Prediction modelPrediction(const Replay& r, const Extensions& model, const Obs& o);
 
 /// @brief The sector where beams fail in clear air (error share > 15 % over ≥ 5 clear scans, the
-/// longest run of such beams with gaps of at most two, at least 2 beams), among the scans of
-/// `fold` (−1: all).
+/// longest run of such beams with gaps of at most two, at least 2 beams and at most 60°), among
+/// the scans of `fold` (−1: all).
 /// Returns false when there is none.
+/// The widest sector a dropout is looked for in [rad].
+constexpr double kMaxSector_rad = 60 * M_PI / 180;
 bool findDropoutSector(const Replay& r, const Extensions& model, int fold, double& from_rad, double& to_rad);
 
 }  // namespace smokescan::detail

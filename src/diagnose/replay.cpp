@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+
+#include <tbb/parallel_for.h>
 
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/core/error.hpp"
@@ -50,6 +53,23 @@ void checkBeams(const RecordedLog& log, const LrfSpec& spec, const std::string& 
                             i, a[i], i, spec.angle(int(i))));
 }
 
+/// The recorded ranges must fit the sensor: most of them within its maximum range (else the log's
+/// unit is not the one given).
+void checkRanges(const Replay& r, const std::string& path)
+{
+    long long valid = 0, beyond = 0;
+    for (const auto& scan : r.range_m)
+        for (float v : scan)
+            if (!std::isnan(v)) {
+                ++valid;
+                beyond += v > 1.05 * r.spec.range_max_m;
+            }
+    if (valid > 0 && beyond > valid / 5)
+        throw Error(path,
+                    fmt("reads beyond the sensor's %.1f m in %lld of its %lld ranges: is --unit right?",
+                        r.spec.range_max_m, beyond, valid));
+}
+
 /// The scene's densest regional state as the camera sees it: its field and camera density.
 std::pair<SmokeField, double> referenceState(const Scene& scene, const std::vector<SmokeVolume>& regional,
                                              const SaturationPredictor& camera, double step_s)
@@ -76,7 +96,20 @@ void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, do
                    Replay& r)
 {
     std::vector<double> dt;
-    for (size_t i = 1; i < raw.time_s.size(); ++i) dt.push_back(raw.time_s[i] - raw.time_s[i - 1]);
+    for (size_t i = 1; i < raw.time_s.size(); ++i) {
+        dt.push_back(raw.time_s[i] - raw.time_s[i - 1]);
+        if (!(dt.back() > 0))
+            throw Error(
+                raw.path,
+                fmt("time %.6g s follows %.6g s: the camera's times must increase", raw.time_s[i], raw.time_s[i - 1]));
+    }
+    double s_lo = kInf, s_hi = -kInf;
+    for (double v : raw.saturation) s_lo = std::min(s_lo, v), s_hi = std::max(s_hi, v);
+    if (raw.saturation.size() < 3 || !(s_hi - s_lo > std::max(0.01, 3 * saturationNoise(raw))))
+        throw Error(raw.path,
+                    fmt("holds a saturation from %.3g to %.3g: no smoke varies in it beyond its noise, so "
+                        "the laser's errors cannot be set against the smoke",
+                        s_lo, s_hi));
     const double frame_s = dt.empty() ? 1.0 : std::max(quantile(dt, 0.5), 1e-6);
     r.frame_s = frame_s;
     const int h = int(std::min(std::floor(0.5 * smooth_s / frame_s + 1e-9), double(raw.time_s.size())));
@@ -94,12 +127,58 @@ void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, do
         throw Error(sat.path, "holds no saturation the calibration curve can read as a density");
 }
 
+/// The physical model's tables (Replay::PhysicalTable): each beam's error probability and
+/// noise-free range at the reference state scaled by e^u, over the run's scales and 1.5 beyond
+/// (room for a shifted threshold), down to e^−7 of the densest (clear for any beam).
+void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, const SmokeField& ref,
+                    const std::vector<Ray>& rays)
+{
+    double s_max = 0;
+    for (double d : r.density_series) s_max = std::max(s_max, d / r.density_ref);
+    s_max = std::max(s_max, 1e-6);
+    Replay::PhysicalTable& t = r.physical;
+    t.grid = 97;
+    t.u_lo = std::log(s_max) - 7.0;
+    t.du = 8.5 / double(t.grid - 1);
+    const size_t B = r.beams.size(), G = size_t(t.grid);
+    for (auto* v : {&t.err, &t.range, &t.sd}) v->assign(B * G, 0.f);
+    for (auto* v : {&t.err_clear, &t.range_clear, &t.sd_clear}) v->assign(B, 0.f);
+    SensorConfig plain = r.config;  // the model itself: the extensions are the diagnosis' (Replay::prior)
+    plain.extensions = ModelExtensions{};
+    const std::unique_ptr<BeamModel> model = makeBeamModel(plain);
+    auto evaluate = [&](size_t b, double scale, float& err, float& range, float& sd) {
+        const SmokeField f = ref.scaledRegional(scale);
+        const BeamWorld w{scene, surfaces, f, false};
+        const LaserBeam beam(rays[b], r.beams[b].angle_rad);
+        const BeamPrediction p = model->predict(w, beam);
+        err = float(p.p_error);
+        range = float(p.expected.error ? r.beams[b].range_m : double(p.expected.value) * r.spec.unit_m);
+        sd = float(std::min(p.range_sigma_m, r.spec.range_max_m));
+    };
+    tbb::parallel_for(size_t(0), B, [&](size_t b) {
+        if (r.beams[b].surface < 0) return;
+        evaluate(b, 0.0, t.err_clear[b], t.range_clear[b], t.sd_clear[b]);
+        for (size_t j = 0; j < G; ++j) {
+            const size_t i = b * G + j;
+            evaluate(b, std::exp(t.u_lo + t.du * double(j)), t.err[i], t.range[i], t.sd[i]);
+        }
+    });
+}
+
 }  // namespace
 
 Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
 {
     if (!in.scene) throw Error("diagnose", "needs --scene (the geometry the run is replayed in)");
-    if (!(cfg.block_s > 0)) throw Error("--block", "must be > 0");
+    if (!(cfg.block_s >= 0.1)) throw Error("--block", "must be at least 0.1 s");
+    if ((in.log.scans.back().time_s - in.log.scans.front().time_s) / cfg.block_s > 1e5)
+        throw Error("--block", "would split the run into more than 100000 blocks");
+    if (config.model == SensorModel::Physical && config.type != SensorType::Urg04lx)
+        throw Error("--model",
+                    "the physical model is replayed for the urg04lx only (the lms200's error probability "
+                    "is a Monte Carlo estimate, too slow per beam and scale)");
+    if (config.model == SensorModel::Physical && in.saturation.time_s.empty())
+        throw Error("--model", "the physical model is replayed from a saturation series only (give --saturation)");
     Replay r;
     r.spec = specFor(config);
     r.config = config;
@@ -132,6 +211,7 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
         for (size_t b = 0; b < r.beams.size(); ++b)
             r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional;
         densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
+        if (r.isPhysical()) physicalTables(r, scene, *in.surfaces, ref, rays);
         const double c0 = r.density_time_s.front(), c1 = r.density_time_s.back();
         if (t1 < c0 || t0 > c1)
             throw Error(in.saturation.path,
@@ -142,8 +222,24 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
         t0 = std::max(t0, c0);
         t1 = std::min(t1, c1);
     }
+    // A scan farther than this from the camera's nearest sample has no measured smoke either.
+    const double max_gap_s = std::max(2.0, 10 * r.frame_s);
+    auto nearSample = [&](double t) {
+        const auto& ts = r.density_time_s;
+        const auto it = std::lower_bound(ts.begin(), ts.end(), t);
+        double d = kInf;
+        if (it != ts.end()) d = *it - t;
+        if (it != ts.begin()) d = std::min(d, t - *(it - 1));
+        return d <= max_gap_s;
+    };
+    if (!r.from_saturation && (t1 < scene.t_start_s || t0 > scene.t_end_s))
+        throw Error(in.log.path,
+                    fmt("spans %.1f-%.1f s, outside the scene's time line (%.1f-%.1f s); give the "
+                        "camera's --saturation",
+                        t0, t1, scene.t_start_s, scene.t_end_s));
     for (const LaserLogScan& s : in.log.scans) {
         if (s.time_s < t0 || s.time_s > t1) continue;
+        if (r.from_saturation && !nearSample(s.time_s)) continue;
         ReplayScan sc;
         sc.time_s = s.time_s;
         sc.block = int(std::floor((s.time_s - t0) / cfg.block_s));
@@ -183,6 +279,8 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
         }
         r.scans.push_back(sc);
     }
+    if (r.scans.empty()) throw Error(in.log.path, "has no scan the camera's saturation covers");
+    checkRanges(r, in.log.path);
     return r;
 }
 

@@ -17,15 +17,24 @@ namespace fs = std::filesystem;
 AtomicFolder::AtomicFolder(std::string dir, std::string what, const std::string& option)
     : dir_(std::move(dir)), what_(std::move(what))
 {
+    if (dir_.empty()) throw Error(option, "names no folder");
+    while (dir_.size() > 1 && dir_.back() == '/') dir_.pop_back();  // "diag/" is the folder diag
     struct stat st {};
-    if (::lstat(dir_.c_str(), &st) == 0 && !(S_ISDIR(st.st_mode) && fs::is_empty(dir_)))
-        throw Error(dir_, "exists and is not an empty folder (" + option + " writes a new one)");
+    if (::lstat(dir_.c_str(), &st) == 0) {
+        if (S_ISLNK(st.st_mode)) throw Error(dir_, "is a symbolic link (" + option + " writes a new folder)");
+        if (!(S_ISDIR(st.st_mode) && fs::is_empty(dir_)))
+            throw Error(dir_, "exists and is not an empty folder (" + option + " writes a new one)");
+    }
     const fs::path parent = fs::path(dir_).parent_path();
     if (!parent.empty() && !fs::is_directory(parent)) throw Error(dir_, "cannot write (no such directory)");
     std::string tmpl = dir_ + ".tmpXXXXXX";
     if (!::mkdtemp(tmpl.data())) throw Error(dir_, "cannot create " + what_ + ": " + std::string(std::strerror(errno)));
     tmp_ = tmpl;
     registerTemporary(tmp_);
+    // mkdtemp makes it 0700; the folder gets the mode a new folder would (0777 less the umask).
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    ::chmod(tmp_.c_str(), 0777 & ~mask);
 }
 
 AtomicFolder::~AtomicFolder()

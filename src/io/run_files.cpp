@@ -56,7 +56,9 @@ void RunFiles::output(const std::string& path, const std::string& option)
 
 void RunFiles::outputFolder(const std::string& path, const std::string& option)
 {
-    if (!path.empty()) record(path, option);
+    std::string p = path;
+    while (p.size() > 1 && p.back() == '/') p.pop_back();  // "diag/" is the folder diag
+    if (!p.empty()) record(p, option);
 }
 
 void RunFiles::record(const std::string& path, const std::string& option)

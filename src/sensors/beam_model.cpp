@@ -14,10 +14,9 @@ BeamModel::BeamModel(const SensorConfig& c) : config_(c), spec_(specFor(c)) {}
 
 std::unique_ptr<BeamModel> makeBeamModel(const SensorConfig& c)
 {
-    if (c.extensions.changesBeams() && !(c.type == SensorType::Urg04lx && c.model == SensorModel::Paper))
+    if (c.extensions.changesBeams() && c.type != SensorType::Urg04lx)
         throw Error(c.sensor_file.empty() ? std::string("sensor") : c.sensor_file,
-                    std::string("[extensions] extend the urg04lx's paper model, not the ") + sensorTypeName(c.type) +
-                        "'s " + sensorModelName(c.model) + " model");
+                    std::string("[extensions] extend the urg04lx's models, not the ") + sensorTypeName(c.type) + "'s");
     switch (c.type) {
     case SensorType::Urg04lx:
         if (c.model == SensorModel::Physical) return std::make_unique<AmcwUrgModel>(c);
@@ -27,6 +26,17 @@ std::unique_ptr<BeamModel> makeBeamModel(const SensorConfig& c)
         return std::make_unique<PaperSickModel>(c);
     }
     return nullptr;
+}
+
+double BeamModel::rangeSigma(const BeamWorld& w, const LaserBeam& beam) const
+{
+    const BeamResult r = expected(w, beam);
+    return spec().rangeSigma(r.error ? r.hit.endOr(spec().range_max_m) : double(r.value) * spec().unit_m);
+}
+
+BeamPrediction BeamModel::predict(const BeamWorld& w, const LaserBeam& beam) const
+{
+    return {errorProbability(w, beam), expected(w, beam), rangeSigma(w, beam)};
 }
 
 bool regionalSmokeRising(const Scene& scene, double t_s)
@@ -134,6 +144,7 @@ PhysicalTrace physicalTrace(const BeamModel& m, const BeamWorld& w, const Ray& r
 
 BeamResult PhysicalBeamModel::read(const BeamWorld& w, const LaserBeam& beam, KeyedRng& rng, bool details) const
 {
+    if (config().extensions.changesBeams()) return readExtended(w, beam, &rng);
     PhysicalTrace t = physicalTrace(*this, w, beam.ray, details);
     BeamResult r = receive(t.signal, &rng);
     r.hit = t.hit;
@@ -141,8 +152,18 @@ BeamResult PhysicalBeamModel::read(const BeamWorld& w, const LaserBeam& beam, Ke
     return r;
 }
 
+BeamResult PhysicalBeamModel::readPlain(const BeamWorld& w, const Ray& ray, KeyedRng* rng) const
+{
+    PhysicalTrace t = physicalTrace(*this, w, ray, true);
+    BeamResult r = receive(t.signal, rng);
+    r.hit = t.hit;
+    r.smoke = std::move(t.smoke);
+    return r;
+}
+
 BeamResult PhysicalBeamModel::expected(const BeamWorld& w, const LaserBeam& beam) const
 {
+    if (config().extensions.changesBeams()) return readExtended(w, beam, nullptr);
     PhysicalTrace t = physicalTrace(*this, w, beam.ray, true);
     BeamResult r = receive(t.signal, nullptr);
     r.hit = t.hit;
@@ -152,7 +173,35 @@ BeamResult PhysicalBeamModel::expected(const BeamWorld& w, const LaserBeam& beam
 
 double PhysicalBeamModel::errorProbability(const BeamWorld& w, const LaserBeam& beam) const
 {
-    return receiveErrorProbability(physicalTrace(*this, w, beam.ray, false).signal);
+    if (config().extensions.changesBeams()) return errorProbabilityExtended(w, beam);
+    return errorProbabilityPlain(w, beam.ray);
+}
+
+double PhysicalBeamModel::rangeSigma(const BeamWorld& w, const LaserBeam& beam) const
+{
+    const double s = receiveRangeSigma(physicalTrace(*this, w, beam.ray, false).signal);
+    return std::isnan(s) ? BeamModel::rangeSigma(w, beam) : s;
+}
+
+double PhysicalBeamModel::receiveRangeSigma(const BeamSignal&) const { return NAN; }
+
+BeamPrediction PhysicalBeamModel::predict(const BeamWorld& w, const LaserBeam& beam) const
+{
+    if (config().extensions.changesBeams()) return BeamModel::predict(w, beam);
+    PhysicalTrace t = physicalTrace(*this, w, beam.ray, true);
+    BeamPrediction p;
+    p.p_error = receiveErrorProbability(t.signal);
+    p.expected = receive(t.signal, nullptr);
+    p.expected.hit = t.hit;
+    p.expected.smoke = std::move(t.smoke);
+    const double s = receiveRangeSigma(t.signal);
+    p.range_sigma_m = std::isnan(s) ? BeamModel::rangeSigma(w, beam) : s;
+    return p;
+}
+
+double PhysicalBeamModel::errorProbabilityPlain(const BeamWorld& w, const Ray& ray) const
+{
+    return receiveErrorProbability(physicalTrace(*this, w, ray, false).signal);
 }
 
 std::string PhysicalBeamModel::smokeParameter() const

@@ -62,10 +62,22 @@ public:
     BeamResult read(const BeamWorld& w, const LaserBeam& beam, KeyedRng& rng, bool details) const final;
     BeamResult expected(const BeamWorld& w, const LaserBeam& beam) const final;
     double errorProbability(const BeamWorld& w, const LaserBeam& beam) const final;
+    double rangeSigma(const BeamWorld& w, const LaserBeam& beam) const final;
+    BeamPrediction predict(const BeamWorld& w, const LaserBeam& beam) const final;
     std::string smokeParameter() const final;
 
 protected:
     using BeamModel::BeamModel;
+    /// A valid reading's standard deviation for a signal; NaN (the default): the datasheet's at
+    /// the noise-free reading.
+    virtual double receiveRangeSigma(const BeamSignal& s) const;
+    /// The reading and error probability without extensions (beam_model.cpp).
+    BeamResult readPlain(const BeamWorld& w, const Ray& ray, KeyedRng* rng) const;  ///< rng null: noise-free
+    double errorProbabilityPlain(const BeamWorld& w, const Ray& ray) const;
+    /// The same with the config's extensions (extension_rule.cpp): the URG's only; rng null: the
+    /// noise-free reading (every draw at its median).
+    BeamResult readExtended(const BeamWorld& w, const LaserBeam& beam, KeyedRng* rng) const;
+    double errorProbabilityExtended(const BeamWorld& w, const LaserBeam& beam) const;
     /// The receiver's reading of a signal; rng null: without noise.
     virtual BeamResult receive(const BeamSignal& s, KeyedRng* rng) const = 0;
     /// The probability that the receiver reports an error value for the signal.
@@ -80,6 +92,7 @@ public:
 private:
     BeamResult receive(const BeamSignal& s, KeyedRng* rng) const override;
     double receiveErrorProbability(const BeamSignal& s) const override;
+    double receiveRangeSigma(const BeamSignal& s) const override;
 };
 
 /// Physical model, LMS200 (lms200/pulsed_sick.cpp): first echo of the pulsed waveform.

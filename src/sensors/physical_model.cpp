@@ -199,6 +199,14 @@ double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A)
     return std::clamp(1.0 - valid, 0.0, 1.0);
 }
 
+double amcwRangeSigma(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+{
+    const AmcwPhasors z = amcwPhasors(p, s);
+    const double ds = spec.rangeSigma(amcwRange(z)), A = std::abs(z.hi);
+    const double phase = A > 0 ? p.noise_floor / (A * z.k_hi) : kInf;
+    return std::sqrt(ds * ds + phase * phase);
+}
+
 double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
 {
     const AmcwPhasors z = amcwPhasors(p, s);

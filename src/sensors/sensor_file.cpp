@@ -26,10 +26,9 @@ void applySensorText(const std::string& text, const std::string& path, SensorCon
     if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical);
     if (t.has("extensions")) {
         readExtensionsTable(t.table("extensions"), c.extensions);
-        if (c.extensions.changesBeams() && !(c.type == SensorType::Urg04lx && c.model == SensorModel::Paper))
+        if (c.extensions.changesBeams() && c.type != SensorType::Urg04lx)
             t.error("extensions",
-                    "extend the urg04lx's paper model; this file's sensor is the " +
-                        std::string(sensorTypeName(c.type)) + "'s " + sensorModelName(c.model) + " model");
+                    "extend the urg04lx's models; this file's sensor is an " + std::string(sensorTypeName(c.type)));
     }
     t.finish();
     c.sensor_file = path;

@@ -53,6 +53,8 @@ void writePhysicalTable(std::ostream& o, const PhysicalParams& p)
 void readPaperTable(TomlTable t, PaperModelConfig& p)
 {
     p.penetration_power = t.positive("penetration_power", p.penetration_power);
+    if (p.penetration_power < 1e-9 || p.penetration_power > 1e3)
+        t.error("penetration_power", "must lie in 1e-9…1e3 density·m");
     p.local_threshold = t.positive("local_threshold", p.local_threshold);
     t.finish();
 }
@@ -66,13 +68,17 @@ void writePaperTable(std::ostream& o, const PaperModelConfig& p)
 void readExtensionsTable(TomlTable t, ModelExtensions& e)
 {
     e = ModelExtensions{};  // a learned model is one whole: the section replaces any earlier one
+    // Bounds: what a diagnosis can report (diagnose/candidates.cpp, Candidate::plausible).
     e.clock_offset_s = t.num("clock_offset_s", e.clock_offset_s);
+    if (std::abs(e.clock_offset_s) > 1e5) t.error("clock_offset_s", "must lie in -1e5…1e5 s");
     e.threshold_width = t.positive("threshold_width", e.threshold_width);
     if (e.threshold_width > 5) t.error("threshold_width", "must be <= 5 (ln column)");
     e.range_noise_growth_m = t.nonneg("range_noise_growth_m", e.range_noise_growth_m);
+    if (e.range_noise_growth_m > 1e3) t.error("range_noise_growth_m", "must be <= 1000 m per density·m");
     e.smoke_obstacle_return = t.nonneg("smoke_obstacle_return", e.smoke_obstacle_return);
     if (e.smoke_obstacle_return > 1) t.error("smoke_obstacle_return", "must be a share in [0, 1]");
     e.hysteresis = t.num("hysteresis", e.hysteresis);
+    if (std::abs(e.hysteresis) > 10) t.error("hysteresis", "must lie in -10…10 (ln of a factor)");
     for (TomlTable s : t.tables("surface")) {
         const std::string name = s.strReq("name");
         if (name.empty()) s.error("name", "must not be empty");
@@ -81,6 +87,7 @@ void readExtensionsTable(TomlTable t, ModelExtensions& e)
         x.threshold_factor = s.num("threshold_factor", 0.0);
         x.range_bias = s.num("range_bias", 0.0);
         if (std::abs(x.threshold_factor) > 10) s.error("threshold_factor", "must lie in -10…10 (ln of a factor)");
+        if (std::abs(x.range_bias) > 1e4) s.error("range_bias", "must lie in -1e4…1e4 per density·m");
         s.finish();
         e.surfaces[name] = x;
     }
@@ -88,7 +95,8 @@ void readExtensionsTable(TomlTable t, ModelExtensions& e)
         SectorExtension x;
         x.from_deg = s.numReq("from_deg");
         x.to_deg = s.numReq("to_deg");
-        x.dropout = s.nonneg("dropout", 0.0);
+        x.dropout = s.numReq("dropout");
+        if (!(x.dropout >= 0)) s.error("dropout", "must be a probability in [0, 1]");
         if (!(x.to_deg >= x.from_deg)) s.error("to_deg", "must not be below from_deg");
         if (std::abs(x.from_deg) > 360 || std::abs(x.to_deg) > 360) s.error("from_deg", "angles must lie in -360…360");
         if (x.dropout > 1) s.error("dropout", "must be a probability in [0, 1]");

@@ -11,6 +11,10 @@
 ///     penetration power P, a step when w → 0); a stopped beam returns a short range, uniform
 ///     on (0, L), with probability q (smoke obstacle return), else an error value;
 ///  3. else it reads N(L·(1 + β·C), σ₀(L)² + (γ·C)²), σ₀ the datasheet noise;
+///
+/// With the physical model (the URG-04LX's), p_s is the model's own error probability at the
+/// smoke scaled by e^(−shift) (the threshold's shift ln(P'/P)), averaged over the width's
+/// e^(w·z), and L is its noise-free range (diagnose/replay.hpp tabulates both per beam);
 ///  4. robustness: with probability ε = 1e-3 a beam lapses — it errs or reads a uniform range,
 ///     even odds — and a surface reading is an outlier, uniform over the sensor's range, with
 ///     probability η = 1e-3: no recorded value has probability zero, and no single beam costs
@@ -62,31 +66,28 @@ struct BeamTerms {
     T gamma;  ///< γ
     T q;  ///< obstacle return share
     T d;  ///< dropout
+    T ps;  ///< P(the smoke stops the beam): Φ((ln C − ln P)/w) for the paper model (set by the caller)
+    T mu0;  ///< the model's noise-free range [m]: L for the paper model
+    T sd0;  ///< its noise [m] in clear air: σ₀(L), the datasheet's, for the paper model
 };
 
 /// @brief ln of the probability (error) or density [1/m] (range) of a recorded value.
 /// @param recorded_m the recorded range, NaN for an error value
-/// @param L_m the distance to the surface, @param sigma0_m the datasheet noise at L
-/// @param rmax_m the sensor's maximum range
+/// @param L_m the distance to the surface, @param rmax_m the sensor's maximum range
 template <class T>
-T logLikelihood(const BeamTerms<T>& x, double recorded_m, double L_m, double sigma0_m, double rmax_m)
+T logLikelihood(const BeamTerms<T>& x, double recorded_m, double L_m, double rmax_m)
 {
-    using std::erfc;
     using std::exp;
     using std::log;
     using std::sqrt;
-    T ps = T(0.0);
-    if (x.column > T(0.0)) {
-        const T z = (log(x.column) - x.lnP) / x.width;
-        ps = T(0.5) * erfc(-z / T(M_SQRT2));
-    }
+    const T& ps = x.ps;
     const T stop = x.d + (T(1.0) - x.d) * ps;  // P(no surface reading)
     if (std::isnan(recorded_m)) {
         const T err = x.d + (T(1.0) - x.d) * ps * (T(1.0) - x.q);
         return log(T(0.5 * kLapse) + T(1.0 - kLapse) * err);
     }
-    const T mu = T(L_m) * (T(1.0) + x.beta * x.column);
-    const T var = T(sigma0_m * sigma0_m) + x.gamma * x.gamma * x.column * x.column;
+    const T mu = x.mu0 * (T(1.0) + x.beta * x.column);
+    const T var = x.sd0 * x.sd0 + x.gamma * x.gamma * x.column * x.column;
     const T r = T(recorded_m) - mu;
     const T normal = exp(-r * r / (T(2.0) * var)) / sqrt(T(2.0 * M_PI) * var);
     const T surface = (T(1.0) - stop) * (T(1.0 - kOutlier) * normal + T(kOutlier / rmax_m));

@@ -75,6 +75,18 @@ struct Replay {
     bool from_saturation = true;
     std::vector<std::vector<float>> column;  ///< without saturation: traced columns [scan][beam]
 
+    /// The physical model's replay (config.model physical, the URG-04LX's): per beam, the
+    /// model's error probability, noise-free range [m] and a valid reading's standard deviation
+    /// [m] against u = ln s, s the regional smoke's scale against the reference state, on the grid
+    /// u_lo + j·du (j < grid), and at s = 0.
+    struct PhysicalTable {
+        double u_lo = 0, du = 0;
+        int grid = 0;
+        std::vector<float> err, range, sd;  ///< [beam · grid + j]
+        std::vector<float> err_clear, range_clear, sd_clear;  ///< [beam]
+    } physical;
+    bool isPhysical() const { return config.model == SensorModel::Physical; }
+
     /// @brief The regional column along beam b at scan k [density·m].
     double columnAt(size_t k, size_t b) const
     {
@@ -89,7 +101,8 @@ struct Replay {
 
 /// @brief Replays a run. @throw Error naming the log when its beams do not match the sensor's,
 /// the saturation when it does not overlap the log, or the sensor file when its extensions name
-/// a surface the scene does not have.
+/// a surface the scene does not have; and for the physical model of the LMS200 or without a
+/// saturation series (not replayed).
 Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg);
 
 /// @brief A sensor file's extensions on the replay's surfaces and beam angles (the clock offset

@@ -42,6 +42,13 @@ struct LaserBeam {
     LaserBeam(const Ray& r, double angle = 0) : ray(r), angle_rad(angle) {}  // NOLINT: a ray is a beam
 };
 
+/// A beam's predictive form in one: what predicts a recorded value's probability.
+struct BeamPrediction {
+    double p_error = 0;  ///< errorProbability
+    BeamResult expected;  ///< the reading without noise
+    double range_sigma_m = 0;  ///< rangeSigma
+};
+
 /// A sensor model: one implementation per sensor type and model.
 class BeamModel {
 public:
@@ -57,6 +64,11 @@ public:
     virtual BeamResult expected(const BeamWorld& world, const LaserBeam& beam) const = 0;
     /// @brief Probability that the beam reports an error value.
     virtual double errorProbability(const BeamWorld& world, const LaserBeam& beam) const = 0;
+    /// @brief The standard deviation of a valid reading [m] (the datasheet's at its noise-free
+    /// range, unless the model's receiver says otherwise).
+    virtual double rangeSigma(const BeamWorld& world, const LaserBeam& beam) const;
+    /// @brief The three at once (a model may trace the beam once for them).
+    virtual BeamPrediction predict(const BeamWorld& world, const LaserBeam& beam) const;
     /// @brief The model's smoke parameter as `name=value`, for log headers.
     virtual std::string smokeParameter() const = 0;
 

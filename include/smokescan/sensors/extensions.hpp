@@ -2,8 +2,9 @@
 /// @file extensions.hpp
 /// @brief What a diagnosis learned about a sensor, beyond the paper model: the accepted candidate
 /// extensions (docs/diagnosis.md), kept in a sensor file's `[extensions]` section and simulated by
-/// `smokescan scan` (the URG-04LX's paper model, sensors/urg04lx/paper_urg.cpp). Default-constructed:
-/// today's model, nothing extended.
+/// `smokescan scan` in the URG-04LX's models (the paper model: sensors/urg04lx/paper_urg.cpp; the
+/// physical model: sensors/extension_rule.cpp, where a moved threshold scales the smoke the
+/// receiver sees). Default-constructed: today's model, nothing extended.
 ///
 /// A beam at regional smoke column C [density·m] along it, to a surface at L [m]:
 ///  1. in a dropout sector it fails with probability d, whatever the smoke;

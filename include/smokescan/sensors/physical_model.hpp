@@ -110,6 +110,10 @@ double amcwErrorProbability(const PhysicalParams& p, const AmcwAmplitudes& A);
 /// window counted as an error.
 double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
 
+/// @brief The standard deviation of a valid amcwBeam reading [m]: the fine phasor's phase noise
+/// σ/A_hi over its wavenumber, and the datasheet noise at the range, in quadrature.
+double amcwRangeSigma(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
+
 /// @brief LMS200: the waveform (Gaussian pulse ⊗ echoes + noise), first echo above threshold,
 /// range at its half-maximum leading edge plus half the pulse width. Codes: 8183 no echo,
 /// 8189 echo too weak or too wide (ambiguous), 8191 dazzled.

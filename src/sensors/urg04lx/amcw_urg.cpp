@@ -13,4 +13,9 @@ double AmcwUrgModel::receiveErrorProbability(const BeamSignal& s) const
     return amcwErrorProbability(spec(), config().physical, s);
 }
 
+double AmcwUrgModel::receiveRangeSigma(const BeamSignal& s) const
+{
+    return amcwRangeSigma(spec(), config().physical, s);
+}
+
 }  // namespace smokescan

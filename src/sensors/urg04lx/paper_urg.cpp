@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "../beam_models.hpp"
+#include "../extension_rule.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/sensors/paper_model.hpp"
 
@@ -21,34 +22,6 @@ BeamResult paperUrgBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const 
 }
 
 namespace {
-
-/// What the extensions make of one beam: its dropout, the ln of the penetration power that
-/// applies to it, and its surface's range bias.
-struct BeamExtension {
-    double dropout = 0;
-    double lnP = 0;
-    double range_bias = 0;
-};
-
-BeamExtension extensionOf(const ModelExtensions& e, const PaperModelConfig& cfg, const BeamWorld& w,
-                          const LaserBeam& beam, const SurfaceHit& hit)
-{
-    BeamExtension x;
-    double keep = 1;
-    const double deg = beam.angle_rad * 180 / M_PI;
-    for (const SectorExtension& s : e.sectors)
-        if (deg >= s.from_deg && deg <= s.to_deg) keep *= 1 - s.dropout;
-    x.dropout = 1 - keep;
-    x.lnP = std::log(cfg.penetration_power) + (w.smoke_rising ? -0.5 : 0.5) * e.hysteresis;
-    if (hit.surface >= 0 && !e.surfaces.empty()) {
-        const auto it = e.surfaces.find(w.scene.surfaces[size_t(hit.surface)].name);
-        if (it != e.surfaces.end()) {
-            x.lnP += it->second.threshold_factor;
-            x.range_bias = it->second.range_bias;
-        }
-    }
-    return x;
-}
 
 /// The probability that the smoke stops a beam at column C: Φ((ln C − ln P')/w).
 double stopProbability(double column, double lnP, double width)
@@ -68,10 +41,11 @@ BeamResult PaperUrgModel::rule(const BeamWorld& w, const LaserBeam& beam, const 
     r.smoke = smoke;
     if (std::isfinite(smoke.first_local_m)) return markError(r, spec().no_return_code, "local_smoke");
     if (hit.surface < 0) return markError(r, spec().no_return_code, "out_of_range");
-    const BeamExtension x = extensionOf(e, config().paper, w, beam, hit);
+    const BeamExtension x = extensionOf(e, w, beam, hit);
+    const double lnP = std::log(config().paper.penetration_power) + x.threshold_shift;
     if (d.u_dropout < x.dropout) return markError(r, spec().no_return_code, "sector_dropout");
     const double C = smoke.column_regional, L = hit.t_m;
-    if (C > 0 && std::log(C) > x.lnP + e.threshold_width * d.z_threshold) {
+    if (C > 0 && std::log(C) > lnP + e.threshold_width * d.z_threshold) {
         if (d.u_return >= e.smoke_obstacle_return) return markError(r, spec().no_return_code, "penetration_power");
         r.cause = "smoke_obstacle";  // a short return off the smoke, uniform on (0, L)
         return reportRange(spec(), std::max(d.u_short * L, spec().range_min_m), 0.0, r);
@@ -91,8 +65,9 @@ double PaperUrgModel::ruleErrorProbability(const BeamWorld& w, const LaserBeam& 
     const ModelExtensions& e = config().extensions;
     if (!e.changesBeams()) return PaperBeamModel::ruleErrorProbability(w, beam, r);
     if (std::isfinite(r.smoke.first_local_m) || r.hit.surface < 0) return 1.0;
-    const BeamExtension x = extensionOf(e, config().paper, w, beam, r.hit);
-    const double ps = stopProbability(r.smoke.column_regional, x.lnP, e.threshold_width);
+    const BeamExtension x = extensionOf(e, w, beam, r.hit);
+    const double lnP = std::log(config().paper.penetration_power) + x.threshold_shift;
+    const double ps = stopProbability(r.smoke.column_regional, lnP, e.threshold_width);
     return x.dropout + (1 - x.dropout) * ps * (1 - e.smoke_obstacle_return);
 }
 

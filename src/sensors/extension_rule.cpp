@@ -1,0 +1,94 @@
+// The extensions' beam rule shared by the URG's models, and the physical model with extensions:
+// the smoke's threshold moved by scaling the regional smoke the receiver sees.
+#include "extension_rule.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "beam_models.hpp"
+#include "smokescan/core/random.hpp"
+#include "smokescan/scene/scene.hpp"
+#include "smokescan/scene/surfaces.hpp"
+
+namespace smokescan {
+
+BeamExtension extensionOf(const ModelExtensions& e, const BeamWorld& w, const LaserBeam& beam, const SurfaceHit& hit)
+{
+    BeamExtension x;
+    double keep = 1;
+    const double deg = beam.angle_rad * 180 / M_PI;
+    for (const SectorExtension& s : e.sectors)
+        if (deg >= s.from_deg && deg <= s.to_deg) keep *= 1 - s.dropout;
+    x.dropout = 1 - keep;
+    x.threshold_shift = (w.smoke_rising ? -0.5 : 0.5) * e.hysteresis;
+    if (hit.surface >= 0 && !e.surfaces.empty()) {
+        const auto it = e.surfaces.find(w.scene.surfaces[size_t(hit.surface)].name);
+        if (it != e.surfaces.end()) {
+            x.threshold_shift += it->second.threshold_factor;
+            x.range_bias = it->second.range_bias;
+        }
+    }
+    return x;
+}
+
+// ---- the physical model with extensions ----
+//
+// A threshold moved by a factor e^s (a surface's factor, the hysteresis) is the receiver seeing
+// the regional smoke scaled by e^−s; the onset's spread w scales it by a further e^(w·z) per
+// beam, z a standard normal draw. The rest is as in the paper model: a dropout sector, a share q
+// of the errors reading short (uniform on (0, L)), the surface's range bias and the noise grown
+// with the smoke column C on the receiver's reading.
+
+BeamResult PhysicalBeamModel::readExtended(const BeamWorld& w, const LaserBeam& beam, KeyedRng* rng) const
+{
+    const ModelExtensions& e = config().extensions;
+    const SurfaceHit hit = w.surfaces.closest(beam.ray, spec().range_max_m);
+    if (hit.surface < 0) return readPlain(w, beam.ray, rng);  // nothing to extend: no surface in range
+    // The draws, or their medians for the noise-free reading.
+    double u_drop = 0.5, z = 0, u_ret = 0.5, u_short = 0.5, noise = 0;
+    if (rng) {
+        u_drop = rng->uniform();
+        z = rng->normal();
+        u_ret = rng->uniform();
+        u_short = rng->uniform();
+        noise = rng->normal();
+    }
+    const BeamExtension x = extensionOf(e, w, beam, hit);
+    if (u_drop < x.dropout) {
+        BeamResult r;
+        r.hit = hit;
+        return markError(r, spec().no_return_code, "sector_dropout");
+    }
+    const double scale = std::exp(-x.threshold_shift + e.threshold_width * z);
+    const SmokeField scaled = w.field.scaledRegional(scale);
+    BeamResult r = readPlain(BeamWorld{w.scene, w.surfaces, scaled, w.smoke_rising}, beam.ray, rng);
+    const double L = hit.t_m, C = r.smoke.column_regional / scale;
+    if (r.error) {
+        if (u_ret >= e.smoke_obstacle_return) return r;
+        r.error = false;
+        r.cause = "smoke_obstacle";
+        return reportRange(spec(), std::max(u_short * L, spec().range_min_m), 0.0, r);
+    }
+    const double measured =
+        double(r.value) * spec().unit_m * (1 + x.range_bias * C) + e.range_noise_growth_m * C * noise;
+    r.value = std::llround(std::max(measured, spec().range_min_m) / spec().unit_m);
+    if (spec().isErrorValue(r.value)) return markError(r, spec().no_return_code, "out_of_range");
+    return r;
+}
+
+double PhysicalBeamModel::errorProbabilityExtended(const BeamWorld& w, const LaserBeam& beam) const
+{
+    const ModelExtensions& e = config().extensions;
+    const SurfaceHit hit = w.surfaces.closest(beam.ray, spec().range_max_m);
+    if (hit.surface < 0) return errorProbabilityPlain(w, beam.ray);
+    const BeamExtension x = extensionOf(e, w, beam, hit);
+    double p = 0;  // over the onset's spread: the normal's quantiles (core/quadrature.hpp)
+    const double* z = normalNodes();
+    for (int i = 0; i < kNormalNodes; ++i) {
+        const SmokeField scaled = w.field.scaledRegional(std::exp(-x.threshold_shift + e.threshold_width * z[i]));
+        p += errorProbabilityPlain(BeamWorld{w.scene, w.surfaces, scaled, w.smoke_rising}, beam.ray) / kNormalNodes;
+    }
+    return x.dropout + (1 - x.dropout) * p * (1 - e.smoke_obstacle_return);
+}
+
+}  // namespace smokescan
