@@ -20,6 +20,7 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
     EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
     EXPECT_NE(slurp(fs::path(out) / "diagnosis.json").find("\"verdict\": \"none\""), std::string::npos);
     EXPECT_NE(slurp(fs::path(out) / "report.md").find("### smoke_trend"), std::string::npos);
+    EXPECT_TRUE(fs::is_regular_file(fs::path(out) / "worst_1.png"));  // the worst covariates, plotted
     // The extended sensor file (nothing learned: the paper model) scans.
     const std::string toml = (fs::path(out) / "sensor.toml").string();
     EXPECT_NE(slurp(toml).find("model = \"paper\""), std::string::npos);

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/diagnose/diagnosis_report.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
@@ -45,7 +46,17 @@ int runDiagnose(const DiagnoseArgs& a0)
     // The clock offset a sensor file learned is the default of --offset.
     if (std::isnan(a.replay.offset_s)) a.replay.offset_s = config.extensions.clock_offset_s;
     const Replay replay = replayRun(in, config, a.replay);
-    const DiagnosisResult r = diagnose(replay, a.diag);
+    DiagnosisConfig dc = a.diag;
+    std::unique_ptr<Progress> bar;  // one bar a round, on a terminal
+    int bar_round = 0;
+    dc.progress = [&](int round, int done, int total) {
+        if (round != bar_round) {
+            bar = std::make_unique<Progress>("diagnose round " + std::to_string(round), "candidates");
+            bar_round = round;
+        }
+        bar->update(done, total);
+    };
+    const DiagnosisResult r = diagnose(replay, dc);
     SensorConfig extended = config;
     extended.extensions = sensorExtensions(replay, r.model);
     writeSensorFile(out.path("sensor.toml"), extended,

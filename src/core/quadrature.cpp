@@ -23,7 +23,12 @@ const double* normalNodes()
 {
     static const std::array<double, kNormalNodes> nodes = [] {
         std::array<double, kNormalNodes> z{};
-        for (int i = 0; i < kNormalNodes; ++i) z[size_t(i)] = normalQuantile((i + 0.5) / kNormalNodes);
+        double var = 0;
+        for (int i = 0; i < kNormalNodes; ++i) {
+            z[size_t(i)] = normalQuantile((i + 0.5) / kNormalNodes);
+            var += z[size_t(i)] * z[size_t(i)] / kNormalNodes;
+        }
+        for (double& x : z) x /= std::sqrt(var);  // unit variance: a width averaged is the width
         return z;
     }();
     return nodes.data();

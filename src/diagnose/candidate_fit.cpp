@@ -82,7 +82,7 @@ ThetaFit fitCandidate(const Replay& r, const Extensions& m, const Candidate& c, 
     ceres::GradientProblemSolver::Summary summary;
     quietCeres();
     ceres::Solve(opt, problem, &theta, &summary);
-    if (!summary.IsSolutionUsable() || !std::isfinite(theta) || !c.plausible(theta)) return f;
+    if (!summary.IsSolutionUsable() || !std::isfinite(theta) || !c.plausible(theta, m)) return f;
     // Observed information by central differences of the analytic gradient; scores per block.
     auto gradAt = [&](double t) {
         double cost = 0, g = 0;

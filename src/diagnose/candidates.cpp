@@ -79,11 +79,11 @@ namespace {
 /// A physical table's value at u = ln s: linear in u on the grid, linear in s from the clear
 /// value below it, the last value above it.
 template <class T>
-T tableAt(const Replay::PhysicalTable& t, const std::vector<float>& v, float clear, size_t b, const T& u)
+T tableAt(const Replay::PhysicalTable& t, const std::vector<double>& v, double clear, size_t b, const T& u)
 {
     using std::exp;
     const size_t G = size_t(t.grid);
-    const float* row = v.data() + b * G;
+    const double* row = v.data() + b * G;
     double ua;
     if constexpr (std::is_same_v<T, double>)
         ua = u;
@@ -106,20 +106,20 @@ double valueOf(const T& v)
         return v.a;
 }
 
-/// Whether beam b's error table is constant (to 1e-6) over [u0, u1] on its grid (the clear value
+/// Whether beam b's error table is constant (to 1e-12) over [u0, u1] on its grid (the clear value
 /// below it counts when u0 lies below the grid).
 bool flatBetween(const Replay::PhysicalTable& t, size_t b, double u0, double u1)
 {
     const size_t G = size_t(t.grid);
-    const float* row = t.err.data() + b * G;
+    const double* row = t.err.data() + b * G;
     const auto cell = [&](double u) { return std::clamp(std::floor((u - t.u_lo) / t.du), -1.0, double(G - 1)); };
     const long j0 = long(cell(u0)), j1 = long(cell(u1)) + 1;
-    float lo = j0 < 0 ? t.err_clear[b] : row[j0], hi = lo;
+    double lo = j0 < 0 ? t.err_clear[b] : row[j0], hi = lo;
     for (long j = std::max(0L, j0); j <= std::min(long(G) - 1, j1); ++j) {
         lo = std::min(lo, row[j]);
         hi = std::max(hi, row[j]);
     }
-    return hi - lo < 1e-6f;
+    return hi - lo < 1e-12;
 }
 
 }  // namespace
@@ -139,9 +139,9 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
     const Replay::PhysicalTable& t = r.physical;
     const size_t b = size_t(o.b);
     if (!(x.column > T(0.0)) || !(beam.column_ref > 0)) {
-        x.ps = T(double(t.err_clear[b]));
-        x.mu0 = T(double(t.range_clear[b]));
-        x.sd0 = T(double(t.sd_clear[b]));
+        x.ps = T(t.err_clear[b]);
+        x.mu0 = T(t.range_clear[b]);
+        x.sd0 = T(t.sd_clear[b]);
         return;
     }
     // The smoke's scale against the reference, with the threshold's shift: ln s − (ln P' − ln P).
@@ -365,7 +365,10 @@ bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& f
             else
                 break;
         }
-        if (e - b + 1 > best_n) {
+        // A dirty window or an occluder is local: beams failing in clear air over more than 60°
+        // are the smoke (or its measurement) misread, not a sector; the longest other run counts.
+        const bool local = double(e - b + 1) * std::abs(r.spec.dangle_rad) <= kMaxSector_rad;
+        if (local && e - b + 1 > best_n) {
             best_n = e - b + 1;
             best0 = b;
         }
@@ -376,25 +379,25 @@ bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& f
     const double a0 = r.beams[best0].angle_rad, a1 = r.beams[best0 + best_n - 1].angle_rad;
     from_rad = std::min(a0, a1) - half;
     to_rad = std::max(a0, a1) + half;
-    // A dirty window or an occluder is local: beams failing in clear air over more than 60° are
-    // the smoke (or its measurement) misread, not a sector.
-    return to_rad - from_rad <= kMaxSector_rad;
+    return true;
 }
 
-bool Candidate::plausible(double theta) const
+bool Candidate::plausible(double theta, const Extensions& m) const
 {
+    // The model's value once θ is committed, within a sensor file's bounds (sensor_tables.cpp).
     switch (cause) {
     case Cause::ClockOffset:
-        return std::abs(theta) <= 60;
+        return std::abs(m.clock_offset_s + theta) <= 60;
     case Cause::SurfaceThreshold:
+        return std::abs(valueOr<double>(m.threshold_factor, surface) + theta) <= 5;
     case Cause::Hysteresis:
-        return std::abs(theta) <= 5;
+        return std::abs(m.hysteresis + theta) <= 5;
     case Cause::ThresholdWidth:
         return theta <= std::log(5.0);
     case Cause::SurfaceRangeBias:
-        return std::abs(theta) <= 1e4;
+        return std::abs(valueOr<double>(m.range_bias, surface) + theta) <= 1e4;
     case Cause::RangeNoiseGrowth:
-        return std::abs(theta) <= 1e3;
+        return std::hypot(m.noise_growth_m, theta) <= 1e3;
     case Cause::SmokeObstacleReturn:
     case Cause::SectorDropout:
         return true;

@@ -50,9 +50,9 @@ struct Candidate {
     void apply(const Replay& r, const Extensions& model, const Obs& o, const J& theta, BeamTerms<J>& x) const;
     /// @brief θ into the extension model (the accepted finding).
     void commit(double theta, Extensions& model) const;
-    /// @brief Whether θ is a value the cause can take (a sensor file's bounds,
-    /// sensor_tables.cpp): a fit beyond them is refused, not reported.
-    bool plausible(double theta) const;
+    /// @brief Whether θ on top of `model` gives a value the cause can take (a sensor file's
+    /// bounds, sensor_tables.cpp): a fit beyond them is refused, not reported.
+    bool plausible(double theta, const Extensions& model) const;
     /// @brief The reported parameters: θ and its standard error in the cause's own units.
     std::vector<std::pair<std::string, Estimate>> report(double theta, double se) const;
 };
@@ -82,8 +82,8 @@ struct Prediction {
 Prediction modelPrediction(const Replay& r, const Extensions& model, const Obs& o);
 
 /// @brief The sector where beams fail in clear air (error share > 15 % over ≥ 5 clear scans, the
-/// longest run of such beams with gaps of at most two, at least 2 beams and at most 60°), among
-/// the scans of `fold` (−1: all).
+/// longest run of such beams with gaps of at most two, at least 2 beams and at most 60° wide),
+/// among the scans of `fold` (−1: all).
 /// Returns false when there is none.
 /// The widest sector a dropout is looked for in [rad].
 constexpr double kMaxSector_rad = 60 * M_PI / 180;

@@ -220,7 +220,10 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
         const std::vector<Candidate> cands = candidates(r, models.all, cfg, res.findings);
         if (cands.empty()) break;
         std::vector<Scored> scored;
-        for (const Candidate& c : cands) scored.push_back(scoreCandidate(r, models, c, cfg));
+        for (const Candidate& c : cands) {
+            scored.push_back(scoreCandidate(r, models, c, cfg));
+            if (cfg.progress) cfg.progress(round, int(scored.size()), int(cands.size()));
+        }
         // Bonferroni in two families, α/2 each: the global causes (few) and the targeted ones (a
         // surface or a sector each), so that the many targets do not drown a global cause.
         int n_global = 0;

@@ -132,7 +132,7 @@ void writeFindingPlot(const std::string& path, const std::string& title, const s
     };
     series(before, red, -4);
     series(after, blue, 4);
-    c.text(f.x1 - 260, f.y0 + 16, "red: today's model; blue: extended", 12);
+    c.text(f.x1 - 260, f.y0 + 16, after.empty() ? "today's model" : "red: today's model; blue: extended", 12);
     writeImage(path, c.image());
 }
 
@@ -288,10 +288,30 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
           << fmt("%.4g | %.3g", t.loglik_gain, t.p_value) << " |\n";
     o << "\n## Residuals of today's model against each covariate\n\nRecorded minus predicted: error share, and mean "
          "range where a range was recorded. The column is in units of the penetration power.\n";
+    // The worst few: the covariates whose bins (of at least 50 beams) miss the error share most.
+    std::vector<std::pair<double, std::string>> worst;
+    std::map<std::string, std::vector<ResidualRow>> rows;
+    for (const char* cov : kCovariates) {
+        rows[cov] = residualsBy(replay, replay.prior, cov);
+        double miss = 0;
+        for (const auto& row : rows[cov])
+            if (row.beams >= 50) miss = std::max(miss, std::abs(row.error_share - row.predicted_error_share));
+        worst.emplace_back(-miss, cov);
+    }
+    std::sort(worst.begin(), worst.end());
+    o << "\nThe three that miss the error share most, plotted: ";
+    for (size_t i = 0; i < 3 && i < worst.size(); ++i) {
+        const std::string png = fmt("worst_%zu.png", i + 1);
+        writeFindingPlot((std::filesystem::path(path).parent_path() / png).string(),
+                         "today's model against " + worst[i].second + ": error share residual", worst[i].second,
+                         Shown::ErrorShare, rows[worst[i].second], {});
+        o << (i ? ", " : "") << "[" << worst[i].second << "](" << png << ") (" << fmt("%.3f", -worst[i].first) << ")";
+    }
+    o << ".\n";
     for (const char* cov : kCovariates) {
         o << "\n### " << cov
           << "\n\n| bin | beams | error share | predicted | range residual [m] |\n|---|---|---|---|---|\n";
-        for (const auto& row : residualsBy(replay, replay.prior, cov))
+        for (const auto& row : rows[cov])
             o << "| " << row.bin << " | " << row.beams << " | "
               << fmt("%.3f | %.3f | %.4f", row.error_share, row.predicted_error_share, row.range_residual_m) << " |\n";
     }

@@ -128,8 +128,8 @@ void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, do
 }
 
 /// The physical model's tables (Replay::PhysicalTable): each beam's error probability and
-/// noise-free range at the reference state scaled by e^u, over the run's scales and 1.5 beyond
-/// (room for a shifted threshold), down to e^−7 of the densest (clear for any beam).
+/// noise-free range at the reference state scaled by e^u, over the run's scales and e^3 beyond
+/// (room for a shifted threshold and the density's noise), down to e^−5 of the densest.
 void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, const SmokeField& ref,
                     const std::vector<Ray>& rays)
 {
@@ -137,23 +137,24 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
     for (double d : r.density_series) s_max = std::max(s_max, d / r.density_ref);
     s_max = std::max(s_max, 1e-6);
     Replay::PhysicalTable& t = r.physical;
-    t.grid = 97;
-    t.u_lo = std::log(s_max) - 7.0;
-    t.du = 8.5 / double(t.grid - 1);
+    // Steps of 1/30 in ln s: fine beside the receiver's onset (a few tenths in ln s wide).
+    t.grid = 241;
+    t.u_lo = std::log(s_max) - 5.0;
+    t.du = 8.0 / double(t.grid - 1);
     const size_t B = r.beams.size(), G = size_t(t.grid);
-    for (auto* v : {&t.err, &t.range, &t.sd}) v->assign(B * G, 0.f);
-    for (auto* v : {&t.err_clear, &t.range_clear, &t.sd_clear}) v->assign(B, 0.f);
+    for (auto* v : {&t.err, &t.range, &t.sd}) v->assign(B * G, 0.0);
+    for (auto* v : {&t.err_clear, &t.range_clear, &t.sd_clear}) v->assign(B, 0.0);
     SensorConfig plain = r.config;  // the model itself: the extensions are the diagnosis' (Replay::prior)
     plain.extensions = ModelExtensions{};
     const std::unique_ptr<BeamModel> model = makeBeamModel(plain);
-    auto evaluate = [&](size_t b, double scale, float& err, float& range, float& sd) {
+    auto evaluate = [&](size_t b, double scale, double& err, double& range, double& sd) {
         const SmokeField f = ref.scaledRegional(scale);
         const BeamWorld w{scene, surfaces, f, false};
         const LaserBeam beam(rays[b], r.beams[b].angle_rad);
         const BeamPrediction p = model->predict(w, beam);
-        err = float(p.p_error);
-        range = float(p.expected.error ? r.beams[b].range_m : double(p.expected.value) * r.spec.unit_m);
-        sd = float(std::min(p.range_sigma_m, r.spec.range_max_m));
+        err = p.p_error;
+        range = p.expected.error ? r.beams[b].range_m : double(p.expected.value) * r.spec.unit_m;
+        sd = std::min(p.range_sigma_m, r.spec.range_max_m);
     };
     tbb::parallel_for(size_t(0), B, [&](size_t b) {
         if (r.beams[b].surface < 0) return;

@@ -54,15 +54,22 @@ BeamResult PhysicalBeamModel::readExtended(const BeamWorld& w, const LaserBeam& 
         noise = rng->normal();
     }
     const BeamExtension x = extensionOf(e, w, beam, hit);
+    // The column to the central ray's surface, as the diagnosis replays it (the receiver's own
+    // trace runs over the footprint, to its farthest hit).
+    BeamQuery q;
+    q.wavelength_nm = spec().wavelength_nm;
+    const BeamSmoke to_surface = w.field.trace(beam.ray, 0.0, hit.t_m, q);
     if (u_drop < x.dropout) {
         BeamResult r;
         r.hit = hit;
+        r.smoke = to_surface;
         return markError(r, spec().no_return_code, "sector_dropout");
     }
     const double scale = std::exp(-x.threshold_shift + e.threshold_width * z);
     const SmokeField scaled = w.field.scaledRegional(scale);
     BeamResult r = readPlain(BeamWorld{w.scene, w.surfaces, scaled, w.smoke_rising}, beam.ray, rng);
-    const double L = hit.t_m, C = r.smoke.column_regional / scale;
+    r.smoke = to_surface;  // the smoke the beam met (before the threshold's scaling)
+    const double L = hit.t_m, C = to_surface.column_regional;
     if (r.error) {
         if (u_ret >= e.smoke_obstacle_return) return r;
         r.error = false;

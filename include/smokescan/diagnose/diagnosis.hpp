@@ -23,6 +23,7 @@
 /// | sign_flips    | 20000   | Monte Carlo sign flips when the blocks are too many to enumerate (> 20): p to ±3e-4 near the Bonferroni level |
 /// | seed          | 1       | the sign-flip draws (results do not depend on threads)             |
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@
 namespace smokescan {
 
 struct DiagnosisConfig {
+    /// Called after each candidate scored: the round, the candidates scored in it, their number.
+    std::function<void(int round, int done, int total)> progress;
     double alpha = 0.05;
     double min_gain = 0.02;
     int max_findings = 4;

@@ -82,8 +82,8 @@ struct Replay {
     struct PhysicalTable {
         double u_lo = 0, du = 0;
         int grid = 0;
-        std::vector<float> err, range, sd;  ///< [beam · grid + j]
-        std::vector<float> err_clear, range_clear, sd_clear;  ///< [beam]
+        std::vector<double> err, range, sd;  ///< [beam · grid + j]
+        std::vector<double> err_clear, range_clear, sd_clear;  ///< [beam]
     } physical;
     bool isPhysical() const { return config.model == SensorModel::Physical; }
 
