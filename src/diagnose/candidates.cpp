@@ -149,10 +149,7 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
     const double* z = normalNodes();
     // Where the table is flat across the spread (clear air, dense smoke: most beams) the average
     // is its value; else the average over the normal's quantiles.
-    const double lo = valueOf(tableAt(t, t.err, t.err_clear[b], b, u + x.width * T(z[0]))),
-                 hi = valueOf(tableAt(t, t.err, t.err_clear[b], b, u + x.width * T(z[kNormalNodes - 1])));
-    if (flatBetween(t, b, valueOf(u + x.width * T(z[0])), valueOf(u + x.width * T(z[kNormalNodes - 1]))) &&
-        std::abs(hi - lo) < 1e-9) {
+    if (flatBetween(t, b, valueOf(u + x.width * T(z[0])), valueOf(u + x.width * T(z[kNormalNodes - 1])))) {
         x.ps = tableAt(t, t.err, t.err_clear[b], b, u);
     } else {
         x.ps = T(0.0);

@@ -140,8 +140,6 @@ std::vector<ModelFigures> foldFigures(const Replay& r, const Extensions& m0, con
 {
     std::map<std::string, ModelFigures> per;
     ModelFigures all;
-    double sse_all = 0;
-    long long n_rmse_all = 0;
     std::map<std::string, std::pair<double, long long>> sse;
     std::map<std::string, std::pair<long long, long long>> rec;  // recorded errors, ranges
     auto add = [&](ModelFigures& f, double ll, bool err, double p_err, double resid, std::pair<double, long long>& s,
@@ -186,8 +184,6 @@ std::vector<ModelFigures> foldFigures(const Replay& r, const Extensions& m0, con
         f.range_rmse_m = s.second > 0 ? std::sqrt(s.first / double(s.second)) : NAN;
     };
     finish(all, s_all, rc_all);
-    (void)sse_all;
-    (void)n_rmse_all;
     std::vector<ModelFigures> out{all};
     for (auto& [name, f] : per) {
         finish(f, sse[name], rec[name]);
