@@ -19,11 +19,7 @@
 #include "smokescan/scene/surfaces.hpp"
 
 namespace smokescan {
-namespace {
-
-/// The scene with its smoke replaced by one homogeneous box of unit density filling the scene's
-/// surfaces' bounds (the room), in the medium of its first regional volume.
-Scene withUniformSmoke(const Scene& scene)
+Scene uniformSmokeScene(const Scene& scene, double density)
 {
     Aabb bounds;
     for (const auto& s : scene.surfaces)
@@ -41,9 +37,12 @@ Scene withUniformSmoke(const Scene& scene)
     v.name = "calibration_smoke";
     v.medium = medium;
     v.source = std::make_shared<const DensityGrid>(DensityGrid::box(bounds.lo, bounds.hi, 1.0, h));
+    v.timeline = DensityTimeline::constant(density);
     out.volumes = {v};
     return out;
 }
+
+namespace {
 
 SaturationPoint toPoint(double rho, const SaturationStats& s)
 {
@@ -60,7 +59,7 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg,
     if (scene0.cameras.empty()) throw Error(scene0.source, "the scene has no camera to calibrate with");
     for (double d : cfg.densities)
         if (!(d >= 0) || !std::isfinite(d)) throw Error("--densities", "densities must be finite and >= 0");
-    Scene scene = withUniformSmoke(scene0);
+    Scene scene = uniformSmokeScene(scene0, 0.0);
     const SurfaceSet surfaces(scene);
     CalibrationResult res;
     const int n = int(cfg.densities.size());

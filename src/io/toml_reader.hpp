@@ -52,6 +52,13 @@ public:
         if (auto v = n->value_exact<int64_t>()) return *v;
         fail(n, key, "must be an integer");
     }
+    bool boolean(const std::string& key, bool def)
+    {
+        if (!has(key)) return def;
+        const toml::node* n = get(key);
+        if (auto v = n->value_exact<bool>()) return *v;
+        fail(n, key, "must be true or false");
+    }
     std::string str(const std::string& key, const std::string& def) { return has(key) ? strReq(key) : def; }
     std::string strReq(const std::string& key)
     {

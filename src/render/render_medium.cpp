@@ -192,4 +192,55 @@ Rgb RenderMedium::transmittance(const Ray& ray, double t_max, KeyedRng& rng) con
     return ratio * (-tau_ctrl).exp();
 }
 
+namespace {
+/// Optical depth of the majorant over [0, t_max) and, at t (when t < t_max), the majorant there
+/// and its optical depth up to t.
+struct MajorantDepth {
+    double total = 0, before_t = 0, mu_t = 0;
+};
+}  // namespace
+
+bool RenderMedium::sampleForced(const Ray& ray, double t_max, double u, double& t, double& pdf) const
+{
+    double total = 0;
+    walkMajorant(ray, t_max, [&](double t0, double t1, const Cell& c) {
+        total += double(c.mu) * (t1 - t0);
+        return false;
+    });
+    if (!(total > 0)) return false;
+    // τ* from the truncated exponential: 1 − e^{−τ*} = u·(1 − e^{−τ̄}).
+    const double norm = -std::expm1(-total);
+    const double target = std::min(total, -std::log1p(-u * norm));
+    double acc = 0;
+    bool found = false;
+    walkMajorant(ray, t_max, [&](double t0, double t1, const Cell& c) {
+        const double d = double(c.mu) * (t1 - t0);
+        if (c.mu > 0 && (acc + d >= target || t1 >= t_max)) {
+            t = std::min(t1, t0 + (target - acc) / double(c.mu));
+            pdf = double(c.mu) * std::exp(-std::min(target, acc + d)) / norm;
+            found = true;
+            return true;
+        }
+        acc += d;
+        return false;
+    });
+    return found && t < t_max && pdf > 0;
+}
+
+double RenderMedium::forcedPdf(const Ray& ray, double t_max, double t) const
+{
+    MajorantDepth m;
+    walkMajorant(ray, t_max, [&](double t0, double t1, const Cell& c) {
+        const double mu = c.mu;
+        if (t >= t0 && t < t1) {
+            m.mu_t = mu;
+            m.before_t = m.total + mu * (t - t0);
+        }
+        m.total += mu * (t1 - t0);
+        return false;
+    });
+    if (!(m.total > 0) || !(m.mu_t > 0)) return 0;
+    return m.mu_t * std::exp(-m.before_t) / -std::expm1(-m.total);
+}
+
 }  // namespace smokescan

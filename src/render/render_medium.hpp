@@ -44,6 +44,14 @@ public:
 
     bool empty() const { return comps_.empty(); }
 
+    /// The part [t0, t1) of [0, t_max) inside the smoke's bounds; false when there is none.
+    bool clip(const Ray& ray, double t_max, double& t0, double& t1) const
+    {
+        t0 = 0;
+        t1 = t_max;
+        return !comps_.empty() && bounds_.clip(ray, t0, t1) && t1 > t0;
+    }
+
     /// σ_t(x) and σ_s(x) [1/m], RGB.
     void coefficients(const Vec3& p, Rgb& sigma_t, Rgb& sigma_s) const;
 
@@ -55,6 +63,25 @@ public:
 
     /// @brief Transmittance over [0, t_max) by residual ratio tracking (unbiased, per channel).
     Rgb transmittance(const Ray& ray, double t_max, KeyedRng& rng) const;
+
+    /// @brief A distance in [0, t_max) drawn from the majorant's free-flight density truncated to
+    /// the segment, p(t) = μ̄(t)·e^{−τ̄(t)} / (1 − e^{−τ̄(t_max)}) (a forced collision: in a
+    /// homogeneous cell it is the exact σ_t·T density). False when the majorant is zero along it.
+    bool sampleForced(const Ray& ray, double t_max, double u, double& t, double& pdf) const;
+
+    /// @brief The density of sampleForced at t [1/m] (0 where the majorant is zero).
+    double forcedPdf(const Ray& ray, double t_max, double t) const;
+
+    /// Calls f(σ_s RGB [1/m], HG g) for each component with smoke at p: the phase function at p
+    /// is the σ_s-weighted mixture, per channel.
+    template <class F>
+    void forEachScatterer(const Vec3& p, F&& f) const
+    {
+        for (const auto& c : comps_) {
+            const double rho = density(c, p) * c.scale;
+            if (rho > 0) f(Rgb(rho * c.albedo * c.sigma_t), c.g);
+        }
+    }
 
     /// Walks majorant cells: f(t0, t1, cell) returns true to stop.
     template <class F>

@@ -137,6 +137,29 @@ Light readLight(TomlTable t)
     return l;
 }
 
+CameraSensor readCameraSensor(TomlTable t)
+{
+    CameraSensor s;
+    s.exposure = t.nonneg("exposure", s.exposure);
+    s.meter_grey = t.positive("meter_grey", s.meter_grey);
+    if (s.meter_grey > 1) t.error("meter_grey", "must be in (0, 1]");
+    s.full_well_e = t.positive("full_well_e", s.full_well_e);
+    if (s.full_well_e < 10 || s.full_well_e > 1e7) t.error("full_well_e", "must be in [10, 1e7] electrons");
+    s.read_noise_e = t.nonneg("read_noise_e", s.read_noise_e);
+    if (s.read_noise_e > 1e4) t.error("read_noise_e", "must be in [0, 1e4] electrons");
+    const Vec3 wb = t.vec3("white_balance", Vec3(1, 1, 1));
+    for (int k = 0; k < 3; ++k) {
+        if (!(wb[k] > 0 && wb[k] <= 100)) t.error("white_balance", "gains must be in (0, 100]");
+        s.white_balance[size_t(k)] = wb[k];
+    }
+    const long long bits = t.integer("bits", s.bits);
+    if (bits < 0 || bits > 16) t.error("bits", "must be in [0, 16] (0: no quantisation)");
+    s.bits = int(bits);
+    s.noise = t.boolean("noise", s.noise);
+    t.finish();
+    return s;
+}
+
 Camera readCamera(TomlTable t)
 {
     Camera c;
@@ -151,6 +174,7 @@ Camera readCamera(TomlTable t)
     c.fy_px = t.nonneg("fy_px", 0.0);
     c.cx_px = t.num("cx_px", -1.0);
     c.cy_px = t.num("cy_px", -1.0);
+    if (t.has("sensor")) c.sensor = readCameraSensor(t.table("sensor"));
     t.finish();
     return c;
 }

@@ -50,6 +50,11 @@ struct CalibrationResult {
     double seconds = 0;
 };
 
+/// @brief The scene with its smoke replaced by one homogeneous box filling the bounds of its
+/// surfaces (the room), in the medium of its first regional volume, at `density` throughout.
+/// @throw Error for a scene without surfaces.
+Scene uniformSmokeScene(const Scene& scene, double density);
+
 /// @brief Renders the sweep and fits. `progress(done, total)` is called after each frame.
 /// @throw Error when the scene has no camera or no target surfaces, or the fit is degenerate.
 CalibrationResult calibrate(const Scene& scene, const CalibrateConfig& cfg,

@@ -8,12 +8,14 @@
 /// | time_s         | 0       | s    | scene time (smoke timelines, plumes)                      |
 /// | spp            | 16      | –    | samples per pixel                                         |
 /// | seed           | 1       | –    | image is a pure function of (scene, config, seed)         |
-/// | max_depth      | 32      | –    | scattering and bounce events per path                     |
+/// | max_depth      | 256     | –    | scattering and bounce events per path (32 lost 2.6 % of the light in the densest calibration smoke; 256 loses none measurable) |
 /// | rr_depth       | 4       | –    | events before Russian roulette starts                     |
 /// | camera         | ""      | –    | scene camera name ("" = the first)                        |
 /// | width, height  | 0       | px   | override the camera's resolution (0 = keep)               |
 /// | majorant_cells | 32      | –    | majorant grid cells along the smoke's longest axis        |
 /// | progress       | true    | –    | progress bar and ETA on stderr, only when it is a terminal |
+/// | segment_lighting | true  | –    | the lights' in-scattered light along each path segment (equiangular + forced collision, MIS) instead of at collisions |
+/// | split_primary  | true    | –    | camera rays: the surface through the smoke's transmittance plus a forced collision in the smoke |
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -29,12 +31,14 @@ struct RenderConfig {
     double time_s = 0;
     int spp = 16;
     uint64_t seed = 1;
-    int max_depth = 32;
+    int max_depth = 256;
     int rr_depth = 4;
     std::string camera;
     int width = 0, height = 0;
     int majorant_cells = 32;
     bool progress = true;
+    bool segment_lighting = true;
+    bool split_primary = true;
 };
 
 struct RenderResult {

@@ -11,6 +11,7 @@
 
 #include "smokescan/core/ray.hpp"
 #include "smokescan/media/smoke.hpp"
+#include "smokescan/scene/camera_sensor.hpp"
 #include "smokescan/sensors/sensor_config.hpp"
 
 namespace smokescan {
@@ -95,6 +96,7 @@ struct Camera {
     double hfov_deg = 60.0;
     double fx_px = 0, fy_px = 0;  ///< focal lengths [px]; 0 = from hfov_deg (fy = fx)
     double cx_px = -1, cy_px = -1;  ///< principal point [px]; < 0 = the image centre
+    CameraSensor sensor;  ///< exposure, noise, white balance, encoding (camera_sensor.hpp)
 };
 
 struct Scene {
