@@ -198,12 +198,16 @@ TEST(CalibrateCli, WritesJsonAndPlotAndRefusesDegenerateSweeps)
     const fs::path dir = smokescan::test::scratch("cal");
     const std::string json = (dir / "c.json").string(), png = (dir / "c.png").string();
     const Out r =
-        run("calibrate bocas --densities 0,0.001,0.002,0.004,0.008,0.012 --spp 1 --width 64 --height 48 --out " + json +
-            " --plot " + png);
+        run("calibrate bocas --densities 0,0.0005,0.001,0.002,0.003,0.005,0.008,0.012 --spp 2 --width 96 --height 72 "
+            "--out " +
+            json + " --plot " + png);
     ASSERT_EQ(r.status, 0) << r.err;
     std::ifstream in(json);
     const auto j = nlohmann::json::parse(in);
-    EXPECT_EQ(j["combined"]["points"].size(), 6u);
+    EXPECT_EQ(j["combined"]["points"].size(), 8u);
+    EXPECT_GT(j["combined"]["parameters"]["floor"].get<double>(), 0.0);  // the camera's noise
+    EXPECT_EQ(j["measured_patches"].size(), 3u);
+    EXPECT_TRUE(j.contains("colour_mix"));
     EXPECT_GT(j["combined"]["parameters"]["b"].get<double>(), 0.0);
     EXPECT_EQ(j["combined"]["covariance"].size(), 3u);
     EXPECT_TRUE(j["patches"].contains("blue") && j["patches"].contains("yellow") && j["patches"].contains("gold"));

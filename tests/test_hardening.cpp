@@ -164,9 +164,10 @@ TEST(Hardening, InputsThatCrashedAreOneLineErrors)
     expectBad("calibrate bocas --densities 0,0.001,0.002,10 --spp 1 --width 16 --height 12 --out " + file("c.json"),
               "--densities: density 10", file("c.json"));
     // A sweep whose curve is not identified went through Ceres' covariance, which logged its
-    // rank deficiency on stderr: now one line, and no calibration.
+    // rank deficiency on stderr; a frame too small for the target's radiance field: one line each,
+    // and no calibration.
     expectBad("calibrate bocas --densities 0,0.5,0.8,1 --spp 1 --width 16 --height 12 --out " + file("c.json"),
-              "not identifiable from these points", file("c.json"));
+              "too few for its radiance field", file("c.json"));
     // A mesh smoke area at 0.1 mm voxels (15.6 GB before): refused before any voxel is made.
     file(
         "cube.obj",

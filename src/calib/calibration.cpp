@@ -2,10 +2,13 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <tuple>
 
 #include <fstream>
 #include <sstream>
@@ -44,10 +47,11 @@ Scene uniformSmokeScene(const Scene& scene, double density)
 
 namespace {
 
-SaturationPoint toPoint(double rho, const SaturationStats& s)
+SaturationPoint toPoint(double rho, const SaturationStats& s, double se)
 {
-    // Standard error of the mean over the patch; a floor for quantisation of 8-bit values.
-    return {rho, s.mean, std::max(1e-4, s.stddev / std::sqrt(double(std::max(1LL, s.pixels))))};
+    // The converged measurement's standard error (camera noise and the field's); a floor for
+    // what the curve cannot be asked to resolve.
+    return {rho, s.mean, std::max(1e-4, se)};
 }
 
 }  // namespace
@@ -59,6 +63,10 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg,
     if (scene0.cameras.empty()) throw Error(scene0.source, "the scene has no camera to calibrate with");
     for (double d : cfg.densities)
         if (!(d >= 0) || !std::isfinite(d)) throw Error("--densities", "densities must be finite and >= 0");
+    if (std::set<double>(cfg.densities.begin(), cfg.densities.end()).size() < 4)
+        throw Error("--densities",
+                    "needs at least 4 distinct densities to fit 3 parameters, got " +
+                        std::to_string(std::set<double>(cfg.densities.begin(), cfg.densities.end()).size()));
     Scene scene = uniformSmokeScene(scene0, 0.0);
     const SurfaceSet surfaces(scene);
     CalibrationResult res;
@@ -67,24 +75,54 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg,
         const double rho = cfg.densities[size_t(k)];
         scene.volumes[0].timeline = DensityTimeline::constant(rho);
         RenderConfig rc;
-        rc.spp = cfg.spp;
         rc.width = cfg.width;
         rc.height = cfg.height;
         rc.seed = cfg.seed + uint64_t(k);
         rc.camera = cfg.camera;
         rc.progress = false;
-        const TargetSaturation m = measureTargetSaturation(scene, surfaces, rc, cfg.target_prefix);
-        res.points.push_back(toPoint(rho, m.all));
-        for (const auto& [name, s] : m.patches) res.patches[name].push_back(toPoint(rho, s));
+        const TargetSaturation m = measureConvergedSaturation(scene, surfaces, rc, cfg.target_prefix, cfg.field);
+        res.points.push_back(toPoint(rho, m.all, m.se));
+        for (const auto& [name, s] : m.patches) res.patches[name].push_back(toPoint(rho, s, m.patch_se.at(name)));
+        res.spp.push_back(m.spp);
+        res.floor.push_back(m.floor);
+        for (const auto& [name, st] : m.patches) {
+            auto it = std::find_if(res.patch_points.begin(), res.patch_points.end(),
+                                   [&](const PatchPoints& pp) { return pp.name == name; });
+            if (it == res.patch_points.end()) {
+                res.patch_points.push_back(PatchPoints{name, 0.0, {}, {}, m.patch_colour.at(name), {}});
+                it = res.patch_points.end() - 1;
+            }
+            it->points.push_back(toPoint(rho, st, m.patch_se.at(name)));
+            it->floor.push_back(m.patch_floor.at(name));
+            it->weight += m.patch_share.at(name) / n;
+            if (rho == 0 || it->brightness.empty()) {
+                it->clear_colour = m.patch_colour.at(name);
+                it->brightness = m.patch_brightness.at(name);
+            }
+        }
         if (progress) progress(k + 1, n);
     }
-    res.fit = fitSaturationCurve(res.points, cfg.fit);
+    CurveFitConfig fit = cfg.fit;  // the camera's noise floor over the sweep: derived, fixed
+    double floor_sum = 0;
+    for (double f : res.floor) floor_sum += f;
+    fit.floor = res.floor.empty() ? 0.0 : floor_sum / double(res.floor.size());
+    res.fit = fitSaturationCurve(res.points, fit);
     for (const auto& [name, pts] : res.patches) {
         try {
-            res.patch_fits[name] = fitSaturationCurve(pts, cfg.fit);
+            res.patch_fits[name] = fitSaturationCurve(pts, fit);
         } catch (const Error&) {
             // A patch whose saturation does not vary (e.g. a grey one) has no curve of its own.
         }
+    }
+    const double rho_max = *std::max_element(cfg.densities.begin(), cfg.densities.end());
+    try {
+        res.mix = fitColourMix(res.patch_points, cfg.fit.gamma);
+        for (const auto& pp : res.patch_points) res.patch_mix[pp.name] = fitColourMix({pp}, cfg.fit.gamma);
+        if (!res.mix.std_error.empty())
+            std::tie(res.mix_threshold_density, res.mix_threshold_density_se) =
+                res.mix.invert(cfg.threshold_saturation, rho_max);
+    } catch (const Error&) {
+        // Too few points, or a sweep that never reaches the threshold: the effective curve stands alone.
     }
     const auto [rho, se] = res.fit.invert(cfg.threshold_saturation);
     res.threshold_density = rho;
@@ -100,7 +138,8 @@ namespace {
 nlohmann::json fitJson(const CurveFitResult& f, const std::vector<SaturationPoint>& pts)
 {
     nlohmann::json j;
-    j["parameters"] = {{"S0", f.curve.S0}, {"a", f.curve.a}, {"b", f.curve.b}, {"gamma", f.curve.gamma}};
+    j["parameters"] = {
+        {"S0", f.curve.S0}, {"a", f.curve.a}, {"b", f.curve.b}, {"gamma", f.curve.gamma}, {"floor", f.curve.floor}};
     j["std_errors"] = {{"S0", f.std_error[0]}, {"a", f.std_error[1]}, {"b", f.std_error[2]}};
     nlohmann::json cov = nlohmann::json::array();
     for (int r = 0; r < 3; ++r) cov.push_back({f.covariance(r, 0), f.covariance(r, 1), f.covariance(r, 2)});
@@ -117,16 +156,77 @@ nlohmann::json fitJson(const CurveFitResult& f, const std::vector<SaturationPoin
     j["points"] = p;
     return j;
 }
+nlohmann::json mixFitJson(const ColourMixFit& f, const std::vector<PatchPoints>& pts)
+{
+    nlohmann::json j;
+    j["b"] = f.curve.b;
+    j["b_std_error"] = f.std_error.empty() ? 0.0 : f.std_error[0];
+    j["airlight_rgb"] = f.curve.airlight;
+    j["airlight_std_error_gb"] = {f.std_error.size() > 2 ? f.std_error[1] : 0.0,
+                                  f.std_error.size() > 2 ? f.std_error[2] : 0.0};
+    for (size_t p = 0; p < f.curve.target.size(); ++p) {
+        nlohmann::json t;
+        t["colour_rgb"] = f.curve.target[p];
+        t["weight"] = f.curve.weight[p];
+        t["brightness_classes"] = pts[p].brightness;
+        t["clear_colour_measured"] = pts[p].clear_colour;
+        t["chi2"] = f.patch_chi2[p];
+        nlohmann::json res = nlohmann::json::array();
+        for (size_t i = 0; i < pts[p].points.size(); ++i) {
+            const auto& q = pts[p].points[i];
+            res.push_back({{"density", q.density},
+                           {"saturation", q.saturation},
+                           {"std_error", q.sigma},
+                           {"noise_floor", pts[p].floor[i]},
+                           {"curve", f.curve.patch(p, q.density)}});
+        }
+        t["points"] = res;
+        j["patches"][f.curve.names[p]] = t;
+    }
+    j["chi2"] = f.chi2;
+    j["dof"] = f.dof;
+    j["converged"] = f.converged;
+    j["solver"] = f.message;
+    return j;
+}
+
+nlohmann::json mixJson(const CalibrationResult& r)
+{
+    nlohmann::json j;
+    j["model"] = "x_c = l_c*T + A_c*(1 - T), T = exp(-b*rho); S = sqrt((1 - (min x/max x)^gamma)^2 + floor^2)";
+    j["model_doc"] = "docs/calibration.md";
+    j["joint"] = mixFitJson(r.mix, r.patch_points);
+    for (const auto& pp : r.patch_points)
+        if (r.patch_mix.count(pp.name) && !r.patch_mix.at(pp.name).std_error.empty())
+            j["per_patch"][pp.name] = mixFitJson(r.patch_mix.at(pp.name), {pp});
+    j["threshold_density"] = r.mix_threshold_density;
+    j["threshold_density_std_error"] = r.mix_threshold_density_se;
+    return j;
+}
+
 }  // namespace
 
 void writeCalibrationJson(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg,
                           const std::string& scene_source)
 {
     nlohmann::json j;
-    j["model"] = "S(rho) = 1 - (1 - S0 / (1 + a*(exp(b*rho) - 1)))^gamma";
+    j["model"] = "S(rho) = sqrt((1 - (1 - S0 / (1 + a*(exp(b*rho) - 1)))^gamma)^2 + floor^2)";
     j["model_doc"] = "docs/calibration.md";
     j["combined"] = fitJson(r.fit, r.points);
     for (const auto& [name, f] : r.patch_fits) j["patches"][name] = fitJson(f, r.patches.at(name));
+    if (!r.mix.std_error.empty()) j["colour_mix"] = mixJson(r);
+    for (const auto& pp : r.patch_points) {  // the measurement itself, for any other model
+        nlohmann::json m;
+        m["weight"] = pp.weight;
+        m["clear_colour"] = pp.clear_colour;
+        m["brightness_classes"] = pp.brightness;
+        for (size_t i = 0; i < pp.points.size(); ++i)
+            m["points"].push_back({{"density", pp.points[i].density},
+                                   {"saturation", pp.points[i].saturation},
+                                   {"std_error", pp.points[i].sigma},
+                                   {"noise_floor", pp.floor[i]}});
+        j["measured_patches"][pp.name] = m;
+    }
     j["threshold"] = {{"saturation", cfg.threshold_saturation},
                       {"density", r.threshold_density},
                       {"density_std_error", r.threshold_density_se},
@@ -137,14 +237,17 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
                       {"engine_unit_factor", r.engine_unit_factor},
                       {"engine_unit_factor_meaning", "smokescan density units per unit of the paper's engine density"}};
     j["render"] = {{"scene", scene_source},
-                   {"spp", cfg.spp},
+                   {"batch_spp", cfg.field.batch_spp},
+                   {"spp_per_target_pixel", r.spp},
+                   {"rel_error", cfg.field.rel_error},
+                   {"field_degree", cfg.field.degree},
                    {"width", cfg.width},
                    {"height", cfg.height},
                    {"seed", cfg.seed},
                    {"densities", cfg.densities},
                    {"camera", cfg.camera},
                    {"target_prefix", cfg.target_prefix},
-                   {"exposure", "auto (average metering)"},
+                   {"exposure", "the scene camera's sensor (auto: average metering)"},
                    {"seconds", r.seconds}};
     AtomicFile f(path);
     f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
@@ -176,6 +279,7 @@ CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::s
         r.curve.a = p.at("a").get<double>();
         r.curve.b = p.at("b").get<double>();
         r.curve.gamma = p.at("gamma").get<double>();
+        r.curve.floor = p.value("floor", 0.0);
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b)
                 r.covariance(a, b) = f.at("covariance").at(size_t(a)).at(size_t(b)).get<double>();
@@ -183,8 +287,10 @@ CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::s
         r.converged = f.at("converged").get<bool>();
         r.chi2 = f.value("chi2", 0.0);
         r.dof = f.value("dof", 0);
-        if (!(r.curve.S0 > 0 && r.curve.S0 <= 1 && r.curve.a > 0 && r.curve.b > 0 && r.curve.gamma > 0))
-            throw Error(where, "calibration parameters out of range (S0 in (0, 1], a, b, gamma > 0)");
+        if (!(r.curve.S0 > 0 && r.curve.S0 <= 1 && r.curve.a > 0 && r.curve.b > 0 && r.curve.gamma > 0 &&
+              r.curve.floor >= 0 && r.curve.floor < 0.5))
+            throw Error(where,
+                        "calibration parameters out of range (S0 in (0, 1], a, b, gamma > 0, floor in [0, 0.5))");
         return r;
     } catch (const nlohmann::json::out_of_range& e) {
         if (!patch.empty() && j.is_object() && !(j.contains("patches") && j["patches"].contains(patch)))

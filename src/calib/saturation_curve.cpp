@@ -25,17 +25,19 @@ T curveValue(const T& rho, const T& S0, const T& a, const T& b, double gamma)
 
 /// Residual of one point, in units of its standard error.
 struct SaturationResidual {
-    SaturationResidual(double rho, double S, double sigma, double gamma)
-        : rho_(rho), S_(S), sigma_(sigma), gamma_(gamma)
+    SaturationResidual(double rho, double S, double sigma, double gamma, double floor)
+        : rho_(rho), S_(S), sigma_(sigma), gamma_(gamma), floor_(floor)
     {
     }
     template <class T>
     bool operator()(const T* const p, T* r) const
     {
-        r[0] = (curveValue(T(rho_), p[0], p[1], p[2], gamma_) - T(S_)) / T(sigma_);
+        using std::sqrt;
+        const T c = curveValue(T(rho_), p[0], p[1], p[2], gamma_);
+        r[0] = (sqrt(c * c + T(floor_ * floor_)) - T(S_)) / T(sigma_);
         return true;
     }
-    double rho_, S_, sigma_, gamma_;
+    double rho_, S_, sigma_, gamma_, floor_;
 };
 
 /// ρ(S) for the delta method, templated so Ceres' Jets give its gradient.
@@ -50,17 +52,20 @@ T inverseValue(double S, const T& S0, const T& a, const T& b, double gamma)
 
 }  // namespace
 
-double SaturationCurve::operator()(double rho) const { return curveValue(rho, S0, a, b, gamma); }
+double SaturationCurve::operator()(double rho) const { return std::hypot(curveValue(rho, S0, a, b, gamma), floor); }
 
 double SaturationCurve::invert(double S) const
 {
-    if (!std::isfinite(S) || S <= 0)
-        throw Error("", "saturation " + std::to_string(S) + " is never reached (the curve only tends to 0)");
+    if (!std::isfinite(S) || S <= floor)
+        throw Error("",
+                    "saturation " + std::to_string(S) +
+                        " is never reached (the curve only tends to the camera's noise floor " + std::to_string(floor) +
+                        ")");
     if (S >= (*this)(0.0))
         throw Error(
             "",
             "saturation " + std::to_string(S) + " is at or above the clear-air value " + std::to_string((*this)(0.0)));
-    return inverseValue(S, S0, a, b, gamma);
+    return inverseValue(std::sqrt(S * S - floor * floor), S0, a, b, gamma);
 }
 
 std::pair<double, double> CurveFitResult::invert(double S, double sigma_S) const
@@ -71,7 +76,7 @@ std::pair<double, double> CurveFitResult::invert(double S, double sigma_S) const
     // d/dS by a central difference (S enters through pow of a constant).
     const double h = 1e-6;
     const double dS = sigma_S > 0 ? (curve.invert(std::max(1e-9, S - h)) - curve.invert(S + h)) / (-2 * h) : 0.0;
-    const J r = inverseValue(S, s0, a, b, curve.gamma);
+    const J r = inverseValue(std::sqrt(S * S - curve.floor * curve.floor), s0, a, b, curve.gamma);
     const Eigen::Vector3d g(r.v[0], r.v[1], r.v[2]);
     const double var = g.dot(covariance * g) + dS * dS * sigma_S * sigma_S;
     return {rho, std::sqrt(std::max(0.0, var))};
@@ -127,7 +132,7 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
             break;
         }
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SaturationResidual, 1, 3>(
-                                     new SaturationResidual(q.density, q.saturation, q.sigma, cfg.gamma)),
+                                     new SaturationResidual(q.density, q.saturation, q.sigma, cfg.gamma, cfg.floor)),
                                  loss, p);
     }
     problem.SetParameterLowerBound(p, 0, 1e-6);
@@ -137,7 +142,7 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     detail::quietCeres();
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
-    opt.max_num_iterations = 200;
+    opt.max_num_iterations = 1000;
     opt.function_tolerance = 1e-12;
     opt.parameter_tolerance = 1e-12;
     opt.logging_type = ceres::SILENT;
@@ -145,7 +150,7 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     ceres::Solve(opt, &problem, &summary);
 
     CurveFitResult res;
-    res.curve = SaturationCurve{p[0], p[1], p[2], cfg.gamma};
+    res.curve = SaturationCurve{p[0], p[1], p[2], cfg.gamma, cfg.floor};
     res.converged = summary.termination_type == ceres::CONVERGENCE && summary.IsSolutionUsable();
     res.message = summary.BriefReport();
     double mean = 0;

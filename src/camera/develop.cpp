@@ -54,6 +54,18 @@ double developValue(double signal, const CameraSensor& s, double wb, uint64_t se
     return e;
 }
 
+double greyNoiseSaturation(const CameraSensor& s, double v)
+{
+    if (!s.noise || !(v > 0)) return 0.0;
+    v = std::min(v, 1.0);
+    const double y = srgbEncode(v);
+    const double slope = v <= 0.0031308 ? 12.92 : 1.055 / 2.4 * std::pow(v, 1 / 2.4 - 1);
+    const double sigma_lin = std::sqrt(v * s.full_well_e + s.read_noise_e * s.read_noise_e) / s.full_well_e;
+    const double lsb = s.bits > 0 ? 1.0 / double((1 << s.bits) - 1) : 0.0;
+    const double sigma_y = std::sqrt(slope * slope * sigma_lin * sigma_lin + lsb * lsb / 12);
+    return 3 * sigma_y / (std::sqrt(M_PI) * y);
+}
+
 Image develop(const Image& rad, const CameraSensor& s, double exposure, uint64_t seed)
 {
     Image out(rad.width, rad.height, 3);

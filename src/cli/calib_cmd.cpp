@@ -44,7 +44,7 @@ int runCalibrate(const CalibArgs& a)
                         "density " + std::to_string(d) + " is outside [0, " +
                             std::to_string(limits::kCalibrationDensityMax) +
                             "] (the calibration's range; 0.0028 is the paper's threshold)");
-    if (double(cfg.width) * cfg.height * cfg.spp > double(limits::kFrameSamples))
+    if (double(cfg.width) * cfg.height * cfg.field.batch_spp > double(limits::kFrameSamples))
         throw Error("--spp",
                     "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
     RunFiles files;
@@ -71,6 +71,21 @@ int runCalibrate(const CalibArgs& a)
         "(paper: 0.0028, 0.007); engine unit factor %.3f\n",
         cfg.threshold_saturation, r.threshold_density, r.threshold_density_se, cfg.path_m, r.penetration_power,
         r.penetration_power_se, r.engine_unit_factor);
+    if (r.mix.curve.target.empty() || r.mix.std_error.empty())
+        std::printf("colour-mixing curve: not fitted (%s)\n", r.mix.message.c_str());
+    else {
+        std::printf(
+            "colour-mixing curve%s, all patches, one extinction: b = %.1f ± %.1f /density, airlight RGB 1 : "
+            "%.3f : %.3f; chi2/dof = %.2f (%d dof); saturation %.2f at density %.5f ± %.5f\n",
+            r.mix.converged ? "" : " (NOT CONVERGED)", r.mix.curve.b,
+            r.mix.std_error.empty() ? 0.0 : r.mix.std_error[0], r.mix.curve.airlight[1], r.mix.curve.airlight[2],
+            r.mix.dof > 0 ? r.mix.chi2 / r.mix.dof : 0.0, r.mix.dof, cfg.threshold_saturation, r.mix_threshold_density,
+            r.mix_threshold_density_se);
+        for (const auto& [name, f] : r.patch_mix)
+            if (f.converged)
+                std::printf("  %s alone: b = %.1f ± %.1f, chi2/dof = %.2f\n", name.c_str(), f.curve.b,
+                            f.std_error.empty() ? 0.0 : f.std_error[0], f.dof > 0 ? f.chi2 / f.dof : 0.0);
+    }
     std::printf("wrote %s%s%s (%zu frames, %.1f s)\n", a.out.c_str(), a.plot.empty() ? "" : " and ", a.plot.c_str(),
                 cfg.densities.size(), r.seconds);
     return 0;
@@ -133,7 +148,16 @@ void addCalibration(CLI::App& app, Runner& run)
         "calibrate", "Density ↔ saturation calibration (the paper's Fig. 7) from rendered frames, fitted with Ceres");
     c->add_option("scene", a->scene, "Built-in scene name or scene file")->capture_default_str();
     c->add_option("--densities", a->densities, "Comma-separated densities (default: 14 from 0 to 0.012)");
-    c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
+    c->add_option("--spp", a->cfg.field.batch_spp, "Samples per target pixel in one batch")
+        ->capture_default_str()
+        ->check(intRange(1, limits::kSpp));
+    c->add_option("--rel-error", a->cfg.field.rel_error,
+                  "Batches until each patch's fitted radiance has this relative standard error")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-4, 1.0));
+    c->add_option("--max-batches", a->cfg.field.max_batches, "At most this many batches")
+        ->capture_default_str()
+        ->check(intRange(4, 4096));
     c->add_option("--width", a->cfg.width, "Frame width [px]")
         ->capture_default_str()
         ->check(intRange(1, limits::kFrameSide));

@@ -63,7 +63,8 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
         std::snprintf(
             h, sizeof h,
             "camera %s, target '%s*': rendered frames %dx%d, %d spp, auto exposure; noise sigma %g; camera clock = scene clock + %g s",
-            cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.spp, ss.sigma, ss.clock_offset_s);
+            cam.c_str(), a.target.c_str(), a.render.width, a.render.height, a.render.field.batch_spp, ss.sigma,
+            ss.clock_offset_s);
         const Progress progress("rendering", "camera frames");
         const long long total = (long long)std::floor((ss.to_s - ss.from_s) * ss.rate_hz + 1e-9) + 1;
         out.series = simulateSaturation(
@@ -142,7 +143,7 @@ int runScan(const ScanArgs& a0)
                         "would make " + limits::count(std::floor(frames_wanted)) + " camera frames (at most " +
                             std::to_string(limits::kFrames) + ")");
         if (a.saturation_render &&
-            double(a.render.width) * a.render.height * a.render.spp > double(limits::kFrameSamples))
+            double(a.render.width) * a.render.height * a.render.field.batch_spp > double(limits::kFrameSamples))
             throw Error("--saturation-spp",
                         "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
     }
@@ -231,7 +232,8 @@ void addScan(CLI::App& app, Runner& run)
         "Also write the camera's target saturation over time (CSV), predicted from the smoke on its line of sight");
     c->add_flag("--saturation-render", a->saturation_render,
                 "Measure --saturation-out in rendered camera frames instead (slow: 2–3 s per 320x240 frame)");
-    c->add_option("--saturation-spp", a->render.spp, "Samples per pixel of those frames (keep the calibration's)")
+    c->add_option("--saturation-spp", a->render.field.batch_spp,
+                  "Samples per target pixel in one batch of those frames")
         ->capture_default_str()
         ->check(intRange(1, limits::kSpp));
     c->add_option("--saturation-width", a->render.width, "Width of those frames [px]")

@@ -116,9 +116,10 @@ void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, do
     const SaturationSeries sat = movingAverage(raw, h);
     r.saturation_noise = saturationNoise(raw) / std::sqrt(2.0 * h + 1);
     for (size_t j = 0; j < sat.time_s.size(); ++j) {
-        // A saturation at or below zero (noise in the densest smoke) reads as the curve's density at
-        // 1e-4: denser than any beam passes, rather than a gap that interpolation would fill low.
-        const double S = std::max(sat.saturation[j], 1e-4);
+        // A saturation at or below the curve's floor (the camera's noise in the densest smoke; 0
+        // without one) reads as the curve's density 1e-4 above it: denser than any beam passes,
+        // rather than a gap that interpolation would fill low.
+        const double S = std::max(sat.saturation[j], curve.floor + 1e-4);
         const double rho = S < curve(0.0) ? curve.invert(S) : 0.0;  // at or above the clear-air value: clear
         r.density_time_s.push_back(sat.time_s[j] - offset_s);
         r.density_series.push_back(rho);

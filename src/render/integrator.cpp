@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -382,6 +383,8 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
     if (double(pixels) * cfg.spp > double(limits::kFrameSamples))
         throw Error("--spp",
                     "pixels × spp is over the " + std::to_string(limits::kFrameSamples) + " samples a frame may have");
+    if (cfg.mask && cfg.mask->size() != size_t(pixels))
+        throw Error("render", "the pixel mask's size is not the frame's width × height");
     const auto t0 = std::chrono::steady_clock::now();
     const LightSet lights(scene);
     const Context ctx{scene, surfaces, medium, lights, cfg};
@@ -410,6 +413,7 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                         res.ids.at(x, y, 0) = res.ids.at(x, y, 1) = -1.0f;
                         res.ids.at(x, y, 2) = INFINITY;
                     }
+                    if (cfg.mask && !(*cfg.mask)[size_t(pix)]) continue;
                     Rgb sum = Rgb::Zero(), sum2 = Rgb::Zero();
                     for (int s = 0; s < cfg.spp; ++s) {
                         KeyedRng rng(cfg.seed, pix, uint64_t(s));
@@ -431,7 +435,10 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
             progress.add(1);
         }
     });
-    res.samples = (long long)W * H * cfg.spp;
+    const long long rendered = cfg.mask
+        ? (long long)std::count_if(cfg.mask->begin(), cfg.mask->end(), [](uint8_t m) { return m != 0; })
+        : (long long)W * H;
+    res.samples = rendered * cfg.spp;
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;
 }

@@ -7,7 +7,7 @@
 /// | field          | default                            | unit    | meaning                                   |
 /// |----------------|------------------------------------|---------|-------------------------------------------|
 /// | densities      | 0, 0.0005 … 0.012 (14 values)      | density | the sweep                                 |
-/// | spp            | 4                                  | –       | samples per pixel of each frame           |
+/// | field          | TargetRadianceConfig{}             | –       | the converged target radiance: batches of samples on the target's pixels (camera/target_radiance.hpp) |
 /// | width, height  | 320, 240                           | px      | frame size                                |
 /// | seed           | 1                                  | –       | render seed (frame k uses seed + k)       |
 /// | target_prefix  | "target_"                          | –       | surfaces whose names start with it are the target; the rest of the name is the patch |
@@ -19,8 +19,10 @@
 #include <string>
 #include <vector>
 
+#include "smokescan/calib/colour_mix_curve.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/camera/saturation.hpp"
+#include "smokescan/camera/target_radiance.hpp"
 #include "smokescan/scene/scene.hpp"
 
 namespace smokescan {
@@ -28,7 +30,7 @@ namespace smokescan {
 struct CalibrateConfig {
     std::vector<double> densities = {0.0,    0.0005, 0.001, 0.0015, 0.002, 0.0025, 0.003,
                                      0.0035, 0.004,  0.005, 0.006,  0.008, 0.010,  0.012};
-    int spp = 4;
+    TargetRadianceConfig field;
     int width = 320, height = 240;
     uint64_t seed = 1;
     std::string camera;
@@ -40,6 +42,14 @@ struct CalibrateConfig {
 };
 
 struct CalibrationResult {
+    /// The colour-mixing curve (colour_mix_curve.hpp) fitted to every patch at once (one
+    /// extinction) and to each patch alone; its threshold density. The curve the rest of smokescan
+    /// reads (fit, below) is the three-parameter effective curve of the combined points.
+    std::vector<PatchPoints> patch_points;
+    ColourMixFit mix;
+    std::map<std::string, ColourMixFit> patch_mix;
+    double mix_threshold_density = 0, mix_threshold_density_se = 0;
+    std::vector<double> floor;  ///< the combined target's noise floor at each density
     std::vector<SaturationPoint> points;  ///< combined target
     std::map<std::string, std::vector<SaturationPoint>> patches;  ///< per colour patch
     CurveFitResult fit;  ///< combined
@@ -47,6 +57,7 @@ struct CalibrationResult {
     double threshold_density = 0, threshold_density_se = 0;  ///< ρ at threshold_saturation
     double penetration_power = 0, penetration_power_se = 0;  ///< ρ* · path_m [density·m]
     double engine_unit_factor = 0;  ///< ρ* / paper_density
+    std::vector<int> spp;  ///< samples per target pixel at each density
     double seconds = 0;
 };
 

@@ -15,6 +15,7 @@
 /// | a         | airlight ratio A / L_max (airlight over the target's brightest channel) | – |
 /// | b         | optical path per unit density: σ_t per unit density × camera–target distance | 1/density |
 /// | gamma     | display encoding exponent (fixed, 1/2.2)             | –           |
+/// | floor     | the camera's noise floor f: S_measured = √(S² + f²) (fixed, from the camera model) | – |
 #include <array>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ namespace smokescan {
 struct SaturationCurve {
     double S0 = 0.5, a = 1.0, b = 100.0;
     double gamma = 1.0 / 2.2;
+    /// The camera's noise floor f (derived from its sensor, not fitted; 0: a noiseless camera):
+    /// the measured saturation is √(S(ρ)² + f²), which a grey pixel's noise alone gives.
+    double floor = 0.0;
 
     double operator()(double rho) const;
     /// @brief Density at which the curve reads saturation S. @throw Error when S is not reached
@@ -54,6 +58,7 @@ struct CurveFitConfig {
     double loss_scale = 2.0;
     bool scale_covariance_by_chi2 = true;
     double gamma = 1.0 / 2.2;
+    double floor = 0.0;  ///< the camera's noise floor, fixed (SaturationCurve::floor)
 };
 
 struct CurveFitResult {

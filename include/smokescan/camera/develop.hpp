@@ -24,6 +24,12 @@ double meterExposure(const Image& radiance, const CameraSensor& sensor);
 ///        frame is the same for a seed whatever the thread count
 Image develop(const Image& radiance, const CameraSensor& sensor, double exposure, uint64_t seed);
 
+/// @brief The mean HSV saturation the camera's noise gives a grey pixel at exposed signal v
+/// (fraction of full well): the three channels' range over their level, 3σ_y/(√π·y), with
+/// σ_y² = (sRGB′(v)·√(v·full_well + read_noise²)/full_well)² + LSB²/12 (first order in σ_y/y).
+/// 0 for a noiseless camera. The saturation floor of the calibration curve in dense smoke.
+double greyNoiseSaturation(const CameraSensor& sensor, double v);
+
 /// @brief One channel's value through the camera (the per-pixel step of develop).
 /// @param signal exposure × radiance: the expected fraction of full well
 double developValue(double signal, const CameraSensor& sensor, double white_balance, uint64_t seed, uint64_t pixel,

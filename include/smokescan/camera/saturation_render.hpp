@@ -8,17 +8,20 @@
 ///
 /// | field          | default   | unit | meaning                                                         |
 /// |----------------|-----------|------|-----------------------------------------------------------------|
-/// | spp            | 4         | –    | samples per pixel (the built-in calibration's: per-pixel noise raises HSV saturation, so keep the curve's) |
+/// | field          | TargetRadianceConfig{} | – | the converged target radiance (target_radiance.hpp): per-pixel saturation of a noisy frame is biased, of a converged one is not |
 /// | width, height  | 320, 240  | px   | frame size (the built-in calibration's)                          |
 /// | camera         | ""        | –    | scene camera name ("" = the first)                               |
 /// | target_prefix  | "target_" | –    | surfaces whose names start with it are the target; the rest of the name is the patch |
 /// | seed           | 1         | –    | render seed; frame k renders with seed + k                        |
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "smokescan/camera/saturation.hpp"
+#include "smokescan/camera/target_patches.hpp"
+#include "smokescan/camera/target_radiance.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
 
@@ -26,27 +29,29 @@ namespace smokescan {
 
 struct RenderConfig;
 
-/// The target's patches: surfaces named prefix + patch (e.g. "target_blue" → patch "blue").
-struct TargetPatches {
-    std::vector<std::string> names;  ///< patch names, each once, in scene order
-    std::vector<int> patch_of;  ///< scene surface index → index into names; −1: not the target
-
-    /// Patch index of surface `surface` (an object id from a frame's id channel); −1 if none.
-    int of(int surface) const
-    {
-        return surface >= 0 && size_t(surface) < patch_of.size() ? patch_of[size_t(surface)] : -1;
-    }
-};
-
-/// @brief The surfaces of `scene` whose names start with `prefix`, grouped by the rest of the name.
-/// @throw Error naming the scene when no surface name starts with `prefix`.
-TargetPatches targetPatches(const Scene& scene, const std::string& prefix);
-
 /// Saturation statistics of the target in one rendered frame.
 struct TargetSaturation {
     SaturationStats all;  ///< every target pixel
     std::map<std::string, SaturationStats> patches;  ///< per patch (name without the prefix)
     double exposure = 0;  ///< auto exposure used
+    /// Converged measurement only (0 otherwise): the standard error of each mean saturation
+    /// (the camera's noise and the field's, from its batches), the samples per target pixel, the
+    /// field's relative error and lack of fit (target_radiance.hpp).
+    double se = 0;
+    std::map<std::string, double> patch_se;
+    int spp = 0;
+    double rel_error = 0;
+    std::map<std::string, double> lack_of_fit;
+    /// The saturation the camera's noise alone gives a grey pixel at the mean exposed level of
+    /// the target (floor) and of each patch (develop.hpp: greyNoiseSaturation).
+    double floor = 0;
+    std::map<std::string, double> patch_floor;
+    /// Each patch's mean linear colour (the field's, RGB) and its share of the target's pixels.
+    std::map<std::string, std::array<double, 3>> patch_colour;
+    std::map<std::string, double> patch_share;
+    /// Each patch's pixel brightness: the means of 8 equal-count classes of the field's luminance
+    /// over the patch's mean (1 everywhere for an evenly lit, matte patch).
+    std::map<std::string, std::vector<double>> patch_brightness;
 };
 
 /// @brief Renders `rc` and measures the saturation of the pixels whose first surface is a target
@@ -58,8 +63,16 @@ TargetSaturation measureTargetSaturation(const Scene& scene, const SurfaceSet& s
                                          const std::string& target_prefix, Image* display = nullptr,
                                          Image* ids = nullptr);
 
+/// @brief The converged measurement: the target's radiance field (target_radiance.hpp) through
+/// the scene camera's sensor (develop.hpp), then per-pixel HSV saturation of the target's pixels.
+/// The camera's noise is the only noise in it; the field's residual noise is in `se`.
+/// @param display receives the developed frame, if given. @param ids the id channels, if given.
+TargetSaturation measureConvergedSaturation(const Scene& scene, const SurfaceSet& surfaces, const RenderConfig& rc,
+                                            const std::string& target_prefix, const TargetRadianceConfig& field,
+                                            Image* display = nullptr, Image* ids = nullptr);
+
 struct SaturationRenderConfig {
-    int spp = 4;
+    TargetRadianceConfig field;
     int width = 320, height = 240;
     std::string camera;
     std::string target_prefix = "target_";

@@ -15,10 +15,12 @@
 /// | majorant_cells | 32      | –    | majorant grid cells along the smoke's longest axis        |
 /// | progress       | true    | –    | progress bar and ETA on stderr, only when it is a terminal |
 /// | segment_lighting | true  | –    | the lights' in-scattered light along each path segment (equiangular + forced collision, MIS) instead of at collisions |
-/// | split_primary  | true    | –    | camera rays: the surface through the smoke's transmittance plus a forced collision in the smoke |
+/// | mask           | null    | –    | pixels to render (width × height, row-major, non-zero = render); the rest stay 0. Ids are made for every pixel |
+/// | split_primary  | false   | –    | camera rays: the surface through the smoke's transmittance plus a forced collision in the smoke |
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "smokescan/io/image.hpp"
 #include "smokescan/render/camera.hpp"
@@ -38,7 +40,8 @@ struct RenderConfig {
     int majorant_cells = 32;
     bool progress = true;
     bool segment_lighting = true;
-    bool split_primary = true;
+    const std::vector<uint8_t>* mask = nullptr;
+    bool split_primary = false;  // measured: no gain on top of segment_lighting (docs/performance.md)
 };
 
 struct RenderResult {

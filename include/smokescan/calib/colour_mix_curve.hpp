@@ -1,0 +1,83 @@
+#pragma once
+/// @file colour_mix_curve.hpp
+/// @brief The saturation curve from the colours that mix in each pixel (docs/calibration.md).
+/// A patch of linear colour l_c seen through smoke of transmittance T = e^{−bρ} adds scattered
+/// light of colour A_c: x_c = l_c·T + A_c·(1 − T). The scattered light is not grey (the room's
+/// walls are warm), so saturation does not fall to 0: a blue patch passes through grey where the
+/// warm light cancels its blue and then takes the light's own colour. Encoded by the camera
+/// (y = x^γ) its saturation is 1 − min_c y_c / max_c y_c. Two measured, not fitted, inputs make it
+/// the camera's mean over the patch: the camera's noise on each channel (relative sd f·√π/3, with
+/// f the saturation it gives a grey pixel at the patch's exposed level: develop.hpp
+/// greyNoiseSaturation, per density), taken by Gauss–Hermite quadrature, and the patch's pixel
+/// brightness classes in clear air (the lamp lights it unevenly, and a glossy patch has a
+/// highlight), over which the mean is taken.
+///
+/// | parameter | meaning                                                          | unit      |
+/// |-----------|------------------------------------------------------------------|-----------|
+/// | b         | extinction per unit density × the effective optical path          | 1/density |
+/// | A_G, A_B  | the scattered light's green and blue, relative to its red (A_R = 1) | –       |
+/// | l_p       | patch p's clear-air linear colour (R, G, B), relative to A_R      | –         |
+/// | gamma     | display encoding exponent (fixed, 1/2.2)                          | –         |
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "smokescan/calib/saturation_curve.hpp"
+
+namespace smokescan {
+
+struct ColourMixCurve {
+    double b = 300;
+    std::array<double, 3> airlight{{1.0, 1.0, 1.0}};
+    std::vector<std::string> names;  ///< patches
+    std::vector<std::array<double, 3>> target;  ///< l_p
+    std::vector<double> weight;  ///< each patch's share of the target's pixels (the combined curve)
+    std::vector<double> floor_density;  ///< where the noise floor was measured
+    std::vector<std::vector<double>> floor;  ///< [patch][density]: f
+    std::vector<std::vector<double>>
+        brightness;  ///< [patch]: pixel brightness classes (luminance / patch mean, clear air)
+    double gamma = 1.0 / 2.2;
+
+    /// Patch p's noise-free saturation at density rho.
+    double clean(size_t p, double rho) const;
+    /// The noise floor of patch p at rho (linear between the measured densities, held beyond).
+    double floorAt(size_t p, double rho) const;
+    /// Patch p's measured saturation at rho.
+    double patch(size_t p, double rho) const;
+    /// The whole target's: the patches' pixel-weighted mean.
+    double combined(double rho) const;
+};
+
+/// One patch's points and noise floors (floor[i] at points[i]'s density), and its pixel share.
+struct PatchPoints {
+    std::string name;
+    double weight = 1;
+    std::vector<SaturationPoint> points;
+    std::vector<double> floor;
+    std::array<double, 3> clear_colour{{1, 1, 1}};  ///< a start for l_p (any scale)
+    std::vector<double> brightness;  ///< pixel brightness classes in clear air (empty: one class, 1)
+};
+
+struct ColourMixFit {
+    ColourMixCurve curve;
+    Eigen::MatrixXd covariance;  ///< of (b, A_G, A_B, l_1 (3), l_2 (3), …)
+    std::vector<double> std_error;
+    double chi2 = 0;
+    int dof = 0;
+    std::vector<double> patch_chi2;
+    bool converged = false;
+    std::string message;
+
+    /// @brief Density at which the combined curve reads S, with its delta-method standard error.
+    /// @throw Error when the curve does not reach S within [0, rho_max].
+    std::pair<double, double> invert(double S, double rho_max) const;
+};
+
+/// @brief Fits b, the airlight's colour and every patch's colour to all patches' points at once
+/// with Ceres (one extinction for all), and the covariance with ceres::Covariance. With one patch
+/// it is that patch's own fit. @throw Error for fewer than 6 points per patch or bad values.
+ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma = 1.0 / 2.2);
+
+}  // namespace smokescan

@@ -1,0 +1,287 @@
+#include "smokescan/calib/colour_mix_curve.hpp"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ceres_fit.hpp"
+#include "smokescan/core/error.hpp"
+
+namespace smokescan {
+namespace {
+
+template <class T>
+T max3(const T& a, const T& b, const T& c)
+{
+    const T m = a > b ? a : b;
+    return m > c ? m : c;
+}
+template <class T>
+T min3(const T& a, const T& b, const T& c)
+{
+    const T m = a < b ? a : b;
+    return m < c ? m : c;
+}
+
+/// Noise-free saturation of a patch of colour l under airlight (1, ag, ab) at transmittance e^{−bρ}.
+template <class T>
+T cleanSaturation(double rho, const T& b, const T& ag, const T& ab, const T* l, double gamma)
+{
+    using std::exp;
+    using std::pow;
+    const T tr = exp(-b * rho), one(1.0);
+    const T r = l[0] * tr + (one - tr), g = l[1] * tr + ag * (one - tr), bl = l[2] * tr + ab * (one - tr);
+    return one - pow(min3(r, g, bl) / max3(r, g, bl), T(gamma));
+}
+
+/// Gauss–Hermite nodes and weights for a standard normal (5 points: exact to degree 9).
+constexpr double kGhZ[5] = {-2.8569700138728056, -1.3556261799742659, 0.0, 1.3556261799742659, 2.8569700138728056};
+constexpr double kGhW[5] = {0.011257411327720691, 0.2220759220056126, 0.5333333333333333, 0.2220759220056126,
+                            0.011257411327720691};
+
+/// The patch's mean saturation as the camera measures it: over the patch's brightness classes
+/// (pixel luminance / patch mean, measured in clear air: the lamp lights the patch unevenly, so
+/// the scattered light's share differs from pixel to pixel), the expectation over independent
+/// normal noise on the three encoded channels of relative sd s_rel (from the measured floor f:
+/// s_rel = f·√π/3), by Gauss–Hermite quadrature.
+template <class T>
+T patchSaturation(double rho, const T& b, const T& ag, const T& ab, const T* l, const std::vector<double>& classes,
+                  double s_rel, double gamma)
+{
+    using std::exp;
+    using std::pow;
+    const T tr = exp(-b * rho), one(1.0);
+    T total(0.0);
+    for (double k : classes) {
+        const T x[3] = {k * l[0] * tr + (one - tr), k * l[1] * tr + ag * (one - tr), k * l[2] * tr + ab * (one - tr)};
+        const T y[3] = {pow(x[0], T(gamma)), pow(x[1], T(gamma)), pow(x[2], T(gamma))};
+        if (!(s_rel > 0)) {
+            total += one - min3(y[0], y[1], y[2]) / max3(y[0], y[1], y[2]);
+            continue;
+        }
+        const T sd = s_rel * (y[0] + y[1] + y[2]) / 3.0;
+        T e(0.0);
+        for (int i = 0; i < 5; ++i)
+            for (int j = 0; j < 5; ++j)
+                for (int m = 0; m < 5; ++m) {
+                    const T a = y[0] + sd * kGhZ[i], c = y[1] + sd * kGhZ[j], d = y[2] + sd * kGhZ[m];
+                    e += kGhW[i] * kGhW[j] * kGhW[m] * (one - min3(a, c, d) / max3(a, c, d));
+                }
+        total += e;
+    }
+    return total / double(classes.size());
+}
+
+/// One point's residual in units of its standard error.
+struct MixResidual {
+    double rho, S, sigma, floor, gamma;
+    const std::vector<double>* classes;
+    template <class T>
+    bool operator()(const T* const b, const T* const air, const T* const l, T* r) const
+    {
+        const T m = patchSaturation(rho, b[0], air[0], air[1], l, *classes, floor * std::sqrt(M_PI) / 3, gamma);
+        r[0] = (m - T(S)) / T(sigma);
+        return true;
+    }
+};
+
+}  // namespace
+
+double ColourMixCurve::clean(size_t p, double rho) const
+{
+    return cleanSaturation(rho, b, airlight[1], airlight[2], target[p].data(), gamma);
+}
+
+double ColourMixCurve::floorAt(size_t p, double rho) const
+{
+    const auto& f = floor[p];
+    const auto& d = floor_density;
+    if (d.empty()) return 0.0;
+    if (rho <= d.front()) return f.front();
+    for (size_t i = 1; i < d.size(); ++i)
+        if (rho <= d[i]) return f[i - 1] + (f[i] - f[i - 1]) * (rho - d[i - 1]) / (d[i] - d[i - 1]);
+    return f.back();
+}
+
+double ColourMixCurve::patch(size_t p, double rho) const
+{
+    return patchSaturation(rho, b, airlight[1], airlight[2], target[p].data(), brightness[p],
+                           floorAt(p, rho) * std::sqrt(M_PI) / 3, gamma);
+}
+
+double ColourMixCurve::combined(double rho) const
+{
+    double s = 0, w = 0;
+    for (size_t p = 0; p < target.size(); ++p) {
+        s += weight[p] * patch(p, rho);
+        w += weight[p];
+    }
+    return w > 0 ? s / w : 0.0;
+}
+
+namespace {
+/// ρ where the combined curve first falls to S on [0, rho_max] (bisection on the first crossing).
+double firstCrossing(const ColourMixCurve& c, double S, double rho_max)
+{
+    const int n = 400;
+    double lo = 0;
+    if (!(c.combined(0) > S))
+        throw Error("", "saturation " + std::to_string(S) + " is at or above the clear-air value");
+    for (int i = 1; i <= n; ++i) {
+        double hi = rho_max * i / n;
+        if (c.combined(hi) <= S) {
+            for (int k = 0; k < 60; ++k) {
+                const double mid = 0.5 * (lo + hi);
+                (c.combined(mid) > S ? lo : hi) = mid;
+            }
+            return 0.5 * (lo + hi);
+        }
+        lo = hi;
+    }
+    throw Error("", "saturation " + std::to_string(S) + " is not reached below density " + std::to_string(rho_max));
+}
+
+std::vector<double> packParams(const ColourMixCurve& c)
+{
+    std::vector<double> v = {c.b, c.airlight[1], c.airlight[2]};
+    for (const auto& l : c.target) v.insert(v.end(), l.begin(), l.end());
+    return v;
+}
+
+ColourMixCurve unpackParams(ColourMixCurve c, const std::vector<double>& v)
+{
+    c.b = v[0];
+    c.airlight = {{1.0, v[1], v[2]}};
+    for (size_t p = 0; p < c.target.size(); ++p)
+        for (int k = 0; k < 3; ++k) c.target[p][size_t(k)] = v[3 + 3 * p + size_t(k)];
+    return c;
+}
+}  // namespace
+
+std::pair<double, double> ColourMixFit::invert(double S, double rho_max) const
+{
+    const double rho = firstCrossing(curve, S, rho_max);
+    const std::vector<double> v = packParams(curve);
+    Eigen::VectorXd g(long(v.size()));
+    for (size_t k = 0; k < v.size(); ++k) {
+        std::vector<double> up = v, dn = v;
+        const double h = 1e-5 * std::max(1e-3, std::abs(v[k]));
+        up[k] += h;
+        dn[k] -= h;
+        g[long(k)] = (firstCrossing(unpackParams(curve, up), S, 2 * rho_max) -
+                      firstCrossing(unpackParams(curve, dn), S, 2 * rho_max)) /
+            (2 * h);
+    }
+    const double var = covariance.rows() == g.size() ? g.dot(covariance * g) : 0.0;
+    return {rho, std::sqrt(std::max(0.0, var))};
+}
+
+ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
+{
+    if (patches.empty()) throw Error("calibration", "no patches to fit");
+    ColourMixCurve curve;
+    curve.gamma = gamma;
+    for (const auto& pp : patches) {
+        if (pp.points.size() < 6 || pp.floor.size() != pp.points.size())
+            throw Error("calibration", "patch '" + pp.name + "' needs at least 6 points, each with its noise floor");
+        for (const auto& q : pp.points)
+            if (!std::isfinite(q.density) || !std::isfinite(q.saturation) || !(q.sigma > 0) || q.density < 0)
+                throw Error("calibration", "patch '" + pp.name + "' has a bad point");
+        curve.names.push_back(pp.name);
+        curve.weight.push_back(pp.weight);
+        const double mx = std::max({pp.clear_colour[0], pp.clear_colour[1], pp.clear_colour[2], 1e-9});
+        auto start = [&](int c) {
+            return std::clamp(pp.clear_colour[size_t(c)] / mx, 1e-3, 1.0);
+        };  // inside the bounds
+        curve.target.push_back({{start(0), start(1), start(2)}});
+        std::vector<double> f;
+        curve.floor.push_back(pp.floor);
+        std::vector<double> classes = pp.brightness.empty() ? std::vector<double>{1.0} : pp.brightness;
+        for (double& k : classes)
+            if (!(k >= 1e-3)) k = 1e-3;  // a black pixel has no colour to mix
+        curve.brightness.push_back(classes);
+    }
+    for (const auto& q : patches[0].points) curve.floor_density.push_back(q.density);
+
+    ColourMixFit best;
+    best.chi2 = 1e300;
+    std::string last_message;
+    for (double b0 : {150.0, 300.0, 600.0}) {  // min/max make the cost rugged: three starts
+        std::vector<double> v = packParams(curve);
+        v[0] = b0;
+        v[1] = v[2] = 0.9;
+        ceres::Problem problem;
+        for (size_t p = 0; p < patches.size(); ++p)
+            for (size_t i = 0; i < patches[p].points.size(); ++i) {
+                const auto& q = patches[p].points[i];
+                problem.AddResidualBlock(
+                    new ceres::AutoDiffCostFunction<MixResidual, 1, 1, 2, 3>(new MixResidual{
+                        q.density, q.saturation, q.sigma, patches[p].floor[i], gamma, &curve.brightness[p]}),
+                    nullptr, &v[0], &v[1], &v[3 + 3 * p]);
+            }
+        for (size_t k = 0; k < v.size(); ++k) {
+            double* block = k == 0 ? &v[0] : k < 3 ? &v[1] : &v[3 + 3 * ((k - 3) / 3)];
+            const int idx = k == 0 ? 0 : k < 3 ? int(k - 1) : int((k - 3) % 3);
+            problem.SetParameterLowerBound(block, idx, 1e-6);
+            problem.SetParameterUpperBound(block, idx, k == 0 ? 1e5 : 1e3);
+        }
+        ceres::Solver::Options opt;
+        opt.linear_solver_type = ceres::DENSE_QR;
+        opt.max_num_iterations = 1000;
+        opt.function_tolerance = 1e-9;
+        opt.parameter_tolerance = 1e-10;
+        opt.logging_type = ceres::SILENT;
+        ceres::Solver::Summary summary;
+        const bool ok = detail::solveQuiet(problem, opt, summary) || detail::stalledAtMinimum(summary);
+        last_message = summary.message;
+        if (!summary.IsSolutionUsable() || !(summary.final_cost >= 0) || !(2 * summary.final_cost < best.chi2))
+            continue;
+        best = ColourMixFit{};
+        best.curve = unpackParams(curve, v);
+        best.chi2 = 2 * summary.final_cost;
+        best.converged = ok;
+        best.message = summary.BriefReport();
+        // Covariance of every parameter, in the packed order.
+        ceres::Covariance::Options copt;
+        copt.algorithm_type = ceres::DENSE_SVD;
+        copt.null_space_rank = -1;
+        ceres::Covariance cov(copt);
+        std::vector<const double*> blocks = {&v[0], &v[1]};
+        for (size_t p = 0; p < patches.size(); ++p) blocks.push_back(&v[3 + 3 * p]);
+        best.covariance = Eigen::MatrixXd::Zero(long(v.size()), long(v.size()));
+        // The covariance's SVD needs a finite Jacobian (Eigen's SVD fails on one that is not).
+        ceres::CRSMatrix jac;
+        double cost = 0;
+        const bool finite = problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &jac) &&
+            std::all_of(jac.values.begin(), jac.values.end(), [](double x) { return std::isfinite(x); });
+        if (finite && cov.Compute(blocks, &problem)) {
+            Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(long(v.size()), long(v.size()));
+            if (cov.GetCovarianceMatrix(blocks, C.data())) best.covariance = C;
+        } else {
+            best.converged = false;
+            best.message += " (covariance could not be computed)";
+        }
+    }
+    if (!(best.chi2 < 1e300)) {
+        best = ColourMixFit{};
+        best.curve = curve;
+        best.message = "no start converged: " + last_message;
+        return best;
+    }
+    size_t n = 0;
+    best.patch_chi2.assign(patches.size(), 0.0);
+    for (size_t p = 0; p < patches.size(); ++p)
+        for (const auto& q : patches[p].points) {
+            const double r = (best.curve.patch(p, q.density) - q.saturation) / q.sigma;
+            best.patch_chi2[p] += r * r;
+            ++n;
+        }
+    best.dof = int(n) - int(3 + 3 * patches.size());
+    best.std_error.clear();
+    for (long k = 0; k < best.covariance.rows(); ++k)
+        best.std_error.push_back(std::sqrt(std::max(0.0, best.covariance(k, k))));
+    return best;
+}
+
+}  // namespace smokescan
