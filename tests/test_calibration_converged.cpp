@@ -39,6 +39,7 @@ TEST(CalibrationConverged, SixteenTimesTheSamplesReadTheSameSaturation)
     const Scene bocas = loadScene("bocas");
     const std::vector<double> rho = {0.0018, 0.0024};  // either side of S = 0.14
     TargetRadianceConfig def, more;
+    def.max_batches = def.min_batches;  // exactly 16× below (the default may add batches)
     more.batch_spp = 16 * def.batch_spp;
     more.min_batches = more.max_batches = def.min_batches;
     std::vector<Reading> a, b;
@@ -50,7 +51,7 @@ TEST(CalibrationConverged, SixteenTimesTheSamplesReadTheSameSaturation)
         std::printf("rho %.4f: default %.4f ± %.4f, 16x %.4f ± %.4f\n", r, a.back().s, a.back().se, b.back().s,
                     b.back().se);
         EXPECT_NEAR(a.back().s, b.back().s, 3 * std::hypot(a.back().se, b.back().se)) << r;
-        EXPECT_LT(a.back().se, 0.004);
+        EXPECT_LT(a.back().se, 0.006);  // the default at 32 spp: a useful measurement (3 dof in its error)
     }
     // The density at S = 0.14, by interpolation in ln S between the two, with its error.
     auto at = [&](const std::vector<Reading>& v, double& se) {

@@ -2,6 +2,7 @@
 // fit, which must recover known parameters within their reported errors over independent seeds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -87,12 +88,47 @@ TEST(ColourMix, WarmLightTakesABluePatchThroughGreyAndTheNoiseSetsTheFloor)
     EXPECT_GT(c.patch(0, at) - lowest, c.patch(1, 0.0) - quiet.patch(1, 0.0));
 }
 
+TEST(ColourMix, TheCameraNoiseTermMatchesMonteCarlo)
+{
+    // A grey patch under grey light reads exactly the floor f (by the floor's definition, the mean
+    // range of three normal channels over their level); a coloured pixel's expected saturation under
+    // the same noise matches direct sampling of the three channels.
+    ColourMixCurve grey;
+    grey.names = {"p"};
+    grey.target = {{{0.6, 0.6, 0.6}}};
+    grey.weight = {1};
+    grey.brightness = {{1.0}};
+    grey.floor_density = {0.0};
+    grey.floor = {{0.02}};
+    EXPECT_NEAR(grey.patch(0, 0.0) / 0.02, 1.0, 0.01);
+    ColourMixCurve c = grey;
+    c.target = {{{0.9, 0.85, 0.8}}};
+    c.airlight = {{1.0, 0.95, 0.9}};
+    c.b = 500;
+    for (double rho : {0.0, 0.002, 0.01}) {
+        const double T = std::exp(-c.b * rho);
+        double y[3];
+        for (int k = 0; k < 3; ++k)
+            y[k] = std::pow(c.target[0][size_t(k)] * T + c.airlight[size_t(k)] * (1 - T), 1 / 2.2);
+        const double sd = 0.02 * std::sqrt(M_PI) / 3 * (y[0] + y[1] + y[2]) / 3;
+        std::mt19937_64 rng(5);
+        std::normal_distribution<double> n(0.0, sd);
+        double mean = 0;
+        const int N = 400000;
+        for (int i = 0; i < N; ++i) {
+            const double a = y[0] + n(rng), b = y[1] + n(rng), d = y[2] + n(rng);
+            mean += (std::max({a, b, d}) - std::min({a, b, d})) / std::max({a, b, d}) / N;
+        }
+        EXPECT_NEAR(c.patch(0, rho) / mean, 1.0, 0.01) << rho;
+    }
+}
+
 TEST(ColourMix, FitRecoversKnownParametersWithinTheirErrors)
 {
     // 60 independent seeds, σ = 0.002 per point: the pulls of the threshold density must have
     // mean ≈ 0 (within 3/√60) and spread ≈ 1, and χ²/dof ≈ 1. b's pulls spread as they should, but
-    // b reads high by 0.4 of its error (measured over 120 seeds: 0.26 ± 0.09): its error shrinks
-    // where its estimate is larger (a non-linear model), so the pulls lean; allowed up to 0.6.
+    // b reads high by a quarter of its error (measured over 120 seeds: 0.26 ± 0.09): its error
+    // shrinks where its estimate is larger (a non-linear model), so its pulls lean that way.
     const ColourMixCurve t = truth();
     const double rho_true = [&] {
         ColourMixFit f;
@@ -102,7 +138,7 @@ TEST(ColourMix, FitRecoversKnownParametersWithinTheirErrors)
     std::vector<double> pb, pr, chi;
     for (uint64_t seed = 1; seed <= 60; ++seed) {
         const ColourMixFit f = fitColourMix(simulate(t, 0.002, seed));
-        ASSERT_TRUE(f.converged) << f.message;
+        ASSERT_TRUE(f.converged) << f.message << " seed " << seed;
         pb.push_back((f.curve.b - t.b) / f.std_error[0]);
         const auto [rho, se] = f.invert(0.14, 0.012);
         pr.push_back((rho - rho_true) / se);
@@ -116,7 +152,7 @@ TEST(ColourMix, FitRecoversKnownParametersWithinTheirErrors)
     };
     for (const auto* v : {&pb, &pr}) {
         const auto [m, sd] = meanSd(*v);
-        EXPECT_NEAR(m, 0.0, v == &pb ? 0.6 : 0.39);
+        EXPECT_NEAR(m, v == &pb ? 0.26 : 0.0, 0.39);
         EXPECT_GT(sd, 0.75);
         EXPECT_LT(sd, 1.3);
     }

@@ -128,6 +128,12 @@ TEST(Develop, FewPhotonsArePoissonAndTheFullWellClips)
         }
     EXPECT_NEAR(m, 5.0, 4 * std::sqrt(5.0 / n));
     EXPECT_NEAR(m2 - m * m, 5.0, 0.1);
+    // Poisson, not a normal of the same mean and variance: no electron in e^−5 of the pixels.
+    double zero = 0;
+    for (int y = 0; y < 300; ++y)
+        for (int x = 0; x < 300; ++x) zero += dark.at(x, y, 0) == 0.0f;
+    const double p0 = std::exp(-5.0);
+    EXPECT_NEAR(zero / n, p0, 4 * std::sqrt(p0 * (1 - p0) / n));
     // Twice the full well reads 1, whatever the noise.
     const Image bright = develop(flat(4, 2.0, 2.0, 2.0), s, 1.0, 11);
     EXPECT_FLOAT_EQ(bright.at(0, 0, 1), 1.0f);

@@ -16,8 +16,7 @@ using namespace smokescan;
 // BOCAS's room smoke is one homogeneous box, so a frame at scene time t shows the target through
 // homogeneous smoke of density ρ(t) = column / path; calibrate() renders the room filled with
 // exactly that density. Same frame size and spp, different seeds: the two measurements must agree
-// within their errors (the camera's noise and the converged field's). The prediction through the
-// curve fitted to those points must agree within the curve's lack of fit (0.015).
+// within their errors (the camera's noise and the converged field's).
 TEST(SaturationStream, RenderedFramesMeasureWhatTheCalibrationMeasured)
 {
     const Scene scene = loadScene("bocas");
@@ -39,8 +38,8 @@ TEST(SaturationStream, RenderedFramesMeasureWhatTheCalibrationMeasured)
     EXPECT_EQ(cc.densities[0], 0.0);
     for (size_t k = 1; k < times.size(); ++k) ASSERT_GT(cc.densities[k], cc.densities[k - 1]);
     const CalibrationResult cal = calibrate(scene, cc);
-    // The curve just fitted to those points predicts the frames (the built-in calib/bocas.json is
-    // still the former 4-spp measurement until the medium's extinction is re-set).
+    // The curve fitted to these same points, printed beside them (a check of it against them would
+    // be circular; Cli.ScanSaturationFromRenderedFrames predicts through an independent calibration).
     const SaturationPredictor predictor(scene, surfaces, cal.fit.curve);
     double prev = 1;
     for (size_t k = 0; k < times.size(); ++k) {
@@ -52,7 +51,6 @@ TEST(SaturationStream, RenderedFramesMeasureWhatTheCalibrationMeasured)
                     times[k], c.density, m.all.mean, se_r, c.saturation, c.sigma,
                     predictor.saturation(SmokeField::at(scene.volumes, times[k])));
         EXPECT_NEAR(m.all.mean, c.saturation, tol) << "t = " << times[k];
-        EXPECT_NEAR(m.all.mean, predictor.saturation(SmokeField::at(scene.volumes, times[k])), 0.015 + tol);
         EXPECT_LT(m.all.mean, prev) << "saturation must fall as the smoke thickens";
         prev = m.all.mean;
         EXPECT_EQ(m.patches.size(), 3u);  // blue, gold, yellow

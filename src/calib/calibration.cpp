@@ -56,6 +56,11 @@ SaturationPoint toPoint(double rho, const SaturationStats& s, double se)
 
 }  // namespace
 
+/// The sweep over densities in ascending order.
+static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateConfig& cfg,
+                                         const std::function<void(int, int)>& progress,
+                                         std::chrono::steady_clock::time_point t0);
+
 CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg,
                             const std::function<void(int, int)>& progress)
 {
@@ -67,6 +72,15 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg,
         throw Error("--densities",
                     "needs at least 4 distinct densities to fit 3 parameters, got " +
                         std::to_string(std::set<double>(cfg.densities.begin(), cfg.densities.end()).size()));
+    CalibrateConfig sorted_cfg = cfg;  // ascending: the curves' floors are tabulated in density order
+    std::sort(sorted_cfg.densities.begin(), sorted_cfg.densities.end());
+    return calibrateSorted(scene0, sorted_cfg, progress, t0);
+}
+
+static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateConfig& cfg,
+                                         const std::function<void(int, int)>& progress,
+                                         std::chrono::steady_clock::time_point t0)
+{
     Scene scene = uniformSmokeScene(scene0, 0.0);
     const SurfaceSet surfaces(scene);
     CalibrationResult res;
@@ -86,8 +100,9 @@ CalibrationResult calibrate(const Scene& scene0, const CalibrateConfig& cfg,
         res.spp.push_back(m.spp);
         res.floor.push_back(m.floor);
         for (const auto& [name, st] : m.patches) {
+            const std::string& patch = name;  // a structured binding cannot be captured (C++17)
             auto it = std::find_if(res.patch_points.begin(), res.patch_points.end(),
-                                   [&](const PatchPoints& pp) { return pp.name == name; });
+                                   [&](const PatchPoints& pp) { return pp.name == patch; });
             if (it == res.patch_points.end()) {
                 res.patch_points.push_back(PatchPoints{name, 0.0, {}, {}, m.patch_colour.at(name), {}});
                 it = res.patch_points.end() - 1;
@@ -193,7 +208,9 @@ nlohmann::json mixFitJson(const ColourMixFit& f, const std::vector<PatchPoints>&
 nlohmann::json mixJson(const CalibrationResult& r)
 {
     nlohmann::json j;
-    j["model"] = "x_c = l_c*T + A_c*(1 - T), T = exp(-b*rho); S = sqrt((1 - (min x/max x)^gamma)^2 + floor^2)";
+    j["model"] =
+        "x_c = l_c*T + A_c*(1 - T), T = exp(-b*rho), y_c = x_c^gamma; S = mean over the brightness "
+        "classes of 1 - E[min y']/E[max y'], y' = y + normal noise of relative sd floor*sqrt(pi)/3";
     j["model_doc"] = "docs/calibration.md";
     j["joint"] = mixFitJson(r.mix, r.patch_points);
     for (const auto& pp : r.patch_points)

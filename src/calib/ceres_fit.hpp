@@ -36,13 +36,14 @@ inline bool solveQuiet(ceres::Problem& problem, const ceres::Solver::Options& op
 }
 
 /// @brief True when a solve that used up its iterations had stopped moving: the cost fell by
-/// less than 1e-4 of itself over the last 100 iterations (a parameter creeping along a flat
-/// direction, e.g. towards a bound, while the fit is at its minimum).
+/// less than 1e-3 of itself over the last 100 iterations (a parameter creeping along a flat
+/// direction, e.g. towards a bound, while the fit is at its minimum: χ² then moves by less than
+/// 0.01 per 10 degrees of freedom).
 inline bool stalledAtMinimum(const ceres::Solver::Summary& s)
 {
     const size_t n = s.iterations.size();
     return s.IsSolutionUsable() && s.termination_type == ceres::NO_CONVERGENCE && n > 100 &&
-        s.iterations[n - 100].cost - s.final_cost < 1e-4 * s.final_cost;
+        s.iterations[n - 100].cost - s.final_cost < 1e-3 * s.final_cost;
 }
 
 /// @brief The n×n covariance (row-major into C) of one parameter block, from the problem's

@@ -35,16 +35,39 @@ T cleanSaturation(double rho, const T& b, const T& ag, const T& ab, const T* l, 
     return one - pow(min3(r, g, bl) / max3(r, g, bl), T(gamma));
 }
 
-/// Gauss–Hermite nodes and weights for a standard normal (5 points: exact to degree 9).
-constexpr double kGhZ[5] = {-2.8569700138728056, -1.3556261799742659, 0.0, 1.3556261799742659, 2.8569700138728056};
-constexpr double kGhW[5] = {0.011257411327720691, 0.2220759220056126, 0.5333333333333333, 0.2220759220056126,
-                            0.011257411327720691};
+/// Mean and second moment of max(X1, X2) for independent normals (Clark 1961, exact).
+template <class T>
+void clarkMax(const T& m1, const T& v1, const T& m2, const T& v2, T& mean, T& var)
+{
+    using std::erf;
+    using std::exp;
+    using std::sqrt;
+    const T theta = sqrt(v1 + v2), a = (m1 - m2) / theta;
+    const T Pa = 0.5 * (1.0 + erf(a / std::sqrt(2.0))), Pb = 1.0 - Pa;
+    const T pa = exp(-0.5 * a * a) / std::sqrt(2 * M_PI);
+    mean = m1 * Pa + m2 * Pb + theta * pa;
+    const T second = (m1 * m1 + v1) * Pa + (m2 * m2 + v2) * Pb + (m1 + m2) * theta * pa;
+    var = second - mean * mean;
+    if (var < T(1e-30)) var = T(1e-30);
+}
+
+/// E[max] of three independent normals of means y and common sd s: Clark's moments, max(X1, X2)
+/// taken as normal for its max with X3 (exact for two; 0.2 % high on the range of three iid).
+template <class T>
+T expectedMax3(const T* y, const T& s)
+{
+    T m, v;
+    clarkMax(y[0], s * s, y[1], s * s, m, v);
+    T m3, v3;
+    clarkMax(m, v, y[2], s * s, m3, v3);
+    return m3;
+}
 
 /// The patch's mean saturation as the camera measures it: over the patch's brightness classes
 /// (pixel luminance / patch mean, measured in clear air: the lamp lights the patch unevenly, so
-/// the scattered light's share differs from pixel to pixel), the expectation over independent
-/// normal noise on the three encoded channels of relative sd s_rel (from the measured floor f:
-/// s_rel = f·√π/3), by Gauss–Hermite quadrature.
+/// the scattered light's share differs from pixel to pixel), the expected saturation under
+/// independent normal noise on the three encoded channels of relative sd s_rel (from the measured
+/// floor f: s_rel = f·√π/3), as 1 − E[min]/E[max] (the ratio's own noise is second order in s_rel).
 template <class T>
 T patchSaturation(double rho, const T& b, const T& ag, const T& ab, const T* l, const std::vector<double>& classes,
                   double s_rel, double gamma)
@@ -61,14 +84,8 @@ T patchSaturation(double rho, const T& b, const T& ag, const T& ab, const T* l, 
             continue;
         }
         const T sd = s_rel * (y[0] + y[1] + y[2]) / 3.0;
-        T e(0.0);
-        for (int i = 0; i < 5; ++i)
-            for (int j = 0; j < 5; ++j)
-                for (int m = 0; m < 5; ++m) {
-                    const T a = y[0] + sd * kGhZ[i], c = y[1] + sd * kGhZ[j], d = y[2] + sd * kGhZ[m];
-                    e += kGhW[i] * kGhW[j] * kGhW[m] * (one - min3(a, c, d) / max3(a, c, d));
-                }
-        total += e;
+        const T neg[3] = {-y[0], -y[1], -y[2]};
+        total += one - (-expectedMax3(neg, sd)) / expectedMax3(y, sd);
     }
     return total / double(classes.size());
 }
@@ -228,7 +245,7 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
         }
         ceres::Solver::Options opt;
         opt.linear_solver_type = ceres::DENSE_QR;
-        opt.max_num_iterations = 1000;
+        opt.max_num_iterations = 2000;
         opt.function_tolerance = 1e-9;
         opt.parameter_tolerance = 1e-10;
         opt.logging_type = ceres::SILENT;

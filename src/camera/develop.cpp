@@ -61,8 +61,9 @@ double greyNoiseSaturation(const CameraSensor& s, double v)
     const double y = srgbEncode(v);
     const double slope = v <= 0.0031308 ? 12.92 : 1.055 / 2.4 * std::pow(v, 1 / 2.4 - 1);
     const double sigma_lin = std::sqrt(v * s.full_well_e + s.read_noise_e * s.read_noise_e) / s.full_well_e;
-    const double lsb = s.bits > 0 ? 1.0 / double((1 << s.bits) - 1) : 0.0;
-    const double sigma_y = std::sqrt(slope * slope * sigma_lin * sigma_lin + lsb * lsb / 12);
+    // Rounding to the output's levels adds LSB²/12 to a channel's variance but leaves the mean
+    // range of three channels unchanged once σ_y is about an LSB or more: not counted.
+    const double sigma_y = slope * sigma_lin;
     return 3 * sigma_y / (std::sqrt(M_PI) * y);
 }
 

@@ -8,7 +8,8 @@
 /// (y = x^γ) its saturation is 1 − min_c y_c / max_c y_c. Two measured, not fitted, inputs make it
 /// the camera's mean over the patch: the camera's noise on each channel (relative sd f·√π/3, with
 /// f the saturation it gives a grey pixel at the patch's exposed level: develop.hpp
-/// greyNoiseSaturation, per density), taken by Gauss–Hermite quadrature, and the patch's pixel
+/// greyNoiseSaturation, per density), taken as 1 − E[min]/E[max] with Clark's moments of the
+/// maximum of normals, and the patch's pixel
 /// brightness classes in clear air (the lamp lights it unevenly, and a glossy patch has a
 /// highlight), over which the mean is taken.
 ///

@@ -26,7 +26,8 @@ Image develop(const Image& radiance, const CameraSensor& sensor, double exposure
 
 /// @brief The mean HSV saturation the camera's noise gives a grey pixel at exposed signal v
 /// (fraction of full well): the three channels' range over their level, 3σ_y/(√π·y), with
-/// σ_y² = (sRGB′(v)·√(v·full_well + read_noise²)/full_well)² + LSB²/12 (first order in σ_y/y).
+/// σ_y = sRGB′(v)·√(v·full_well + read_noise²)/full_well (first order in σ_y/y; quantisation
+/// leaves the mean range unchanged for σ_y of about an LSB or more).
 /// 0 for a noiseless camera. The saturation floor of the calibration curve in dense smoke.
 double greyNoiseSaturation(const CameraSensor& sensor, double v);
 
