@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sanitized.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/core/random.hpp"
@@ -133,20 +134,6 @@ inline FitInputs inputsOf(const TrueRun& r)
     in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
     in.mount = w.scene.sensors[size_t(w.scene.findSensor("hokuyo"))];
     return in;
-}
-
-/// True in the sanitizer build: it checks memory and undefined behaviour on one run of each
-/// path; the Release build checks the statistics over the seeds.
-inline bool sanitized()
-{
-#if defined(__SANITIZE_ADDRESS__)
-    return true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-    return true;
-#endif
-#endif
-    return false;
 }
 
 /// A run diagnosed: its replay and the result.

@@ -31,6 +31,10 @@ nir_905 = 0.78
 specular = 0.95
 roughness = 0.05
 [[materials]]
+name = "dark_paper"
+nir_785 = 0.1
+nir_905 = 0.1
+[[materials]]
 name = "velvet"
 nir_785 = 0.03
 nir_905 = 0.03

@@ -56,11 +56,11 @@ TEST(Cli, ScanPhysicalModelAndSensorFiles)
 {
     const std::string log = file("phys.log");
     const std::string sf =
-        file("hokuyo.toml", "type = \"urg04lx\"\nmodel = \"physical\"\n[physical]\nnoise_floor = 1.675e-4\n");
+        file("hokuyo.toml", "type = \"urg04lx\"\nmodel = \"physical\"\n[physical]\nnoise_floor = 5.4e-4\n");
     CliRun r = cli("scan bocas --from 0 --to 2 --rate 1 --sensor-file " + sf + " --out " + log);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("model physical"), std::string::npos) << r.out;
-    EXPECT_NE(slurp(log).find("model=physical noise_floor=0.0001675 "), std::string::npos) << slurp(log).substr(0, 300);
+    EXPECT_NE(slurp(log).find("model=physical noise_floor=0.00054 "), std::string::npos) << slurp(log).substr(0, 300);
     r = cli("scan bocas --from 0 --to 2 --rate 1 --model physical --out " + log);
     ASSERT_EQ(r.status, 0) << r.err;
     // In the densest smoke the --tau table names each error's cause and the received power.

@@ -13,6 +13,7 @@
 #include "smokescan/fit/physical_fit.hpp"
 #include "smokescan/fit/plume_fit.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
+#include "smokescan/media/medium.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
@@ -171,7 +172,8 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
             EXPECT_LT(th.width.value, 0.004) << th.group;
             p_P.push_back((th.penetration_power.value - P) / th.penetration_power.se);
             EXPECT_LT(std::abs(p_P.back()), 3.5) << th.group;
-            EXPECT_NEAR(th.tau.value / th.penetration_power.value, 270.0, 1e-9);
+            // Wiring: τ uses the scene medium's σ_t at 785 nm (theatrical fog: the calibrated default).
+            EXPECT_NEAR(th.tau.value / th.penetration_power.value, Medium::kCalibratedSigmaT, 1e-9);
         }
     }
     double m, sd;
@@ -195,7 +197,7 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
 // scoring into a two-cycle; the threshold fit now minimises the deviance itself).
 TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
 {
-    const double nf_true = 1.6 * 1.675e-4, offset = -2.5;
+    const double nf_true = 1.6 * 5.4e-4, offset = -2.5;
     const auto groups = targetGroups();
     Bocas& b = bocas();
     const SensorMount& mount = b.scene.sensors[size_t(b.scene.findSensor("hokuyo"))];
@@ -213,6 +215,8 @@ TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
         EXPECT_GT(nf.se_calibration, 0.0);
         EXPECT_NEAR(nf.noise_floor.se, std::hypot(nf.se_statistical, nf.se_calibration), 1e-12);
         pulls_nf.push_back((nf.noise_floor.value - nf_true) / nf.se_statistical);
+        std::printf("seed %d: noise floor %.4g ± %.2g (statistical), truth %.4g\n", int(seed), nf.noise_floor.value,
+                    nf.se_statistical, nf_true);
         EXPECT_LT(std::abs(pulls_nf.back()), 3.5) << "seed " << seed << " noise floor " << nf.noise_floor.value;
         // The model's own onset column lies above the probit's P (the two-wave tail).
         EXPECT_GT(nf.onset_column.value, th.penetration_power.value) << "seed " << seed;

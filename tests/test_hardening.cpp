@@ -55,9 +55,6 @@ bool isCharDevice(const std::string& p)
     return ::stat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
 }
 
-/// The file's bytes, or "(missing)".
-std::string contentOf(const std::string& p) { return fs::exists(p) ? slurp(p) : std::string("(missing)"); }
-
 }  // namespace
 
 // ---- outputs never destroy ----
@@ -168,6 +165,13 @@ TEST(Hardening, InputsThatCrashedAreOneLineErrors)
     // and no calibration.
     expectBad("calibrate bocas --densities 0,0.5,0.8,1 --spp 1 --width 16 --height 12 --out " + file("c.json"),
               "too few for its radiance field", file("c.json"));
+    // A sweep too short to reach the threshold: the curve would be extrapolated (it was written,
+    // exit 0, with a threshold far outside the sweep); a sweep that keeps too many frames.
+    expectBad(
+        "calibrate bocas --densities 0,0.0001,0.0002,0.0003 --spp 1 --width 48 --height 36 --out " + file("c.json"),
+        "an extrapolation", file("c.json"));
+    expectBad("calibrate bocas --max-batches 2048 --spp 1 --out " + file("c.json"),
+              "--max-batches: a converged measurement", file("c.json"));
     // A mesh smoke area at 0.1 mm voxels (15.6 GB before): refused before any voxel is made.
     file(
         "cube.obj",

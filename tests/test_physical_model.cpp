@@ -181,10 +181,13 @@ TEST(PhysicalModel, HokuyoOnsetInBocasIsThePapersPenetrationPower)
 
 TEST(PhysicalModel, DarkTargetDropsOutBeforeWhitePaper)
 {
-    Rig white(roomScene(1.0, "white_paper")), velvet(roomScene(1.0, "velvet"));
-    const double on_white = homogeneousOnset(white), on_velvet = homogeneousOnset(velvet);
-    EXPECT_LT(on_velvet, 0.5 * on_white) << on_velvet << " vs " << on_white;
-    EXPECT_GT(on_velvet, 0.0);  // velvet is still seen in clear air
+    // A 10 %-reflective paper (the datasheets' dark target) against white (80 %) at 2.5 m. (The
+    // 3 % velvet is not seen at 2.5 m in clear air: with the calibrated noise floor the URG errs
+    // once the return falls 12 dB below the blue paper's, docs/sensors.md.)
+    Rig white(roomScene(1.0, "white_paper")), dark(roomScene(1.0, "dark_paper"));
+    const double on_white = homogeneousOnset(white), on_dark = homogeneousOnset(dark);
+    EXPECT_LT(on_dark, 0.5 * on_white) << on_dark << " vs " << on_white;
+    EXPECT_GT(on_dark, 0.0);  // the dark paper is still seen in clear air
 }
 
 TEST(PhysicalModel, WithoutSmokePaperAndPhysicalAgreeWithTheSurface)

@@ -56,6 +56,22 @@ SaturationPoint toPoint(double rho, const SaturationStats& s, double se)
 
 }  // namespace
 
+/// The light's mixing at each density, from the patches' colours (light_mixing.hpp); needs density 0.
+static void measureMixing(const std::vector<double>& densities,
+                          const std::vector<std::map<std::string, std::array<double, 3>>>& colours,
+                          CalibrationResult& res)
+{
+    if (densities.empty() || densities.front() != 0 || colours.front().size() < 2) return;
+    std::vector<std::array<double, 3>> clear;
+    for (const auto& [name, c] : colours.front()) clear.push_back(c);
+    for (size_t k = 0; k < densities.size(); ++k) {
+        std::vector<std::array<double, 3>> seen;
+        for (const auto& [name, c] : colours[k]) seen.push_back(c);
+        if (seen.size() == clear.size()) res.mixing.push_back(measureLightMixing(densities[k], clear, seen));
+    }
+    std::tie(res.mixing_b, res.mixing_b_se) = extinctionPath(res.mixing);
+}
+
 /// The sweep over densities in ascending order.
 static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateConfig& cfg,
                                          const std::function<void(int, int)>& progress,
@@ -85,6 +101,7 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
     const SurfaceSet surfaces(scene);
     CalibrationResult res;
     const int n = int(cfg.densities.size());
+    std::vector<std::map<std::string, std::array<double, 3>>> colours;  // each patch's, per density
     for (int k = 0; k < n; ++k) {
         const double rho = cfg.densities[size_t(k)];
         scene.volumes[0].timeline = DensityTimeline::constant(rho);
@@ -98,6 +115,8 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
         res.points.push_back(toPoint(rho, m.all, m.se));
         for (const auto& [name, s] : m.patches) res.patches[name].push_back(toPoint(rho, s, m.patch_se.at(name)));
         res.spp.push_back(m.spp);
+        colours.push_back(m.patch_colour);
+        res.rel_error.push_back(m.rel_error);
         res.floor.push_back(m.floor);
         for (const auto& [name, st] : m.patches) {
             const std::string& patch = name;  // a structured binding cannot be captured (C++17)
@@ -117,6 +136,7 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
         }
         if (progress) progress(k + 1, n);
     }
+    measureMixing(cfg.densities, colours, res);
     CurveFitConfig fit = cfg.fit;  // the camera's noise floor over the sweep: derived, fixed
     double floor_sum = 0;
     for (double f : res.floor) floor_sum += f;
@@ -132,14 +152,44 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
     const double rho_max = *std::max_element(cfg.densities.begin(), cfg.densities.end());
     try {
         res.mix = fitColourMix(res.patch_points, cfg.fit.gamma);
-        for (const auto& pp : res.patch_points) res.patch_mix[pp.name] = fitColourMix({pp}, cfg.fit.gamma);
         if (!res.mix.std_error.empty())
             std::tie(res.mix_threshold_density, res.mix_threshold_density_se) =
                 res.mix.invert(cfg.threshold_saturation, rho_max);
-    } catch (const Error&) {
+    } catch (const Error& e) {
         // Too few points, or a sweep that never reaches the threshold: the effective curve stands alone.
+        res.mix.message = e.what();
     }
-    const auto [rho, se] = res.fit.invert(cfg.threshold_saturation);
+    try {
+        res.drift = fitColourMix(res.patch_points, cfg.fit.gamma, true);
+        if (!res.drift.std_error.empty())
+            std::tie(res.drift_threshold_density, res.drift_threshold_density_se) =
+                res.drift.invert(cfg.threshold_saturation, rho_max);
+    } catch (const Error& e) {
+        res.drift.message = e.what();
+    }
+    for (const auto& pp : res.patch_points) try {
+            res.patch_mix[pp.name] = fitColourMix({pp}, cfg.fit.gamma);
+        } catch (const Error&) {
+            // Too few points for a patch alone: only the joint fit.
+        }
+    if (!res.fit.converged) return res;  // the caller reports the fit's failure
+    if (res.fit.curve.a <= 1e-6 || res.fit.curve.b <= 1e-6)
+        throw Error("calibrate",
+                    "the curve is degenerate (a = " + std::to_string(res.fit.curve.a) +
+                        ", b = " + std::to_string(res.fit.curve.b) +
+                        " at their lower bounds): the sweep does not constrain it; widen --densities");
+    double rho = 0, se = 0;
+    try {
+        std::tie(rho, se) = res.fit.invert(cfg.threshold_saturation);
+    } catch (const Error& e) {
+        throw Error("calibrate", std::string("the curve never reads the threshold: ") + e.what());
+    }
+    const double rho_min = cfg.densities.front();
+    if (!(rho >= rho_min && rho <= rho_max))
+        throw Error("calibrate",
+                    "saturation " + std::to_string(cfg.threshold_saturation) + " falls at density " +
+                        std::to_string(rho) + ", outside the sweep [" + std::to_string(rho_min) + ", " +
+                        std::to_string(rho_max) + "]: an extrapolation; widen --densities");
     res.threshold_density = rho;
     res.threshold_density_se = se;
     res.penetration_power = rho * cfg.path_m;
@@ -179,6 +229,10 @@ nlohmann::json mixFitJson(const ColourMixFit& f, const std::vector<PatchPoints>&
     j["airlight_rgb"] = f.curve.airlight;
     j["airlight_std_error_gb"] = {f.std_error.size() > 2 ? f.std_error[1] : 0.0,
                                   f.std_error.size() > 2 ? f.std_error[2] : 0.0};
+    if (f.curve.kappa > 0) {  // the drifting light
+        j["airlight_dense_rgb"] = f.curve.airlight_dense;
+        j["kappa"] = f.curve.kappa;
+    }
     for (size_t p = 0; p < f.curve.target.size(); ++p) {
         nlohmann::json t;
         t["colour_rgb"] = f.curve.target[p];
@@ -209,8 +263,8 @@ nlohmann::json mixJson(const CalibrationResult& r)
 {
     nlohmann::json j;
     j["model"] =
-        "x_c = l_c*T + A_c*(1 - T), T = exp(-b*rho), y_c = x_c^gamma; S = mean over the brightness "
-        "classes of 1 - E[min y']/E[max y'], y' = y + normal noise of relative sd floor*sqrt(pi)/3";
+        "x_c = l_c*T + A_c*(1 - T), T = exp(-b*rho), y_c = x_c^gamma; S = mean over the brightness classes of "
+        "1 - E[min y']/E[max y'], y' = y + normal noise of relative sd floor*sqrt(pi)/3";
     j["model_doc"] = "docs/calibration.md";
     j["joint"] = mixFitJson(r.mix, r.patch_points);
     for (const auto& pp : r.patch_points)
@@ -218,6 +272,16 @@ nlohmann::json mixJson(const CalibrationResult& r)
             j["per_patch"][pp.name] = mixFitJson(r.patch_mix.at(pp.name), {pp});
     j["threshold_density"] = r.mix_threshold_density;
     j["threshold_density_std_error"] = r.mix_threshold_density_se;
+    if (!r.drift.std_error.empty()) {
+        nlohmann::json d;
+        d["model"] =
+            "the colour-mixing curve with A_c(rho) = w*airlight + (1 - w)*airlight_dense, w = exp(-kappa*rho); "
+            "b, kappa and the light's colours trade off: only the threshold is meant";
+        d["joint"] = mixFitJson(r.drift, r.patch_points);
+        d["threshold_density"] = r.drift_threshold_density;
+        d["threshold_density_std_error"] = r.drift_threshold_density_se;
+        j["drifting_light"] = d;
+    }
     return j;
 }
 
@@ -232,6 +296,20 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
     j["combined"] = fitJson(r.fit, r.points);
     for (const auto& [name, f] : r.patch_fits) j["patches"][name] = fitJson(f, r.patches.at(name));
     if (!r.mix.std_error.empty()) j["colour_mix"] = mixJson(r);
+    if (!r.mixing.empty()) {
+        nlohmann::json m;
+        m["model"] =
+            "each patch's linear colour x_p = l_p*T + A*(1 - T), l_p its clear-air colour: T and A per density";
+        m["b"] = r.mixing_b;
+        m["b_std_error"] = r.mixing_b_se;
+        for (const auto& q : r.mixing)
+            m["points"].push_back({{"density", q.density},
+                                   {"transmittance", q.transmittance},
+                                   {"transmittance_std_error", q.transmittance_se},
+                                   {"scattered_rgb", q.scattered},
+                                   {"rms_relative", q.rms}});
+        j["light_mixing"] = m;
+    }
     for (const auto& pp : r.patch_points) {  // the measurement itself, for any other model
         nlohmann::json m;
         m["weight"] = pp.weight;
@@ -257,6 +335,7 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
                    {"batch_spp", cfg.field.batch_spp},
                    {"spp_per_target_pixel", r.spp},
                    {"rel_error", cfg.field.rel_error},
+                   {"rel_error_reached", r.rel_error},
                    {"field_degree", cfg.field.degree},
                    {"width", cfg.width},
                    {"height", cfg.height},
@@ -304,6 +383,12 @@ CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::s
         r.converged = f.at("converged").get<bool>();
         r.chi2 = f.value("chi2", 0.0);
         r.dof = f.value("dof", 0);
+        const double s_star = j.contains("threshold") ? j["threshold"].value("saturation", 0.0) : 0.0;
+        if (s_star > 0 && r.curve.floor >= s_star)
+            throw Error(where,
+                        "the noise floor " + std::to_string(r.curve.floor) +
+                            " is at or above the threshold saturation " + std::to_string(s_star) +
+                            ": the threshold is never reached");
         if (!(r.curve.S0 > 0 && r.curve.S0 <= 1 && r.curve.a > 0 && r.curve.b > 0 && r.curve.gamma > 0 &&
               r.curve.floor >= 0 && r.curve.floor < 0.5))
             throw Error(where,

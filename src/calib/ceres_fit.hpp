@@ -27,6 +27,18 @@ inline void quietCeres()
     });
 }
 
+/// @brief Quiet dense-QR solver options for the calibration's small problems.
+inline ceres::Solver::Options denseOptions(int max_iterations, double tolerance)
+{
+    ceres::Solver::Options opt;
+    opt.linear_solver_type = ceres::DENSE_QR;
+    opt.max_num_iterations = max_iterations;
+    opt.function_tolerance = tolerance;
+    opt.parameter_tolerance = tolerance;
+    opt.logging_type = ceres::SILENT;
+    return opt;
+}
+
 /// @brief Solves quietly with the given options; true when the solution is usable and converged.
 inline bool solveQuiet(ceres::Problem& problem, const ceres::Solver::Options& options, ceres::Solver::Summary& summary)
 {

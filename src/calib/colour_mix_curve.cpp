@@ -24,14 +24,30 @@ T min3(const T& a, const T& b, const T& c)
     return m < c ? m : c;
 }
 
-/// Noise-free saturation of a patch of colour l under airlight (1, ag, ab) at transmittance e^{−bρ}.
+/// The scattered light's colour at density rho: thin = (A_G, A_B) of thin smoke's light (A_R = 1),
+/// drift = (s, D_G, D_B, kappa): w·(1, A_G, A_B) + (1 − w)·s·(1, D_G, D_B), w = e^{−kappa·rho}
+/// (kappa = 0: one colour at every density).
 template <class T>
-T cleanSaturation(double rho, const T& b, const T& ag, const T& ab, const T* l, double gamma)
+void airlightAt(double rho, const T* thin, const T* drift, T* a)
+{
+    using std::exp;
+    const T w = exp(-drift[3] * rho), one(1.0), v = (one - w) * drift[0];
+    a[0] = w + v;
+    a[1] = w * thin[0] + v * drift[1];
+    a[2] = w * thin[1] + v * drift[2];
+}
+
+/// Noise-free saturation of a patch of colour l under the light `air` (thin, then drift) at
+/// transmittance e^{−bρ}.
+template <class T>
+T cleanSaturation(double rho, const T& b, const T* air, const T* l, double gamma)
 {
     using std::exp;
     using std::pow;
     const T tr = exp(-b * rho), one(1.0);
-    const T r = l[0] * tr + (one - tr), g = l[1] * tr + ag * (one - tr), bl = l[2] * tr + ab * (one - tr);
+    T a[3];
+    airlightAt(rho, air, air + 2, a);
+    const T r = l[0] * tr + a[0] * (one - tr), g = l[1] * tr + a[1] * (one - tr), bl = l[2] * tr + a[2] * (one - tr);
     return one - pow(min3(r, g, bl) / max3(r, g, bl), T(gamma));
 }
 
@@ -69,15 +85,18 @@ T expectedMax3(const T* y, const T& s)
 /// independent normal noise on the three encoded channels of relative sd s_rel (from the measured
 /// floor f: s_rel = f·√π/3), as 1 − E[min]/E[max] (the ratio's own noise is second order in s_rel).
 template <class T>
-T patchSaturation(double rho, const T& b, const T& ag, const T& ab, const T* l, const std::vector<double>& classes,
+T patchSaturation(double rho, const T& b, const T* thin, const T* drift, const T* l, const std::vector<double>& classes,
                   double s_rel, double gamma)
 {
     using std::exp;
     using std::pow;
     const T tr = exp(-b * rho), one(1.0);
+    T a[3];
+    airlightAt(rho, thin, drift, a);
     T total(0.0);
     for (double k : classes) {
-        const T x[3] = {k * l[0] * tr + (one - tr), k * l[1] * tr + ag * (one - tr), k * l[2] * tr + ab * (one - tr)};
+        const T x[3] = {k * l[0] * tr + a[0] * (one - tr), k * l[1] * tr + a[1] * (one - tr),
+                        k * l[2] * tr + a[2] * (one - tr)};
         const T y[3] = {pow(x[0], T(gamma)), pow(x[1], T(gamma)), pow(x[2], T(gamma))};
         if (!(s_rel > 0)) {
             total += one - min3(y[0], y[1], y[2]) / max3(y[0], y[1], y[2]);
@@ -95,9 +114,9 @@ struct MixResidual {
     double rho, S, sigma, floor, gamma;
     const std::vector<double>* classes;
     template <class T>
-    bool operator()(const T* const b, const T* const air, const T* const l, T* r) const
+    bool operator()(const T* const b, const T* const thin, const T* const drift, const T* const l, T* r) const
     {
-        const T m = patchSaturation(rho, b[0], air[0], air[1], l, *classes, floor * std::sqrt(M_PI) / 3, gamma);
+        const T m = patchSaturation(rho, b[0], thin, drift, l, *classes, floor * std::sqrt(M_PI) / 3, gamma);
         r[0] = (m - T(S)) / T(sigma);
         return true;
     }
@@ -107,7 +126,8 @@ struct MixResidual {
 
 double ColourMixCurve::clean(size_t p, double rho) const
 {
-    return cleanSaturation(rho, b, airlight[1], airlight[2], target[p].data(), gamma);
+    const std::array<double, 6> air = packedAirlight();
+    return cleanSaturation(rho, b, air.data(), target[p].data(), gamma);
 }
 
 double ColourMixCurve::floorAt(size_t p, double rho) const
@@ -123,8 +143,23 @@ double ColourMixCurve::floorAt(size_t p, double rho) const
 
 double ColourMixCurve::patch(size_t p, double rho) const
 {
-    return patchSaturation(rho, b, airlight[1], airlight[2], target[p].data(), brightness[p],
+    const std::array<double, 6> air = packedAirlight();
+    return patchSaturation(rho, b, air.data(), air.data() + 2, target[p].data(), brightness[p],
                            floorAt(p, rho) * std::sqrt(M_PI) / 3, gamma);
+}
+
+std::array<double, 6> ColourMixCurve::packedAirlight() const
+{
+    const double s = airlight_dense[0];
+    return {{airlight[1], airlight[2], s, airlight_dense[1] / s, airlight_dense[2] / s, kappa}};
+}
+
+std::array<double, 3> ColourMixCurve::airlightAt(double rho) const
+{
+    const std::array<double, 6> air = packedAirlight();
+    std::array<double, 3> a{};
+    smokescan::airlightAt(rho, air.data(), air.data() + 2, a.data());
+    return a;
 }
 
 double ColourMixCurve::combined(double rho) const
@@ -159,9 +194,14 @@ double firstCrossing(const ColourMixCurve& c, double S, double rho_max)
     throw Error("", "saturation " + std::to_string(S) + " is not reached below density " + std::to_string(rho_max));
 }
 
+constexpr size_t kAir = 6;  ///< the light's parameters: thin (2), drift (4)
+constexpr size_t kL0 = 1 + kAir;  ///< where the patches' colours start in the packed vector
+
 std::vector<double> packParams(const ColourMixCurve& c)
 {
-    std::vector<double> v = {c.b, c.airlight[1], c.airlight[2]};
+    std::vector<double> v = {c.b};
+    const std::array<double, kAir> air = c.packedAirlight();
+    v.insert(v.end(), air.begin(), air.end());
     for (const auto& l : c.target) v.insert(v.end(), l.begin(), l.end());
     return v;
 }
@@ -170,8 +210,10 @@ ColourMixCurve unpackParams(ColourMixCurve c, const std::vector<double>& v)
 {
     c.b = v[0];
     c.airlight = {{1.0, v[1], v[2]}};
+    c.airlight_dense = {{v[3], v[3] * v[4], v[3] * v[5]}};
+    c.kappa = v[6];
     for (size_t p = 0; p < c.target.size(); ++p)
-        for (int k = 0; k < 3; ++k) c.target[p][size_t(k)] = v[3 + 3 * p + size_t(k)];
+        for (int k = 0; k < 3; ++k) c.target[p][size_t(k)] = v[kL0 + 3 * p + size_t(k)];
     return c;
 }
 }  // namespace
@@ -194,8 +236,10 @@ std::pair<double, double> ColourMixFit::invert(double S, double rho_max) const
     return {rho, std::sqrt(std::max(0.0, var))};
 }
 
-ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
+ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma, bool drifting_light)
 {
+    // Free parameters: b, thin smoke's light (2), its drift (4) if asked, 3 per patch.
+    const size_t n_free = 3 + (drifting_light ? 4 : 0) + 3 * patches.size();
     if (patches.empty()) throw Error("calibration", "no patches to fit");
     ColourMixCurve curve;
     curve.gamma = gamma;
@@ -220,6 +264,12 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
         curve.brightness.push_back(classes);
     }
     for (const auto& q : patches[0].points) curve.floor_density.push_back(q.density);
+    size_t n_points = 0;
+    for (const auto& pp : patches) n_points += pp.points.size();
+    if (n_points <= n_free)
+        throw Error("calibration",
+                    std::to_string(n_points) + " points cannot fit the colour-mixing curve's " +
+                        std::to_string(n_free) + " parameters");
 
     ColourMixFit best;
     best.chi2 = 1e300;
@@ -227,25 +277,29 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
     for (double b0 : {150.0, 300.0, 600.0}) {  // min/max make the cost rugged: three starts
         std::vector<double> v = packParams(curve);
         v[0] = b0;
-        v[1] = v[2] = 0.9;
+        v[1] = v[2] = 0.9;  // thin smoke's light: warm
+        v[3] = v[4] = v[5] = 1.0;  // dense smoke's: grey, as bright
+        v[6] = drifting_light ? b0 : 0.0;  // kappa = 0: one colour throughout
         ceres::Problem problem;
         for (size_t p = 0; p < patches.size(); ++p)
             for (size_t i = 0; i < patches[p].points.size(); ++i) {
                 const auto& q = patches[p].points[i];
                 problem.AddResidualBlock(
-                    new ceres::AutoDiffCostFunction<MixResidual, 1, 1, 2, 3>(new MixResidual{
+                    new ceres::AutoDiffCostFunction<MixResidual, 1, 1, 2, 4, 3>(new MixResidual{
                         q.density, q.saturation, q.sigma, patches[p].floor[i], gamma, &curve.brightness[p]}),
-                    nullptr, &v[0], &v[1], &v[3 + 3 * p]);
+                    nullptr, &v[0], &v[1], &v[3], &v[kL0 + 3 * p]);
             }
         for (size_t k = 0; k < v.size(); ++k) {
-            double* block = k == 0 ? &v[0] : k < 3 ? &v[1] : &v[3 + 3 * ((k - 3) / 3)];
-            const int idx = k == 0 ? 0 : k < 3 ? int(k - 1) : int((k - 3) % 3);
+            if (!drifting_light && k >= 3 && k < kL0) continue;
+            double* block = k == 0 ? &v[0] : k < 3 ? &v[1] : k < kL0 ? &v[3] : &v[kL0 + 3 * ((k - kL0) / 3)];
+            const int idx = k == 0 ? 0 : k < 3 ? int(k - 1) : k < kL0 ? int(k - 3) : int((k - kL0) % 3);
             problem.SetParameterLowerBound(block, idx, 1e-6);
-            problem.SetParameterUpperBound(block, idx, k == 0 ? 1e5 : 1e3);
+            problem.SetParameterUpperBound(block, idx, k == 0 || k == 6 ? 1e5 : 1e3);
         }
+        if (!drifting_light) problem.SetParameterBlockConstant(&v[3]);
         ceres::Solver::Options opt;
         opt.linear_solver_type = ceres::DENSE_QR;
-        opt.max_num_iterations = 2000;
+        opt.max_num_iterations = drifting_light ? 10000 : 2000;
         opt.function_tolerance = 1e-9;
         opt.parameter_tolerance = 1e-10;
         opt.logging_type = ceres::SILENT;
@@ -265,7 +319,15 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
         copt.null_space_rank = -1;
         ceres::Covariance cov(copt);
         std::vector<const double*> blocks = {&v[0], &v[1]};
-        for (size_t p = 0; p < patches.size(); ++p) blocks.push_back(&v[3 + 3 * p]);
+        std::vector<long> at = {0, 1, 2};  // where each free parameter sits in the packed order
+        if (drifting_light) {
+            blocks.push_back(&v[3]);
+            at.insert(at.end(), {3, 4, 5, 6});
+        }
+        for (size_t p = 0; p < patches.size(); ++p) {
+            blocks.push_back(&v[kL0 + 3 * p]);
+            for (long k = 0; k < 3; ++k) at.push_back(long(kL0 + 3 * p) + k);
+        }
         best.covariance = Eigen::MatrixXd::Zero(long(v.size()), long(v.size()));
         // The covariance's SVD needs a finite Jacobian (Eigen's SVD fails on one that is not).
         ceres::CRSMatrix jac;
@@ -273,8 +335,11 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
         const bool finite = problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &jac) &&
             std::all_of(jac.values.begin(), jac.values.end(), [](double x) { return std::isfinite(x); });
         if (finite && cov.Compute(blocks, &problem)) {
-            Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(long(v.size()), long(v.size()));
-            if (cov.GetCovarianceMatrix(blocks, C.data())) best.covariance = C;
+            const long n_at = long(at.size());
+            Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(n_at, n_at);
+            if (cov.GetCovarianceMatrix(blocks, C.data()))
+                for (long i = 0; i < n_at; ++i)
+                    for (long j = 0; j < n_at; ++j) best.covariance(at[size_t(i)], at[size_t(j)]) = C(i, j);
         } else {
             best.converged = false;
             best.message += " (covariance could not be computed)";
@@ -294,7 +359,7 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma)
             best.patch_chi2[p] += r * r;
             ++n;
         }
-    best.dof = int(n) - int(3 + 3 * patches.size());
+    best.dof = int(n) - int(n_free);
     best.std_error.clear();
     for (long k = 0; k < best.covariance.rows(); ++k)
         best.std_error.push_back(std::sqrt(std::max(0.0, best.covariance(k, k))));

@@ -140,12 +140,7 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     problem.SetParameterLowerBound(p, 1, 1e-9);
     problem.SetParameterLowerBound(p, 2, 1e-9);
     detail::quietCeres();
-    ceres::Solver::Options opt;
-    opt.linear_solver_type = ceres::DENSE_QR;
-    opt.max_num_iterations = 1000;
-    opt.function_tolerance = 1e-12;
-    opt.parameter_tolerance = 1e-12;
-    opt.logging_type = ceres::SILENT;
+    const ceres::Solver::Options opt = detail::denseOptions(1000, 1e-12);
     ceres::Solver::Summary summary;
     ceres::Solve(opt, &problem, &summary);
 

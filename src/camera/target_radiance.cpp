@@ -6,6 +6,7 @@
 
 #include "smokescan/camera/develop.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
 
 namespace smokescan {
 namespace {
@@ -60,7 +61,7 @@ std::vector<PatchFit> patchFits(const std::vector<int>& patch_of, int W, int H, 
         if (f.basis_in.rows() < 4 * f.basis_in.cols())
             throw Error("target",
                         "a patch shows " + std::to_string(f.interior.size()) +
-                            " interior pixels, too few for its radiance field (a larger --width/--height)");
+                            " interior pixels, too few for its radiance field (a larger frame)");
         f.qr.compute(f.basis_in);
     }
     return fits;
@@ -76,6 +77,14 @@ TargetRadiance measureTargetRadiance(const Scene& scene, const SurfaceSet& surfa
         cfg.max_batches > 4096 || !(cfg.rel_error > 0) || cfg.degree < 0 || cfg.degree > 8)
         throw Error("target radiance",
                     "needs spp >= 1, 2 <= min_batches <= max_batches <= 4096, rel_error > 0, degree in [0, 8]");
+    // Each batch's frame is kept (and as many fields): bound the memory before any work.
+    const double bytes = double(rc0.width) * rc0.height * 3 * sizeof(float) * (2.0 * cfg.max_batches + 2);
+    if (bytes > double(limits::kConvergedBytes))
+        throw Error("--max-batches",
+                    "a converged measurement of " + std::to_string(rc0.width) + "x" + std::to_string(rc0.height) +
+                        " px over " + std::to_string(cfg.max_batches) + " batches would hold " +
+                        std::to_string(int(bytes / (1 << 20))) + " MiB of frames (at most " +
+                        std::to_string(limits::kConvergedBytes >> 20) + " MiB): fewer batches or a smaller frame");
     RenderConfig rc = rc0;
     rc.spp = cfg.meter_spp;
     const RenderResult meter = render(scene, surfaces, rc);

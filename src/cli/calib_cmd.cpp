@@ -27,6 +27,16 @@ namespace smokescan::cli {
 namespace {
 namespace fs = std::filesystem;
 
+std::string fixed(double v, int digits)
+{
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*f", digits, v);
+    return b;
+}
+
+/// χ²/dof, or "n/a" when the fit has no degrees of freedom left.
+std::string chi2PerDof(double chi2, int dof) { return dof > 0 ? fixed(chi2 / dof, 2) : std::string("n/a"); }
+
 struct CalibArgs {
     std::string scene = "bocas", out, plot, densities;
     CalibrateConfig cfg;
@@ -44,9 +54,12 @@ int runCalibrate(const CalibArgs& a)
                         "density " + std::to_string(d) + " is outside [0, " +
                             std::to_string(limits::kCalibrationDensityMax) +
                             "] (the calibration's range; 0.0028 is the paper's threshold)");
-    if (double(cfg.width) * cfg.height * cfg.field.batch_spp > double(limits::kFrameSamples))
+    const double per_frame =
+        double(cfg.width) * cfg.height * (cfg.field.meter_spp + double(cfg.field.max_batches) * cfg.field.batch_spp);
+    if (per_frame * double(cfg.densities.size()) > double(limits::kFrameSamples))
         throw Error("--spp",
-                    "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
+                    "width × height × spp × --max-batches × densities is over " +
+                        std::to_string(limits::kFrameSamples) + " samples");
     RunFiles files;
     files.input(a.scene, "the scene");
     files.output(a.out, "--out");
@@ -63,29 +76,61 @@ int runCalibrate(const CalibArgs& a)
     if (!a.plot.empty()) writeCalibrationPlot(files.stage(a.plot), r, cfg);
     files.commit();
     const auto& f = r.fit;
-    std::printf("fit: S0 = %.4f ± %.4f, a = %.4f ± %.4f, b = %.1f ± %.1f /density; chi2/dof = %.2f, R² = %.5f%s\n",
+    std::printf("fit: S0 = %.4f ± %.4f, a = %.4f ± %.4f, b = %.1f ± %.1f /density; chi2/dof = %s, R² = %.5f%s\n",
                 f.curve.S0, f.std_error[0], f.curve.a, f.std_error[1], f.curve.b, f.std_error[2],
-                f.dof > 0 ? f.chi2 / f.dof : 0.0, f.r2, f.converged ? "" : " (NOT CONVERGED)");
+                chi2PerDof(f.chi2, f.dof).c_str(), f.r2, f.converged ? "" : " (NOT CONVERGED)");
     std::printf(
         "saturation %.2f at density %.5f ± %.5f; penetration power over %.2f m = %.5f ± %.5f density·m "
         "(paper: 0.0028, 0.007); engine unit factor %.3f\n",
         cfg.threshold_saturation, r.threshold_density, r.threshold_density_se, cfg.path_m, r.penetration_power,
         r.penetration_power_se, r.engine_unit_factor);
     if (r.mix.curve.target.empty() || r.mix.std_error.empty())
-        std::printf("colour-mixing curve: not fitted (%s)\n", r.mix.message.c_str());
+        std::printf("colour-mixing curve: not fitted (%s)\n",
+                    r.mix.message.empty() ? "its covariance is not identified" : r.mix.message.c_str());
     else {
         std::printf(
-            "colour-mixing curve%s, all patches, one extinction: b = %.1f ± %.1f /density, airlight RGB 1 : "
-            "%.3f : %.3f; chi2/dof = %.2f (%d dof); saturation %.2f at density %.5f ± %.5f\n",
-            r.mix.converged ? "" : " (NOT CONVERGED)", r.mix.curve.b,
-            r.mix.std_error.empty() ? 0.0 : r.mix.std_error[0], r.mix.curve.airlight[1], r.mix.curve.airlight[2],
-            r.mix.dof > 0 ? r.mix.chi2 / r.mix.dof : 0.0, r.mix.dof, cfg.threshold_saturation, r.mix_threshold_density,
-            r.mix_threshold_density_se);
+            "colour-mixing curve%s, all patches, one extinction: b = %.1f ± %.1f /density, scattered light RGB 1 : "
+            "%.3f : %.3f; chi2/dof = %s (%d dof); saturation %.2f at density %s\n",
+            r.mix.converged ? "" : " (NOT CONVERGED)", r.mix.curve.b, r.mix.std_error[0], r.mix.curve.airlight[1],
+            r.mix.curve.airlight[2], chi2PerDof(r.mix.chi2, r.mix.dof).c_str(), r.mix.dof, cfg.threshold_saturation,
+            r.mix_threshold_density > 0
+                ? (fixed(r.mix_threshold_density, 5) + " ± " + fixed(r.mix_threshold_density_se, 5)).c_str()
+                : "not reached in the sweep");
         for (const auto& [name, f] : r.patch_mix)
-            if (f.converged)
-                std::printf("  %s alone: b = %.1f ± %.1f, chi2/dof = %.2f\n", name.c_str(), f.curve.b,
-                            f.std_error.empty() ? 0.0 : f.std_error[0], f.dof > 0 ? f.chi2 / f.dof : 0.0);
+            if (f.converged && !f.std_error.empty())
+                std::printf("  %s alone: b = %.1f ± %.1f, chi2/dof = %s\n", name.c_str(), f.curve.b, f.std_error[0],
+                            chi2PerDof(f.chi2, f.dof).c_str());
     }
+    if (!r.drift.std_error.empty())
+        std::printf(
+            "  with a light that drifts from warm to grey%s: chi2/dof = %s (%d dof); saturation %.2f at density %s\n",
+            r.drift.converged ? "" : " (NOT CONVERGED)", chi2PerDof(r.drift.chi2, r.drift.dof).c_str(), r.drift.dof,
+            cfg.threshold_saturation,
+            r.drift_threshold_density > 0
+                ? (fixed(r.drift_threshold_density, 5) + " ± " + fixed(r.drift_threshold_density_se, 5)).c_str()
+                : "not reached in the sweep");
+    if (!r.mixing.empty()) {
+        const auto at = [&](double rho) {  // the measured density nearest rho
+            const LightMixing* best = &r.mixing.front();
+            for (const auto& q : r.mixing)
+                if (std::abs(q.density - rho) < std::abs(best->density - rho)) best = &q;
+            return *best;
+        };
+        const LightMixing thin = at(0.0005), dense = at(0.008);
+        auto ratio = [](const LightMixing& q) {
+            return fixed(q.scattered[1] / q.scattered[0], 3) + " : " + fixed(q.scattered[2] / q.scattered[0], 3);
+        };
+        std::printf(
+            "measured from the patches' colours: b = %.1f ± %.1f /density; scattered light RGB 1 : %s at "
+            "density %.4f, 1 : %s at %.4f\n",
+            r.mixing_b, r.mixing_b_se, ratio(thin).c_str(), thin.density, ratio(dense).c_str(), dense.density);
+    }
+    double worst = 0;
+    for (double e : r.rel_error) worst = std::max(worst, e);
+    if (worst > cfg.field.rel_error)
+        std::printf(
+            "note: the target radiance reached a relative error of %.3f, not the %.3f asked (--max-batches %d)\n",
+            worst, cfg.field.rel_error, cfg.field.max_batches);
     std::printf("wrote %s%s%s (%zu frames, %.1f s)\n", a.out.c_str(), a.plot.empty() ? "" : " and ", a.plot.c_str(),
                 cfg.densities.size(), r.seconds);
     return 0;
@@ -154,6 +199,7 @@ void addCalibration(CLI::App& app, Runner& run)
     c->add_option("--rel-error", a->cfg.field.rel_error,
                   "Batches until each patch's fitted radiance has this relative standard error")
         ->capture_default_str()
+        ->check(finite())
         ->check(CLI::Range(1e-4, 1.0));
     c->add_option("--max-batches", a->cfg.field.max_batches, "At most this many batches")
         ->capture_default_str()

@@ -142,10 +142,13 @@ int runScan(const ScanArgs& a0)
             throw Error("--saturation-rate",
                         "would make " + limits::count(std::floor(frames_wanted)) + " camera frames (at most " +
                             std::to_string(limits::kFrames) + ")");
+        const TargetRadianceConfig& f = a.render.field;  // the worst case: every batch
         if (a.saturation_render &&
-            double(a.render.width) * a.render.height * a.render.field.batch_spp > double(limits::kFrameSamples))
+            double(a.render.width) * a.render.height * (f.meter_spp + double(f.max_batches) * f.batch_spp) >
+                double(limits::kFrameSamples))
             throw Error("--saturation-spp",
-                        "width × height × spp is over " + std::to_string(limits::kFrameSamples) + " samples a frame");
+                        "width × height × spp × " + std::to_string(f.max_batches) + " batches is over " +
+                            std::to_string(limits::kFrameSamples) + " samples a frame");
     }
     if (a.saturation_render && a.saturation_out.empty()) throw Error("--saturation-render", "needs --saturation-out");
     if (!a.frames_dir.empty() && !a.saturation_render) throw Error("--saturation-frames", "needs --saturation-render");

@@ -145,22 +145,33 @@ MediumEvent RenderMedium::sample(const Ray& ray, double t_max, Rgb& beta, KeyedR
                 return true;
             }
             if (u < pa + ps) {
-                beta *= ss / (mu * ps / sum);
                 ev.kind = MediumEvent::Scatter;
                 ev.t = t;
-                // Which component scattered sets the phase function: pick by its share of σ_s.
                 if (comps_.size() == 1) {
+                    beta *= ss / (mu * ps / sum);
                     ev.g = comps_[0].g;
-                } else {
-                    const Vec3 p = ray.at(t);
-                    double pick = rng.uniform() * ss.mean(), acc = 0;
-                    ev.g = comps_.back().g;
-                    for (const auto& c : comps_) {
-                        acc += density(c, p) * c.scale * c.albedo * c.sigma_t.mean();
-                        if (pick < acc) {
-                            ev.g = c.g;
-                            break;
+                    return true;
+                }
+                // Which component scattered sets the phase function. Picked by its share of the
+                // channel-mean σ_s, and weighted by its own σ_s per channel over that probability,
+                // so that each channel gets its own mix of phase functions (volumes whose spectral
+                // slopes differ give each channel a different mix).
+                const Vec3 p = ray.at(t);
+                const double pick = rng.uniform() * ss.mean();
+                double acc = 0;
+                for (size_t k = 0; k < comps_.size(); ++k) {
+                    const auto& c = comps_[k];
+                    const Rgb sk = std::max(0.0, density(c, p) * c.scale) * c.albedo * c.sigma_t;
+                    acc += sk.mean();
+                    if (pick < acc || k + 1 == comps_.size()) {
+                        const double q = sk.mean() / ss.mean();
+                        if (!(q > 0)) {  // rounding past the last share: nothing scattered here
+                            ev.kind = MediumEvent::Absorb;
+                            return true;
                         }
+                        beta *= sk / (q * mu * ps / sum);
+                        ev.g = c.g;
+                        break;
                     }
                 }
                 return true;

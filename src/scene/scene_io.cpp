@@ -141,8 +141,9 @@ CameraSensor readCameraSensor(TomlTable t)
 {
     CameraSensor s;
     s.exposure = t.nonneg("exposure", s.exposure);
+    if (s.exposure > 1e6) t.error("exposure", "must be in [0, 1e6] (0: auto)");
     s.meter_grey = t.positive("meter_grey", s.meter_grey);
-    if (s.meter_grey > 1) t.error("meter_grey", "must be in (0, 1]");
+    if (s.meter_grey < 1e-4 || s.meter_grey > 1) t.error("meter_grey", "must be in [1e-4, 1]");
     s.full_well_e = t.positive("full_well_e", s.full_well_e);
     if (s.full_well_e < 10 || s.full_well_e > 1e7) t.error("full_well_e", "must be in [10, 1e7] electrons");
     s.read_noise_e = t.nonneg("read_noise_e", s.read_noise_e);

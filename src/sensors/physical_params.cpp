@@ -33,7 +33,8 @@ PhysicalParams physicalDefaults(SensorType type)
         p.overlap_start_m = 1.5;
         p.overlap_full_m = 3.0;
         p.overlap_floor = 0.03;
-        p.noise_floor = 1.675e-4;  // calibrated: bocas blue-paper onset at 0.007 density·m (docs/sensors.md)
+        p.noise_floor =
+            5.4e-4;  // calibrated (with σ_t 200 /m): bocas blue-paper onset at 0.007 density·m (docs/sensors.md)
         break;
     case SensorType::Lms200:
         p.divergence_mrad = 12.0;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "smokescan/calib/colour_mix_curve.hpp"
+#include "smokescan/calib/light_mixing.hpp"
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/camera/saturation.hpp"
 #include "smokescan/camera/target_radiance.hpp"
@@ -49,6 +50,14 @@ struct CalibrationResult {
     ColourMixFit mix;
     std::map<std::string, ColourMixFit> patch_mix;
     double mix_threshold_density = 0, mix_threshold_density_se = 0;
+    /// The same with a scattered light that drifts from warm to grey as the smoke thickens
+    /// (fitColourMix's drifting_light): what describes the points; its threshold density.
+    ColourMixFit drift;
+    double drift_threshold_density = 0, drift_threshold_density_se = 0;
+    /// The light's mixing measured from the patches' colours at each density (light_mixing.hpp),
+    /// and the b it gives: independent of the saturation curves (empty without density 0).
+    std::vector<LightMixing> mixing;
+    double mixing_b = 0, mixing_b_se = 0;
     std::vector<double> floor;  ///< the combined target's noise floor at each density
     std::vector<SaturationPoint> points;  ///< combined target
     std::map<std::string, std::vector<SaturationPoint>> patches;  ///< per colour patch
@@ -58,6 +67,7 @@ struct CalibrationResult {
     double penetration_power = 0, penetration_power_se = 0;  ///< ρ* · path_m [density·m]
     double engine_unit_factor = 0;  ///< ρ* / paper_density
     std::vector<int> spp;  ///< samples per target pixel at each density
+    std::vector<double> rel_error;  ///< the target radiance's relative error reached at each density
     double seconds = 0;
 };
 
@@ -67,7 +77,8 @@ struct CalibrationResult {
 Scene uniformSmokeScene(const Scene& scene, double density);
 
 /// @brief Renders the sweep and fits. `progress(done, total)` is called after each frame.
-/// @throw Error when the scene has no camera or no target surfaces, or the fit is degenerate.
+/// @throw Error when the scene has no camera or no target surfaces, the fit is degenerate, or the
+/// threshold saturation falls outside the sweep (an extrapolation).
 CalibrationResult calibrate(const Scene& scene, const CalibrateConfig& cfg,
                             const std::function<void(int, int)>& progress = {});
 

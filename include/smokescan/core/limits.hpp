@@ -24,7 +24,7 @@ inline constexpr int64_t kFramePixels = int64_t(8192) * 8192;
 inline constexpr int kFrameSide = 16384;
 /// Samples per pixel of one frame.
 inline constexpr int kSpp = 1 << 16;
-/// Samples of one frame (pixels × spp).
+/// Samples of one frame (pixels × spp), and of one calibration sweep (all its frames and batches).
 inline constexpr int64_t kFrameSamples = int64_t(1) << 34;
 /// Frames in one `render` time series, or camera frames in one `scan --saturation-render` run.
 inline constexpr int64_t kFrames = 100'000;
@@ -35,6 +35,8 @@ inline constexpr int64_t kGridVoxels = int64_t(1) << 30;
 /// Densities in one calibration sweep; engine densities accepted there (the sweep's smoke).
 inline constexpr int kCalibrationDensities = 1000;
 inline constexpr double kCalibrationDensityMax = 1.0;
+/// Memory a converged target measurement may hold in frames [bytes] (camera/target_radiance.hpp).
+inline constexpr int64_t kConvergedBytes = int64_t(2) << 30;
 /// Largest smoke density (engine units; the paper's threshold is 0.0028) of a box, mesh, plume
 /// puff or timeline factor: beyond it optical depths overflow.
 inline constexpr double kDensity = 1e6;

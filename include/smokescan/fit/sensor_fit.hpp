@@ -24,7 +24,7 @@
 /// | min_beams        | 2        | –    | groups with fewer beams in the log are not fitted              |
 /// | range_bins       | 8        | –    | saturation bins of the range bias/noise fit                    |
 /// | clear_quantile   | 0.8      | –    | scans above this saturation quantile (and clear of S*) are clear air |
-/// | sigma_t_per_density | 270   | 1/m  | extinction per unit density at the laser's wavelength (τ = σ_t·P) |
+/// | sigma_t_per_density | 200   | 1/m  | extinction per unit density at the laser's wavelength (τ = σ_t·P) |
 /// | reference        | ""       | –    | group whose threshold goes into the sensor file ("" = most beams) |
 /// | smooth_s         | 2        | s    | the saturation is averaged over this window before fitting (its slope aligns the clocks) |
 #include <string>

@@ -4,16 +4,16 @@
 ///
 /// | parameter        | default | unit                   | meaning                                      |
 /// |------------------|---------|------------------------|----------------------------------------------|
-/// | sigma_t_550      | 270     | 1/m per density unit   | extinction at 550 nm (camera, visible)       |
-/// | sigma_t_785      | 270     | 1/m per density unit   | extinction at 785 nm (Hokuyo URG-04LX)       |
-/// | sigma_t_905      | 270     | 1/m per density unit   | extinction at 905 nm (Sick LMS200)           |
+/// | sigma_t_550      | 200     | 1/m per density unit   | extinction at 550 nm (camera, visible)       |
+/// | sigma_t_785      | 200     | 1/m per density unit   | extinction at 785 nm (Hokuyo URG-04LX)       |
+/// | sigma_t_905      | 200     | 1/m per density unit   | extinction at 905 nm (Sick LMS200)           |
 /// | albedo           | 0.97    | –                      | single-scattering albedo σ_s/σ_t             |
 /// | g                | 0.7     | –                      | Henyey–Greenstein asymmetry                  |
 /// | lidar_ratio_sr   | 0       | sr                     | extinction-to-backscatter ratio σ_t/β; 0 = from HG |
 ///
 /// The density unit is the smoke paper's engine density (its threshold 0.0028 at saturation 0.14),
 /// so the paper's penetration power (density·m) is the column ∫ρ ds the integrator returns. The
-/// default extinction, 270 /m per unit (kCalibratedSigmaT), is calibrated: with it the rendered
+/// default extinction, 200 /m per unit (kCalibratedSigmaT), is calibrated: with it the rendered
 /// BOCAS target reaches HSV saturation 0.14 at density 0.0028 (`smokescan calibrate bocas`,
 /// calib/bocas.json; docs/calibration.md). Defaults describe theatrical oil/glycol fog, the BOCAS
 /// smoke: droplets near 1 µm give an Ångström exponent near 0 (same σ_t at all three wavelengths)
@@ -30,7 +30,7 @@ namespace smokescan {
 struct Medium {
     /// Extinction per unit of engine density at 550 nm that puts the BOCAS target's saturation 0.14
     /// at density 0.0028 [1/m] (calib/bocas.json).
-    static constexpr double kCalibratedSigmaT = 270.0;
+    static constexpr double kCalibratedSigmaT = 200.0;
 
     std::string name = "theatrical_fog";
     double sigma_t_550 = kCalibratedSigmaT;

@@ -6,8 +6,8 @@
 ///
 /// | key            | default     | unit | meaning                                                        |
 /// |----------------|-------------|------|----------------------------------------------------------------|
-/// | exposure       | 0 (auto)    | 1/(W·m⁻²·sr⁻¹) | radiance → fraction of full well; ≤ 0: average metering (frame mean luminance → `meter_grey`) |
-/// | meter_grey     | 0.18        | –    | the fraction of full well the auto exposure puts the frame's mean luminance at |
+/// | exposure       | 0 (auto)    | 1/(W·m⁻²·sr⁻¹) | radiance → fraction of full well, ≤ 1e6; 0: average metering (frame mean luminance → `meter_grey`) |
+/// | meter_grey     | 0.18        | –    | in [1e-4, 1]: the fraction of full well the auto exposure puts the frame's mean luminance at |
 /// | full_well_e    | 8000        | e⁻   | electrons at saturation (sets the shot noise: σ/μ = 1/√(μ·full_well)) |
 /// | read_noise_e   | 10          | e⁻   | read noise, RMS                                                 |
 /// | white_balance  | [1, 1, 1]   | –    | gains on R, G, B after the sensor (the renderer's RGB is the balanced space) |

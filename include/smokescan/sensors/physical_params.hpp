@@ -15,7 +15,7 @@
 /// | overlap_start_m     | 1.5        | 0.1      | m    | start of the biaxial overlap (URG: calibrated, see below; Sick: assumed) |
 /// | overlap_full_m      | 3.0        | 1.5      | m    | full overlap; O rises as a smoothstep in between           |
 /// | overlap_floor       | 0.03       | 0.01     | –    | defocused light below the overlap, itself falling as r² (assumed) |
-/// | noise_floor         | 1.675e-4   | 5e-5     | –    | r.m.s. receiver noise (normalised power), calibrated       |
+/// | noise_floor         | 5.4e-4     | 5e-5     | –    | r.m.s. receiver noise (normalised power), calibrated       |
 /// | saturation_power    | 40         | 40       | –    | received power that dazzles (URG code 18, Sick 8191), assumed |
 /// | snr_min             | 8          | –        | –    | AMCW: amplitude/noise below which the step is invalid (code 1) |
 /// | mod_freq_lo_hz      | 6.8e6      | –        | Hz   | AMCW coarse frequency: unambiguous to 22 m (cf. code 0 "possibly at 22 m"), assumed |
