@@ -12,6 +12,7 @@
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/error.hpp"
 
+#include "sanitized.hpp"
 #include "scratch.hpp"
 
 using namespace smokescan;
@@ -252,4 +253,40 @@ TEST(SaturationCli, RenderedFramesWithIdMasks)
         run("saturation " + (dir / "f").string() + " --ids " + (dir / "i").string() + " --out " + csv + ".x");
     EXPECT_NE(bad.err.find("--ids: needs --scene"), std::string::npos) << bad.err;
     fs::remove_all(dir);
+}
+
+// The built-in calibration's converged points (calib/bocas.json, written by `calibrate bocas`):
+// the colour-mixing curve with a drifting light describes every point within its errors; the
+// one-light curve cannot (the drift is real: docs/calibration.md).
+TEST(CalibrationBocas, TheDriftingLightCurveDescribesTheConvergedPointsWithinTheirErrors)
+{
+    if (test::sanitized()) GTEST_SKIP() << "a long fit: the Release build";
+    std::ifstream in(std::string(SMOKESCAN_SOURCE_DIR) + "/calib/bocas.json");
+    ASSERT_TRUE(in.good());
+    const auto j = nlohmann::json::parse(in);
+    std::vector<PatchPoints> patches;
+    for (const auto& [name, m] : j.at("measured_patches").items()) {
+        PatchPoints pp;
+        pp.name = name;
+        pp.weight = m.at("weight").get<double>();
+        pp.clear_colour = m.at("clear_colour").get<std::array<double, 3>>();
+        pp.brightness = m.at("brightness_classes").get<std::vector<double>>();
+        for (const auto& q : m.at("points")) {
+            pp.points.push_back(
+                {q.at("density").get<double>(), q.at("saturation").get<double>(), q.at("std_error").get<double>()});
+            pp.floor.push_back(q.at("noise_floor").get<double>());
+        }
+        patches.push_back(pp);
+    }
+    ASSERT_EQ(patches.size(), 3u);
+    const ColourMixFit drift = fitColourMix(patches, 1 / 2.2, true), one = fitColourMix(patches);
+    ASSERT_TRUE(drift.converged) << drift.message;
+    std::printf("chi2/dof: drifting light %.2f (%d dof), one light %.2f (%d dof)\n", drift.chi2 / drift.dof, drift.dof,
+                one.chi2 / one.dof, one.dof);
+    EXPECT_LT(drift.chi2 / drift.dof, 2.0);
+    EXPECT_GT(one.chi2 / one.dof, 4.0);
+    for (size_t p = 0; p < patches.size(); ++p)
+        for (const auto& q : patches[p].points)
+            EXPECT_LT(std::abs(drift.curve.patch(p, q.density) - q.saturation), 3.5 * q.sigma)
+                << patches[p].name << " at " << q.density;
 }

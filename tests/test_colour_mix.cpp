@@ -167,7 +167,7 @@ TEST(ColourMix, ALightThatDriftsWithDensityIsFoundAndItsThresholdIsUnbiased)
     // Planted: the scattered light turns from warm (thin smoke, the room's light) to a brighter,
     // greyer glow (dense smoke) at κ = 250 per density unit. The one-colour curve cannot describe it
     // (χ²/dof well above 1); the drifting one does (χ²/dof ≈ 1) and its threshold density's pulls
-    // over 30 seeds are centred with unit spread. Its b, κ and light colours trade off against each
+    // over 20 seeds are centred (within 3/√20) with unit spread (the spread's own error is 0.16). Its b, κ and light colours trade off against each
     // other (b's pulls spread about 3): only the threshold is tested, and only it is used.
     if (test::sanitized()) GTEST_SKIP() << "statistics over seeds: the Release build";
     ColourMixCurve t = truth();
@@ -178,7 +178,7 @@ TEST(ColourMix, ALightThatDriftsWithDensityIsFoundAndItsThresholdIsUnbiased)
     tf.curve = t;
     const double rho_true = tf.invert(0.14, 0.012).first;
     std::vector<double> pr, chi_one, chi_drift;
-    for (uint64_t seed = 1; seed <= 30; ++seed) {
+    for (uint64_t seed = 1; seed <= 20; ++seed) {
         const auto pts = simulate(t, 0.002, 100 + seed);
         const ColourMixFit one = fitColourMix(pts), drift = fitColourMix(pts, 1 / 2.2, true);
         ASSERT_TRUE(drift.converged) << drift.message << " seed " << seed;
@@ -197,9 +197,9 @@ TEST(ColourMix, ALightThatDriftsWithDensityIsFoundAndItsThresholdIsUnbiased)
     sd = std::sqrt(sd);
     EXPECT_GT(mean(chi_one), 3.0);
     EXPECT_NEAR(mean(chi_drift), 1.0, 0.2);
-    EXPECT_NEAR(mean(pr), 0.0, 0.55);
-    EXPECT_GT(sd, 0.7);
-    EXPECT_LT(sd, 1.35);
+    EXPECT_NEAR(mean(pr), 0.0, 0.67);
+    EXPECT_GT(sd, 0.65);
+    EXPECT_LT(sd, 1.4);
 }
 
 TEST(ColourMix, DegenerateInputIsRefused)

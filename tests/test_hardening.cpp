@@ -7,6 +7,9 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <fstream>
+#include <sstream>
+#include <tuple>
 
 #include <chrono>
 #include <cmath>
@@ -167,9 +170,9 @@ TEST(Hardening, InputsThatCrashedAreOneLineErrors)
               "too few for its radiance field", file("c.json"));
     // A sweep too short to reach the threshold: the curve would be extrapolated (it was written,
     // exit 0, with a threshold far outside the sweep); a sweep that keeps too many frames.
-    expectBad(
-        "calibrate bocas --densities 0,0.0001,0.0002,0.0003 --spp 1 --width 48 --height 36 --out " + file("c.json"),
-        "an extrapolation", file("c.json"));
+    expectBad("calibrate bocas --densities 0,0.0004,0.0008,0.0012,0.0016 --spp 4 --width 64 --height 48 --out " +
+                  file("c.json"),
+              "an extrapolation", file("c.json"));
     expectBad("calibrate bocas --max-batches 2048 --spp 1 --out " + file("c.json"),
               "--max-batches: a converged measurement", file("c.json"));
     // A mesh smoke area at 0.1 mm voxels (15.6 GB before): refused before any voxel is made.
@@ -183,6 +186,34 @@ TEST(Hardening, InputsThatCrashedAreOneLineErrors)
              "[[smoke]]\nname = \"m\"\ntype = \"mesh\"\nfile = \"cube.obj\"\nvoxel = 0.0001\n");
     expectBad("scan " + mesh_scene + " --to 1 --out " + file("m.log"), "makes this mesh over 4000 voxels a side",
               file("m.log"));
+}
+
+TEST(Hardening, ACalibrationWhoseCurveMeansNothingIsRefused)
+{
+    // Edited calibration files gave penetration powers of NaN, inf or 1e300 with exit 0: the reader
+    // bounds each parameter and refuses a bad covariance or a fit that did not converge.
+    std::ifstream in(std::string(SMOKESCAN_SOURCE_DIR) + "/calib/bocas.json");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str(), combined = "\"combined\": {";
+    const size_t at = text.find(combined);
+    ASSERT_NE(at, std::string::npos);
+    auto edited = [&](const std::string& key, const std::string& value) {
+        const size_t k = text.find("\"" + key + "\": ", at);
+        const size_t e = text.find_first_of(",\n", k);
+        return text.substr(0, k) + "\"" + key + "\": " + value + text.substr(e);
+    };
+    const std::string out = file("cal.csv");
+    for (const auto& [key, value, needle] :
+         std::vector<std::tuple<std::string, std::string, std::string>>{{"S0", "0.1", "never reached"},
+                                                                        {"gamma", "1e300", "out of range"},
+                                                                        {"b", "1e-300", "out of range"},
+                                                                        {"converged", "false", "did not converge"}}) {
+        const std::string cal = file("cal_" + key + ".json", edited(key, value));
+        expectBad(
+            "scan bocas --to 1 --quiet --out " + file("cal.log") + " --saturation-out " + out + " --calibration " + cal,
+            needle, out);
+    }
 }
 
 TEST(Hardening, TheCalibrationFitSurvivesDensitiesFarBeyondItsRange)

@@ -172,12 +172,18 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
         } catch (const Error&) {
             // Too few points for a patch alone: only the joint fit.
         }
+    for (size_t k = 0; k < res.rel_error.size(); ++k)
+        if (!(res.rel_error[k] <= 0.5))
+            throw Error("calibrate",
+                        "the target's radiance is not measured at density " + std::to_string(cfg.densities[k]) +
+                            " (relative error " + std::to_string(res.rel_error[k]) +
+                            "): more --spp or --max-batches, or a lower density");
     if (!res.fit.converged) return res;  // the caller reports the fit's failure
-    if (res.fit.curve.a <= 1e-6 || res.fit.curve.b <= 1e-6)
+    if (!(res.fit.curve.a <= 1e3 && res.fit.curve.b >= 1))
         throw Error("calibrate",
                     "the curve is degenerate (a = " + std::to_string(res.fit.curve.a) +
                         ", b = " + std::to_string(res.fit.curve.b) +
-                        " at their lower bounds): the sweep does not constrain it; widen --densities");
+                        " per density unit): the sweep does not constrain it; check --densities");
     double rho = 0, se = 0;
     try {
         std::tie(rho, se) = res.fit.invert(cfg.threshold_saturation);
@@ -389,10 +395,20 @@ CurveFitResult readCalibrationJson(const std::string& path_or_name, const std::s
                         "the noise floor " + std::to_string(r.curve.floor) +
                             " is at or above the threshold saturation " + std::to_string(s_star) +
                             ": the threshold is never reached");
-        if (!(r.curve.S0 > 0 && r.curve.S0 <= 1 && r.curve.a > 0 && r.curve.b > 0 && r.curve.gamma > 0 &&
-              r.curve.floor >= 0 && r.curve.floor < 0.5))
+        if (s_star > 0 && !(r.curve(0.0) > s_star))
             throw Error(where,
-                        "calibration parameters out of range (S0 in (0, 1], a, b, gamma > 0, floor in [0, 0.5))");
+                        "clear air reads saturation " + std::to_string(r.curve(0.0)) + ", not above the threshold " +
+                            std::to_string(s_star) + ": the threshold is never reached");
+        if (!(r.curve.S0 > 0 && r.curve.S0 <= 1 && r.curve.a > 0 && r.curve.a <= 1e3 && r.curve.b >= 1 &&
+              r.curve.b <= 1e6 && r.curve.gamma >= 0.1 && r.curve.gamma <= 10 && r.curve.floor >= 0 &&
+              r.curve.floor < 0.5 && r.curve.floor < r.curve(0.0)))
+            throw Error(where,
+                        "calibration parameters out of range (S0 in (0, 1], a in (0, 1e3], b in [1, 1e6] "
+                        "per density unit, gamma in [0.1, 10], floor in [0, 0.5) and below S(0))");
+        for (int k = 0; k < 3; ++k)
+            if (!(std::isfinite(r.covariance(k, k)) && r.covariance(k, k) >= 0))
+                throw Error(where, "the calibration's covariance has a bad diagonal");
+        if (!r.converged) throw Error(where, "the calibration's fit did not converge: refit it");
         return r;
     } catch (const nlohmann::json::out_of_range& e) {
         if (!patch.empty() && j.is_object() && !(j.contains("patches") && j["patches"].contains(patch)))

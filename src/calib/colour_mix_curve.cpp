@@ -274,12 +274,31 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma,
     ColourMixFit best;
     best.chi2 = 1e300;
     std::string last_message;
-    for (double b0 : {150.0, 300.0, 600.0}) {  // min/max make the cost rugged: three starts
+    // min/max make the cost rugged: three starts. The drifting light starts from the one-light
+    // fit (no drift yet: the dense light equal to the thin one), and from the three if that fails.
+    std::vector<std::vector<double>> starts;
+    for (double b0 : {150.0, 300.0, 600.0}) {
         std::vector<double> v = packParams(curve);
         v[0] = b0;
         v[1] = v[2] = 0.9;  // thin smoke's light: warm
         v[3] = v[4] = v[5] = 1.0;  // dense smoke's: grey, as bright
         v[6] = drifting_light ? b0 : 0.0;  // kappa = 0: one colour throughout
+        starts.push_back(v);
+    }
+    if (drifting_light) {
+        const ColourMixFit one = fitColourMix(patches, gamma, false);
+        if (!one.std_error.empty()) {
+            std::vector<double> v = packParams(one.curve);
+            v[3] = 1.0;
+            v[4] = one.curve.airlight[1];
+            v[5] = one.curve.airlight[2];
+            v[6] = one.curve.b;
+            starts.insert(starts.begin(), v);
+        }
+    }
+    for (size_t start = 0; start < starts.size(); ++start) {
+        if (drifting_light && start > 0 && starts.size() > 3 && best.converged) break;
+        std::vector<double> v = starts[start];
         ceres::Problem problem;
         for (size_t p = 0; p < patches.size(); ++p)
             for (size_t i = 0; i < patches[p].points.size(); ++i) {

@@ -257,7 +257,8 @@ void addScan(CLI::App& app, Runner& run)
         ->check(positive());
     c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")
         ->capture_default_str()
-        ->check(nonnegative());
+        ->check(nonnegative())
+        ->check(CLI::Range(0.0, 1.0));
     a->sat.clock_offset_s = NAN;
     c->add_option("--camera-offset", a->sat.clock_offset_s,
                   "Camera clock - laser clock [s] in --saturation-out (default: the sensor file's clock_offset_s, "
