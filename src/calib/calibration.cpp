@@ -175,8 +175,8 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
     for (size_t k = 0; k < res.rel_error.size(); ++k)
         if (!(res.rel_error[k] <= 0.5))
             throw Error("calibrate",
-                        "the target's radiance is not measured at density " + std::to_string(cfg.densities[k]) +
-                            " (relative error " + std::to_string(res.rel_error[k]) +
+                        "the target's radiance is too uncertain at density " + std::to_string(cfg.densities[k]) +
+                            " (relative error " + std::to_string(res.rel_error[k]) + " over 0.5" +
                             "): more --spp or --max-batches, or a lower density");
     if (!res.fit.converged) return res;  // the caller reports the fit's failure
     if (!(res.fit.curve.a <= 1e3 && res.fit.curve.b >= 1))

@@ -110,10 +110,10 @@ int runCalibrate(const CalibArgs& a)
                 ? (fixed(r.drift_threshold_density, 5) + " ± " + fixed(r.drift_threshold_density_se, 5)).c_str()
                 : "not reached in the sweep");
     if (!r.mixing.empty()) {
-        const auto at = [&](double rho) {  // the measured density nearest rho
-            const LightMixing* best = &r.mixing.front();
+        const auto at = [&](double rho) {  // the measured density in smoke nearest rho
+            const LightMixing* best = &r.mixing.back();
             for (const auto& q : r.mixing)
-                if (std::abs(q.density - rho) < std::abs(best->density - rho)) best = &q;
+                if (q.density > 0 && std::abs(q.density - rho) < std::abs(best->density - rho)) best = &q;
             return *best;
         };
         const LightMixing thin = at(0.0005), dense = at(0.008);
