@@ -21,21 +21,15 @@
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/plot/format.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
 namespace {
 namespace fs = std::filesystem;
 
-std::string fixed(double v, int digits)
-{
-    char b[64];
-    std::snprintf(b, sizeof b, "%.*f", digits, v);
-    return b;
-}
-
 /// χ²/dof, or "n/a" when the fit has no degrees of freedom left.
-std::string chi2PerDof(double chi2, int dof) { return dof > 0 ? fixed(chi2 / dof, 2) : std::string("n/a"); }
+std::string chi2PerDof(double chi2, int dof) { return dof > 0 ? fmt("%.2f", chi2 / dof) : std::string("n/a"); }
 
 struct CalibArgs {
     std::string scene = "bocas", out, plot, densities;
@@ -94,7 +88,7 @@ int runCalibrate(const CalibArgs& a)
             r.mix.converged ? "" : " (NOT CONVERGED)", r.mix.curve.b, r.mix.std_error[0], r.mix.curve.airlight[1],
             r.mix.curve.airlight[2], chi2PerDof(r.mix.chi2, r.mix.dof).c_str(), r.mix.dof, cfg.threshold_saturation,
             r.mix_threshold_density > 0
-                ? (fixed(r.mix_threshold_density, 5) + " ± " + fixed(r.mix_threshold_density_se, 5)).c_str()
+                ? (fmt("%.5f", r.mix_threshold_density) + " ± " + fmt("%.5f", r.mix_threshold_density_se)).c_str()
                 : "not reached in the sweep");
         for (const auto& [name, f] : r.patch_mix)
             if (f.converged && !f.std_error.empty())
@@ -107,7 +101,7 @@ int runCalibrate(const CalibArgs& a)
             r.drift.converged ? "" : " (NOT CONVERGED)", chi2PerDof(r.drift.chi2, r.drift.dof).c_str(), r.drift.dof,
             cfg.threshold_saturation,
             r.drift_threshold_density > 0
-                ? (fixed(r.drift_threshold_density, 5) + " ± " + fixed(r.drift_threshold_density_se, 5)).c_str()
+                ? (fmt("%.5f", r.drift_threshold_density) + " ± " + fmt("%.5f", r.drift_threshold_density_se)).c_str()
                 : "not reached in the sweep");
     if (!r.mixing.empty()) {
         const auto at = [&](double rho) {  // the measured density in smoke nearest rho
@@ -118,7 +112,7 @@ int runCalibrate(const CalibArgs& a)
         };
         const LightMixing thin = at(0.0005), dense = at(0.008);
         auto ratio = [](const LightMixing& q) {
-            return fixed(q.scattered[1] / q.scattered[0], 3) + " : " + fixed(q.scattered[2] / q.scattered[0], 3);
+            return fmt("%.3f", q.scattered[1] / q.scattered[0]) + " : " + fmt("%.3f", q.scattered[2] / q.scattered[0]);
         };
         std::printf(
             "measured from the patches' colours: b = %.1f ± %.1f /density; scattered light RGB 1 : %s at "

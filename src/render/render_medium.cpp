@@ -156,24 +156,23 @@ MediumEvent RenderMedium::sample(const Ray& ray, double t_max, Rgb& beta, KeyedR
                 // channel-mean σ_s, and weighted by its own σ_s per channel over that probability,
                 // so that each channel gets its own mix of phase functions (volumes whose spectral
                 // slopes differ give each channel a different mix).
-                const Vec3 p = ray.at(t);
                 const double pick = rng.uniform() * ss.mean();
                 double acc = 0;
-                for (size_t k = 0; k < comps_.size(); ++k) {
-                    const auto& c = comps_[k];
-                    const Rgb sk = std::max(0.0, density(c, p) * c.scale) * c.albedo * c.sigma_t;
-                    acc += sk.mean();
-                    if (pick < acc || k + 1 == comps_.size()) {
-                        const double q = sk.mean() / ss.mean();
-                        if (!(q > 0)) {  // rounding past the last share: nothing scattered here
-                            ev.kind = MediumEvent::Absorb;
-                            return true;
-                        }
-                        beta *= sk / (q * mu * ps / sum);
-                        ev.g = c.g;
-                        break;
-                    }
+                bool chosen = false;
+                Rgb sk = Rgb::Zero();  // the chosen component's σ_s (the last one, if rounding runs past)
+                forEachScatterer(ray.at(t), [&](const Rgb& s_k, double g) {
+                    if (chosen) return;
+                    acc += s_k.mean();
+                    sk = s_k;
+                    ev.g = g;
+                    chosen = pick < acc;
+                });
+                const double q = sk.mean() / ss.mean();
+                if (!(q > 0)) {  // nothing scattered here
+                    ev.kind = MediumEvent::Absorb;
+                    return true;
                 }
+                beta *= sk / (q * mu * ps / sum);
                 return true;
             }
             beta *= sn / (mu * pn / sum);  // null collision
