@@ -72,6 +72,16 @@ static void measureMixing(const std::vector<double>& densities,
     std::tie(res.mixing_b, res.mixing_b_se) = extinctionPath(res.mixing);
 }
 
+/// Each patch alone under the joint fit's light: the drifting light's when it converged.
+static void fitPatchesUnderTheJointLight(double gamma, CalibrationResult& res)
+{
+    const bool drift = res.drift.converged && !res.drift.std_error.empty();
+    const ColourMixFit& joint = drift ? res.drift : res.mix;
+    if (joint.std_error.empty()) return;
+    res.patch_mix_light = drift ? "drifting" : "one colour";
+    res.patch_mix = fitPatchesUnderLight(res.patch_points, gamma, joint.curve);
+}
+
 /// The sweep over densities in ascending order.
 static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateConfig& cfg,
                                          const std::function<void(int, int)>& progress,
@@ -167,11 +177,7 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
     } catch (const Error& e) {
         res.drift.message = e.what();
     }
-    for (const auto& pp : res.patch_points) try {
-            res.patch_mix[pp.name] = fitColourMix({pp}, cfg.fit.gamma);
-        } catch (const Error&) {
-            // Too few points for a patch alone: only the joint fit.
-        }
+    fitPatchesUnderTheJointLight(cfg.fit.gamma, res);
     for (size_t k = 0; k < res.rel_error.size(); ++k)
         if (!(res.rel_error[k] <= 0.5))
             throw Error("calibrate",
@@ -273,9 +279,17 @@ nlohmann::json mixJson(const CalibrationResult& r)
         "1 - E[min y']/E[max y'], y' = y + normal noise of relative sd floor*sqrt(pi)/3";
     j["model_doc"] = "docs/calibration.md";
     j["joint"] = mixFitJson(r.mix, r.patch_points);
+    const PatchExtinctions& pe = r.patch_mix;
     for (const auto& pp : r.patch_points)
-        if (r.patch_mix.count(pp.name) && !r.patch_mix.at(pp.name).std_error.empty())
-            j["per_patch"][pp.name] = mixFitJson(r.patch_mix.at(pp.name), {pp});
+        if (pe.fits.count(pp.name)) j["per_patch"][pp.name] = mixFitJson(pe.fits.at(pp.name), {pp});
+    if (pe.dof > 0) {
+        j["per_patch_light"] = "held at the joint fit's (" + r.patch_mix_light +
+            "); each patch's b and colour free; b's errors leave out the light's (common to all)";
+        j["per_patch_b_mean"] = pe.b_mean;
+        j["per_patch_b_chi2"] = pe.chi2;
+        j["per_patch_b_dof"] = pe.dof;
+        j["per_patch_b_p_value"] = pe.p_value;
+    }
     j["threshold_density"] = r.mix_threshold_density;
     j["threshold_density_std_error"] = r.mix_threshold_density_se;
     if (!r.drift.std_error.empty()) {

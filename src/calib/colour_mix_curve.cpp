@@ -236,10 +236,13 @@ std::pair<double, double> ColourMixFit::invert(double S, double rho_max) const
     return {rho, std::sqrt(std::max(0.0, var))};
 }
 
-ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma, bool drifting_light)
+ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma, bool drifting_light,
+                          const ColourMixCurve* held_light)
 {
-    // Free parameters: b, thin smoke's light (2), its drift (4) if asked, 3 per patch.
-    const size_t n_free = 3 + (drifting_light ? 4 : 0) + 3 * patches.size();
+    // Free parameters: b, thin smoke's light (2), its drift (4) if asked, 3 per patch; the light's
+    // six none when it is held.
+    if (held_light) drifting_light = held_light->kappa > 0;
+    const size_t n_free = (held_light ? 1 : 3 + (drifting_light ? 4 : 0)) + 3 * patches.size();
     if (patches.empty()) throw Error("calibration", "no patches to fit");
     ColourMixCurve curve;
     curve.gamma = gamma;
@@ -283,9 +286,13 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma,
         v[1] = v[2] = 0.9;  // thin smoke's light: warm
         v[3] = v[4] = v[5] = 1.0;  // dense smoke's: grey, as bright
         v[6] = drifting_light ? b0 : 0.0;  // kappa = 0: one colour throughout
+        if (held_light) {
+            const std::array<double, kAir> air = held_light->packedAirlight();
+            std::copy(air.begin(), air.end(), v.begin() + 1);
+        }
         starts.push_back(v);
     }
-    if (drifting_light) {
+    if (drifting_light && !held_light) {
         const ColourMixFit one = fitColourMix(patches, gamma, false);
         if (!one.std_error.empty()) {
             std::vector<double> v = packParams(one.curve);
@@ -297,7 +304,7 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma,
         }
     }
     for (size_t start = 0; start < starts.size(); ++start) {
-        if (drifting_light && start > 0 && starts.size() > 3 && best.converged) break;
+        if (drifting_light && !held_light && start > 0 && starts.size() > 3 && best.converged) break;
         std::vector<double> v = starts[start];
         ceres::Problem problem;
         for (size_t p = 0; p < patches.size(); ++p)
@@ -315,7 +322,8 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma,
             problem.SetParameterLowerBound(block, idx, 1e-6);
             problem.SetParameterUpperBound(block, idx, k == 0 || k == 6 ? 1e5 : 1e3);
         }
-        if (!drifting_light) problem.SetParameterBlockConstant(&v[3]);
+        if (!drifting_light || held_light) problem.SetParameterBlockConstant(&v[3]);
+        if (held_light) problem.SetParameterBlockConstant(&v[1]);
         ceres::Solver::Options opt;
         opt.linear_solver_type = ceres::DENSE_QR;
         opt.max_num_iterations = drifting_light ? 10000 : 2000;
@@ -337,9 +345,13 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma,
         copt.algorithm_type = ceres::DENSE_SVD;
         copt.null_space_rank = -1;
         ceres::Covariance cov(copt);
-        std::vector<const double*> blocks = {&v[0], &v[1]};
-        std::vector<long> at = {0, 1, 2};  // where each free parameter sits in the packed order
-        if (drifting_light) {
+        std::vector<const double*> blocks = {&v[0]};
+        std::vector<long> at = {0};  // where each free parameter sits in the packed order
+        if (!held_light) {
+            blocks.push_back(&v[1]);
+            at.insert(at.end(), {1, 2});
+        }
+        if (drifting_light && !held_light) {
             blocks.push_back(&v[3]);
             at.insert(at.end(), {3, 4, 5, 6});
         }
@@ -383,6 +395,52 @@ ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma,
     for (long k = 0; k < best.covariance.rows(); ++k)
         best.std_error.push_back(std::sqrt(std::max(0.0, best.covariance(k, k))));
     return best;
+}
+
+namespace {
+/// P(χ²_k > x) for an integer k ≥ 1: the regularised upper gamma function Q(k/2, x/2) in closed
+/// form (a finite sum for even k; erfc plus a finite sum for odd k).
+double chi2Survival(double x, int k)
+{
+    const double y = 0.5 * std::max(0.0, x);
+    double q = 0, term = 0;
+    if (k % 2 == 0) {
+        term = 1;  // y^i / i!
+        for (int i = 0; i < k / 2; ++i) {
+            q += term;
+            term *= y / (i + 1);
+        }
+        return std::exp(-y) * q;
+    }
+    term = std::sqrt(y) / (0.5 * std::sqrt(M_PI));  // y^(i−1/2) / Γ(i + 1/2) at i = 1
+    for (int i = 1; i <= (k - 1) / 2; ++i) {
+        q += term;
+        term *= y / (i + 0.5);
+    }
+    return std::erfc(std::sqrt(y)) + std::exp(-y) * q;
+}
+}  // namespace
+
+PatchExtinctions fitPatchesUnderLight(const std::vector<PatchPoints>& patches, double gamma,
+                                      const ColourMixCurve& light)
+{
+    PatchExtinctions r;
+    double sw = 0, swb = 0;
+    for (const auto& pp : patches) try {
+            ColourMixFit f = fitColourMix({pp}, gamma, false, &light);
+            if (!f.converged || f.std_error.empty() || !(f.std_error[0] > 0)) continue;
+            sw += 1 / (f.std_error[0] * f.std_error[0]);
+            swb += f.curve.b / (f.std_error[0] * f.std_error[0]);
+            r.fits[pp.name] = std::move(f);
+        } catch (const Error&) {
+            // Too few points for a patch alone.
+        }
+    if (r.fits.size() < 2) return r;
+    r.b_mean = swb / sw;
+    for (const auto& [name, f] : r.fits) r.chi2 += std::pow((f.curve.b - r.b_mean) / f.std_error[0], 2);
+    r.dof = int(r.fits.size()) - 1;
+    r.p_value = chi2Survival(r.chi2, r.dof);
+    return r;
 }
 
 }  // namespace smokescan

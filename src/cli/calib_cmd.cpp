@@ -90,10 +90,6 @@ int runCalibrate(const CalibArgs& a)
             r.mix_threshold_density > 0
                 ? (fmt("%.5f", r.mix_threshold_density) + " ± " + fmt("%.5f", r.mix_threshold_density_se)).c_str()
                 : "not reached in the sweep");
-        for (const auto& [name, f] : r.patch_mix)
-            if (f.converged && !f.std_error.empty())
-                std::printf("  %s alone: b = %.1f ± %.1f, chi2/dof = %s\n", name.c_str(), f.curve.b, f.std_error[0],
-                            chi2PerDof(f.chi2, f.dof).c_str());
     }
     if (!r.drift.std_error.empty())
         std::printf(
@@ -103,6 +99,14 @@ int runCalibrate(const CalibArgs& a)
             r.drift_threshold_density > 0
                 ? (fmt("%.5f", r.drift_threshold_density) + " ± " + fmt("%.5f", r.drift_threshold_density_se)).c_str()
                 : "not reached in the sweep");
+    const PatchExtinctions& pe = r.patch_mix;
+    for (const auto& [name, f] : pe.fits)
+        std::printf("  %s alone, under the joint fit's %s light: b = %.1f ± %.1f, chi2/dof = %s\n", name.c_str(),
+                    r.patch_mix_light.c_str(), f.curve.b, f.std_error[0], chi2PerDof(f.chi2, f.dof).c_str());
+    if (pe.dof > 0)
+        std::printf("  the patches' b's about their mean %.1f: chi2 = %.2f (%d dof), p = %.3g: %s\n", pe.b_mean,
+                    pe.chi2, pe.dof, pe.p_value,
+                    pe.p_value < 0.01 ? "NOT one extinction" : "consistent with one extinction");
     if (!r.mixing.empty()) {
         const auto at = [&](double rho) {  // the measured density in smoke nearest rho
             const LightMixing* best = &r.mixing.back();

@@ -48,7 +48,10 @@ struct CalibrationResult {
     /// reads (fit, below) is the three-parameter effective curve of the combined points.
     std::vector<PatchPoints> patch_points;
     ColourMixFit mix;
-    std::map<std::string, ColourMixFit> patch_mix;
+    /// Each patch alone under the joint fit's scattered light (held; `patch_mix_light` says which:
+    /// "drifting" or "one colour"), and whether their b's are one extinction.
+    PatchExtinctions patch_mix;
+    std::string patch_mix_light;
     double mix_threshold_density = 0, mix_threshold_density_se = 0;
     /// The same with a scattered light that drifts from warm to grey as the smoke thickens
     /// (fitColourMix's drifting_light): what describes the points; its threshold density.

@@ -27,6 +27,7 @@
 /// | l_p       | patch p's clear-air linear colour (R, G, B), relative to A_R      | –         |
 /// | gamma     | display encoding exponent (fixed, 1/2.2)                          | –         |
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -95,7 +96,24 @@ struct ColourMixFit {
 /// it is that patch's own fit. @throw Error for fewer than 6 points per patch, no more points than
 /// parameters (3 + 3 per patch, 4 more with the drift), or bad values.
 /// `drifting_light`: also fit the scattered light's drift (A_dense, κ); else κ = 0, one colour.
+/// `held_light`: the scattered light (both colours and κ) held at that curve's, not fitted: only b
+/// and the patches' colours are free (a patch's own extinction under the light the joint fit measured).
 ColourMixFit fitColourMix(const std::vector<PatchPoints>& patches, double gamma = 1.0 / 2.2,
-                          bool drifting_light = false);
+                          bool drifting_light = false, const ColourMixCurve* held_light = nullptr);
+
+/// Each patch's own extinction under one scattered light, and whether they agree.
+struct PatchExtinctions {
+    std::map<std::string, ColourMixFit> fits;  ///< per patch: b and its colour free, the light held
+    double b_mean = 0;  ///< the b's weighted mean (inverse variances)
+    double chi2 = 0;  ///< Σ ((b_p − b_mean) / se_p)²
+    int dof = 0;  ///< patches fitted − 1 (0: no comparison)
+    double p_value = 1;  ///< P(χ²_dof > chi2)
+};
+
+/// @brief Fits each patch alone with the scattered light held at `light`'s (thin and dense colours
+/// and κ: the room's and the smoke's, not the patch's) and compares their b's. Each b's error leaves
+/// out the light's, which is common to every patch. Patches whose fit fails are left out.
+PatchExtinctions fitPatchesUnderLight(const std::vector<PatchPoints>& patches, double gamma,
+                                      const ColourMixCurve& light);
 
 }  // namespace smokescan
