@@ -212,8 +212,16 @@ TEST(CalibrateCli, WritesJsonAndPlotAndRefusesDegenerateSweeps)
     EXPECT_GT(j["combined"]["parameters"]["b"].get<double>(), 0.0);
     EXPECT_EQ(j["combined"]["covariance"].size(), 3u);
     EXPECT_TRUE(j["patches"].contains("blue") && j["patches"].contains("yellow") && j["patches"].contains("gold"));
-    EXPECT_NEAR(j["threshold"]["penetration_power_density_m"].get<double>(),
-                2.5 * j["threshold"]["density"].get<double>(), 1e-12);
+    // A reader needs only the file: the formula it states, with its parameters, reads the threshold
+    // saturation at the threshold density it states.
+    {
+        const auto& q = j["combined"]["parameters"];
+        const double S0 = q["S0"], a = q["a"], b = q["b"], g = q["gamma"], f = q["floor"];
+        const double rho = j["threshold"]["density"];
+        EXPECT_EQ(j["model"], "S(rho) = sqrt((1 - (1 - S0 / (1 + a*(exp(b*rho) - 1)))^gamma)^2 + floor^2)");
+        const double S = std::sqrt(std::pow(1 - std::pow(1 - S0 / (1 + a * (std::exp(b * rho) - 1)), g), 2) + f * f);
+        EXPECT_NEAR(S, j["threshold"]["saturation"].get<double>(), 1e-6);
+    }
     EXPECT_TRUE(fs::exists(png));
     const std::string never = (dir / "never.json").string();
     const Out d = run("calibrate bocas --densities 0.001,0.002 --spp 1 --width 16 --height 12 --out " + never);

@@ -172,8 +172,6 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
             EXPECT_LT(th.width.value, 0.004) << th.group;
             p_P.push_back((th.penetration_power.value - P) / th.penetration_power.se);
             EXPECT_LT(std::abs(p_P.back()), 3.5) << th.group;
-            // Wiring: τ uses the scene medium's σ_t at 785 nm (theatrical fog: the calibrated default).
-            EXPECT_NEAR(th.tau.value / th.penetration_power.value, Medium::kCalibratedSigmaT, 1e-9);
         }
     }
     double m, sd;
@@ -188,7 +186,7 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
 }
 
 // The physical model (AMCW URG-04LX, its onset emerging from the lidar equation) with a receiver
-// noise floor 1.6 times the calibrated one, camera 2.5 s behind: the noise floor fitted to the
+// noise floor 1.6 times the calibrated one, camera 2.5 s behind, scans at 1 Hz, sixteen seeds: the noise floor fitted to the
 // blue strip's error counts recovers the one the run was made with, within its statistical error
 // (the calibration curve's share of the error is systematic: the simulation used the same curve).
 // The physical model's error probability has a long two-wave tail, so the probit's P lies below
@@ -204,8 +202,9 @@ TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
     size_t blue = 0;
     while (groups[blue].name != "target_blue") ++blue;
     std::vector<double> pulls_nf;
-    for (uint64_t seed = 1; seed <= 5; ++seed) {
-        const SimRun r = simulate(seed, 0, offset, 0.01, 0, 360, "physical", 2, 10, nf_true);
+    const int n = 16;
+    for (uint64_t seed = 1; seed <= uint64_t(n); ++seed) {
+        const SimRun r = simulate(seed, 0, offset, 0.01, 0, 360, "physical", 1, 10, nf_true);
         const SensorFitResult f = fitSensor(r.log, r.sat, groups, urg04lx(), &b.calib);
         const ThresholdFit& th = f.thresholds[blue];
         ASSERT_TRUE(th.fitted) << "seed " << seed << ": " << th.diagnosis;
@@ -221,11 +220,14 @@ TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
         // The model's own onset column lies above the probit's P (the two-wave tail).
         EXPECT_GT(nf.onset_column.value, th.penetration_power.value) << "seed " << seed;
     }
-    ASSERT_EQ(pulls_nf.size(), 5u);
+    ASSERT_EQ(pulls_nf.size(), size_t(n));
+    // Sixteen runs: the spread's own error is 0.18, so [0.55, 1.45] fails an error off by half.
     double m, sd;
-    SCOPED_TRACE(pulls(pulls_nf, &m, &sd));
-    EXPECT_LT(std::abs(m), 1.5);
-    EXPECT_LT(sd, 2.0);
+    const std::string st = pulls(pulls_nf, &m, &sd);
+    std::printf("noise floor: %s\n", st.c_str());
+    EXPECT_LT(std::abs(m), 3 / std::sqrt(double(n))) << st;
+    EXPECT_GT(sd, 0.55) << st;
+    EXPECT_LT(sd, 1.45) << st;
 }
 
 // A range bias planted on the gold strip, growing as the saturation falls (the paper's gold paper

@@ -9,8 +9,10 @@
 
 #include "../src/render/integrator.hpp"
 #include "smokescan/calib/calibration.hpp"
+#include "smokescan/media/medium.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
+#include "scene_text.hpp"
 #include "test_data.hpp"
 
 using namespace smokescan;
@@ -304,6 +306,23 @@ medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo
     EXPECT_LT(se, 0.05 * want);
 }
 
+/// Single scattering along +x from 0 to 2.05 m in a homogeneous medium (σ_t [1/m], albedo, HG g)
+/// past an isotropic point light of intensity I [W/sr] at (x_light, D, 0): the midpoint rule on
+///   L = ∫ e^{−σt}·σ_s·p(cos θ(t))·I·e^{−σ d(t)}/d(t)² dt.
+double singleScatteringNearAPoint(double sigma, double albedo, double g, double I, double D, double x_light)
+{
+    double want = 0;
+    const int n = 400000;
+    const double h = 2.05 / n;
+    for (int i = 0; i < n; ++i) {  // the peak is D wide
+        const double t = (i + 0.5) * h, dx = x_light - t, d2 = dx * dx + D * D, d = std::sqrt(d2);
+        const double c = dx / d;  // (point − light)/d · (−x̂): from the light's ray onto the camera's
+        const double dd = 1 + g * g - 2 * g * c, p = (1 - g * g) / (4 * M_PI * dd * std::sqrt(dd));
+        want += std::exp(-sigma * t) * albedo * sigma * p * I * std::exp(-sigma * d) / d2 * h;
+    }
+    return want;
+}
+
 TEST(Render, SingleScatteringNearAPointLight)
 {
     // A camera ray along +x through a homogeneous box of smoke (σ_t = 1 /m, albedo 0.8, HG
@@ -337,15 +356,7 @@ voxel = 0.05
 density = 0.005
 medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo = 0.8, g = 0.3 }
 )";
-    double want = 0;
-    const int n = 400000;
-    const double h = 2.05 / n;
-    for (int i = 0; i < n; ++i) {  // midpoint rule on [0, 2.05) m; the peak is 5 cm wide
-        const double t = (i + 0.5) * h, dx = x_light - t, d2 = dx * dx + D * D, d = std::sqrt(d2);
-        const double c = dx / d;  // (point − light)/d · (−x̂): from the light's ray onto the camera's
-        const double dd = 1 + g * g - 2 * g * c, p = (1 - g * g) / (4 * M_PI * dd * std::sqrt(dd));
-        want += std::exp(-sigma * t) * albedo * sigma * p * I * std::exp(-sigma * d) / d2 * h;
-    }
+    const double want = singleScatteringNearAPoint(sigma, albedo, g, I, D, x_light);
     RenderConfig plain = config(20000, 1), split = plain;
     plain.segment_lighting = plain.split_primary = false;
     const auto [m1, se1] = imageMean(renderScene(toml, plain), 1);
@@ -354,6 +365,57 @@ medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo
     EXPECT_NEAR(m2, want, 3 * se2);
     EXPECT_LT(se2, 0.01 * want);
     EXPECT_LT(3 * se2, se1);
+}
+
+TEST(Render, SingleScatteringNearAPointLightInAColouredMedium)
+{
+    // The same ray and light in a medium whose extinction follows Ångström's law with exponent 2
+    // (σ_t 1.40, 1.00 and 0.81 /m at the B, G and R channels' 465, 550 and 610 nm): the renderer
+    // tracks one channel's distances and weights the others (spectral MIS), and lights each
+    // collision and segment through every channel's transmittance. Each channel must match its own
+    // quadrature, with either estimator.
+    const double albedo = 0.8, g = 0.3, I = 10.0 / (4 * M_PI), D = 0.05, x_light = 1.0, rho = 0.005;
+    const Medium m = Medium::fromAngstrom("coloured", 200.0, 2.0, albedo, g);
+    const std::string toml = R"(
+[[lights]]
+name = "bulb"
+kind = "point"
+position = [1.0, 0.05, 0.0]
+power_w = 10.0
+efficiency = 1.0
+[[cameras]]
+name = "cam"
+position = [0.0, 0.0, 0.0]
+look_at = [1.0, 0.0, 0.0]
+width = 1
+height = 1
+hfov_deg = 0.001
+[[smoke]]
+name = "box"
+type = "box"
+min = [-0.05, -1.0, -1.0]
+max = [2.05, 1.0, 1.0]
+voxel = 0.05
+density = 0.005
+medium = { sigma_t_550 = )" +
+        test::tomlNumber(m.sigma_t_550) + ", sigma_t_785 = " + test::tomlNumber(m.sigma_t_785) +
+        ", sigma_t_905 = " + test::tomlNumber(m.sigma_t_905) +
+        R"(, albedo = 0.8, g = 0.3 }
+)";
+    RenderConfig plain = config(20000, 1), split = plain;
+    plain.segment_lighting = plain.split_primary = false;
+    const RenderResult r1 = renderScene(toml, plain), r2 = renderScene(toml, split);
+    for (int c = 0; c < 3; ++c) {
+        const double sigma = m.sigmaT(kRgbWavelengths[c]) * rho;
+        const double want = singleScatteringNearAPoint(sigma, albedo, g, I, D, x_light);
+        const auto [m1, se1] = imageMean(r1, c);
+        const auto [m2, se2] = imageMean(r2, c);
+        std::printf("channel %d: sigma_t %.3f /m, want %.5g, plain %.5g +- %.2g, split %.5g +- %.2g\n", c, sigma, want,
+                    m1, se1, m2, se2);
+        EXPECT_NEAR(m1, want, 3 * se1) << "channel " << c;
+        EXPECT_NEAR(m2, want, 3 * se2) << "channel " << c;
+        EXPECT_LT(se2, 0.02 * want) << "channel " << c;
+    }
 }
 
 TEST(Render, SingleScatteringNearAnAreaLight)
