@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "sanitized.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/core/error.hpp"
@@ -153,7 +154,8 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
     const double P = 0.007, offset = 7.3;
     const auto groups = targetGroups();
     std::vector<double> p_off, p_S, p_P;
-    for (uint64_t seed = 1; seed <= 10; ++seed) {
+    const uint64_t n = test::sanitized() ? 1 : 10;  // the sanitizers check one run's paths
+    for (uint64_t seed = 1; seed <= n; ++seed) {
         const SimRun r = simulate(seed, P, offset, 0.01);
         const SensorFitResult f = fitSensor(r.log, r.sat, groups, urg04lx(), &bocas().calib);
         ASSERT_TRUE(f.ok()) << "seed " << seed << ": "
@@ -174,6 +176,7 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
             EXPECT_LT(std::abs(p_P.back()), 3.5) << th.group;
         }
     }
+    if (n < 10) return;
     double m, sd;
     SCOPED_TRACE(pulls(p_off, &m, &sd));
     EXPECT_LT(std::abs(m), 1.2);
@@ -202,7 +205,7 @@ TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
     size_t blue = 0;
     while (groups[blue].name != "target_blue") ++blue;
     std::vector<double> pulls_nf;
-    const int n = 16;
+    const int n = test::sanitized() ? 1 : 16;  // the sanitizers check one run's paths
     for (uint64_t seed = 1; seed <= uint64_t(n); ++seed) {
         const SimRun r = simulate(seed, 0, offset, 0.01, 0, 360, "physical", 1, 10, nf_true);
         const SensorFitResult f = fitSensor(r.log, r.sat, groups, urg04lx(), &b.calib);
@@ -221,6 +224,7 @@ TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
         EXPECT_GT(nf.onset_column.value, th.penetration_power.value) << "seed " << seed;
     }
     ASSERT_EQ(pulls_nf.size(), size_t(n));
+    if (n < 16) return;
     // Sixteen runs: the spread's own error is 0.18, so [0.55, 1.45] fails an error off by half.
     double m, sd;
     const std::string st = pulls(pulls_nf, &m, &sd);
