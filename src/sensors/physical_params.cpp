@@ -20,8 +20,9 @@ double PhysicalParams::overlap(double r) const
         ? (r >= overlap_full_m ? 1.0 : 0.0)
         : smoothstep((r - overlap_start_m) / (overlap_full_m - overlap_start_m));
     // Below the biaxial overlap only defocused light reaches the detector: a small floor that
-    // itself falls as r² near the sensor (a blur circle larger than the detector).
-    const double x = r / std::max(overlap_start_m, 1e-9);
+    // itself falls as r² nearer than overlap_blur_m (a blur circle larger than the detector).
+    const double blur = overlap_blur_m > 0 ? overlap_blur_m : overlap_start_m;
+    const double x = r / std::max(blur, 1e-9);
     return std::max(s, overlap_floor * std::min(1.0, x * x));
 }
 

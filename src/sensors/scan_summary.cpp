@@ -24,6 +24,7 @@ ScanSummary::ScanSummary(const Scene& scene, const Scanner& sc, std::string targ
 void ScanSummary::add(const Scan& s)
 {
     ++scans_;
+    clouds_.add(s);
     if (on_target_.empty()) {
         on_target_.assign(size_t(sc_.spec().n_beams), 0);
         for (size_t i = 0; i < on_target_.size() && i < s.beams.size(); ++i) {
@@ -59,6 +60,7 @@ std::string ScanSummary::text()
                   scans_, sc_.spec().n_beams, n_target_, target_.c_str());
     out += line;
     if (scans_ == 0) return out;
+    if (clouds_.result().runs > 0) out += clouds_.result().text();
     if (n_target_ == 0) {  // no target in this scene: the error fraction over all beams
         std::snprintf(line, sizeof line, "error codes: %.1f %% of all beams\n",
                       100.0 * all_errors_ / std::max(1LL, all_beams_));

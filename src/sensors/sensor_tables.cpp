@@ -36,6 +36,8 @@ void readPhysicalTable(TomlTable t, PhysicalParams& p)
     const long long n = t.integer("sub_rays", p.sub_rays);
     if (n < 1 || n > 64) t.error("sub_rays", "must lie in 1…64");
     p.sub_rays = int(n);
+    p.overlap_blur_m = t.nonneg("overlap_blur_m", p.overlap_blur_m);
+    if (p.overlap_blur_m > p.overlap_start_m) t.error("overlap_blur_m", "must not exceed overlap_start_m");
     if (p.overlap_full_m < p.overlap_start_m) t.error("overlap_full_m", "must not be below overlap_start_m");
     if (p.mod_freq_hi_hz <= p.mod_freq_lo_hz) t.error("mod_freq_hi_hz", "must exceed mod_freq_lo_hz");
     if (p.valid_snr < p.threshold_snr) t.error("valid_snr", "must not be below threshold_snr");
@@ -48,6 +50,7 @@ void writePhysicalTable(std::ostream& o, const PhysicalParams& p)
 {
     for (const Field& f : kFields) o << f.name << " = " << p.*f.member << "\n";
     o << "sub_rays = " << p.sub_rays << "\n";
+    if (p.overlap_blur_m > 0) o << "overlap_blur_m = " << p.overlap_blur_m << "\n";
 }
 
 void readPaperTable(TomlTable t, PaperModelConfig& p)

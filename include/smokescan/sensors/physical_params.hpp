@@ -15,6 +15,7 @@
 /// | overlap_start_m     | 1.5        | 0.1      | m    | start of the biaxial overlap (URG: calibrated, see below; Sick: assumed) |
 /// | overlap_full_m      | 3.0        | 1.5      | m    | full overlap; O rises as a smoothstep in between           |
 /// | overlap_floor       | 0.03       | 0.01     | –    | defocused light below the overlap, itself falling as r² (assumed) |
+/// | overlap_blur_m      | 0          | 0        | m    | the floor falls as r² nearer than this; 0 = overlap_start_m (assumed) |
 /// | noise_floor         | 5.4e-4     | 5e-5     | –    | r.m.s. receiver noise (normalised power), calibrated       |
 /// | saturation_power    | 40         | 40       | –    | received power that dazzles (URG code 18, Sick 8191), assumed |
 /// | snr_min             | 8          | –        | –    | AMCW: amplitude/noise below which the step is invalid (code 1) |
@@ -24,7 +25,7 @@
 /// | pulse_fwhm_ns       | –          | 4        | ns   | Sick pulse width (assumed)                                 |
 /// | threshold_snr       | –          | 6        | –    | Sick: echo detection threshold over the noise              |
 /// | valid_snr           | –          | 12       | –    | Sick: an echo peaking below this is too weak (8189)        |
-/// | max_echo_width      | –          | 1.8      | –    | Sick: an echo wider (FWHM) than this × the pulse's is ambiguous (8189) |
+/// | max_echo_width      | –          | 4        | –    | Sick: an echo wider (FWHM) than this × the pulse's is smoke dispersed over metres: ambiguous (8189), assumed |
 ///
 /// Range noise follows the received power: the receiver noise enters the phasors (AMCW) and the
 /// waveform (pulsed), so the phase or leading-edge jitter grows as noise_floor/amplitude
@@ -43,6 +44,7 @@ struct PhysicalParams {
     double overlap_start_m = 0.1;
     double overlap_full_m = 1.5;
     double overlap_floor = 0.01;
+    double overlap_blur_m = 0;  ///< the floor falls as r² nearer than this [m]; 0 = overlap_start_m
     double window_m = 0.02;
     double noise_floor = 5e-5;
     double saturation_power = 40.0;
@@ -55,7 +57,7 @@ struct PhysicalParams {
     double pulse_fwhm_ns = 4.0;
     double threshold_snr = 6.0;
     double valid_snr = 12.0;
-    double max_echo_width = 1.8;
+    double max_echo_width = 4.0;
 
     /// Overlap O(r) ∈ [0, 1] of the receiver's field of view with the beam at range r [m].
     double overlap(double r_m) const;

@@ -3,10 +3,12 @@
 /// @brief What a run of scans did, accumulated scan by scan (the scans need not be kept): the
 /// error fraction on the beams that hit the target (surfaces whose names start with a prefix) and
 /// the mean regional smoke column on them, per time bin; or, in a scene without a target, the error
-/// fraction over all beams. `smokescan scan` prints it.
+/// fraction over all beams; where the beams cross smoke clouds (local smoke), the readings in the
+/// clouds' cores and at their edges (cloud_profile.hpp). `smokescan scan` prints it.
 #include <string>
 #include <vector>
 
+#include "smokescan/sensors/cloud_profile.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 namespace smokescan {
@@ -37,6 +39,7 @@ private:
     long long scans_ = 0, all_errors_ = 0, all_beams_ = 0, errs_ = 0, total_ = 0, bin_err_ = 0, bin_n_ = 0,
               bin_rows_ = 0;
     std::string rows_;
+    CloudProfile clouds_;
 };
 
 }  // namespace smokescan
