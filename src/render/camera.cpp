@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/render/omni_camera.hpp"
 #include "smokescan/scene/scene.hpp"
 
 namespace smokescan {
@@ -32,6 +33,17 @@ std::unique_ptr<CameraModel> makeCamera(const Camera& cam)
 {
     if (!cam.pose.t.allFinite() || !cam.pose.R.allFinite()) throw Error(cam.name, "camera pose is not finite");
     if (cam.width <= 0 || cam.height <= 0) throw Error(cam.name, "camera resolution must be > 0");
+    if (cam.kind == CameraKind::Omni) {
+        OmniIntrinsics k;
+        k.width = cam.width;
+        k.height = cam.height;
+        k.cx = cam.cx_px >= 0 ? cam.cx_px : 0.5 * cam.width;
+        k.cy = cam.cy_px >= 0 ? cam.cy_px : 0.5 * cam.height;
+        k.mirror_radius = cam.mirror_radius_px;
+        k.max_incidence_deg = cam.max_incidence_deg;
+        k.base_radius = cam.base_radius_px;
+        return std::make_unique<OmniCamera>(cam.pose, k, cam.name);
+    }
     PinholeIntrinsics k = PinholeIntrinsics::fromHfov(cam.width, cam.height, cam.hfov_deg);
     if (cam.fx_px > 0) k.fx = cam.fx_px;
     if (cam.fy_px > 0)

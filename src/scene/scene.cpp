@@ -14,6 +14,13 @@ std::optional<LightKind> parseLightKind(const std::string& name)
     return std::nullopt;
 }
 
+std::optional<CameraKind> parseCameraKind(const std::string& name)
+{
+    if (name == "pinhole") return CameraKind::Pinhole;
+    if (name == "omni") return CameraKind::Omni;
+    return std::nullopt;
+}
+
 const Camera* Scene::findCamera(const std::string& name) const
 {
     for (const auto& c : cameras)

@@ -175,6 +175,18 @@ Camera readCamera(TomlTable t)
     c.fy_px = t.nonneg("fy_px", 0.0);
     c.cx_px = t.num("cx_px", -1.0);
     c.cy_px = t.num("cy_px", -1.0);
+    const std::string kind = t.str("kind", "pinhole");
+    const auto k = parseCameraKind(kind);
+    if (!k) t.error("kind", "must be pinhole or omni, got '" + kind + "'");
+    c.kind = *k;
+    c.mirror_radius_px = t.positive("mirror_radius_px", c.mirror_radius_px);
+    c.max_incidence_deg = t.positive("max_incidence_deg", c.max_incidence_deg);
+    if (c.max_incidence_deg >= 170)
+        t.error("max_incidence_deg", "must be < 170 (a paraboloid's image grows without bound towards 180)");
+    c.base_radius_px = t.nonneg("base_radius_px", c.base_radius_px);
+    if (c.kind == CameraKind::Omni &&
+        c.base_radius_px >= c.mirror_radius_px * std::tan(0.5 * c.max_incidence_deg * M_PI / 180))
+        t.error("base_radius_px", "hides the whole mirror");
     if (t.has("sensor")) c.sensor = readCameraSensor(t.table("sensor"));
     t.finish();
     return c;

@@ -8,6 +8,7 @@
 namespace smokescan {
 
 using Vec3 = Eigen::Vector3d;
+using Vec2 = Eigen::Vector2d;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// A ray o + t·d with |d| = 1, so that t is a distance in metres.

@@ -88,14 +88,27 @@ struct Light {
     double irradiance = 1.0;  ///< directional: irradiance normal to the beam [W/m²], along local +x
 };
 
-/// A pinhole camera looking along local +x, local +z up (image left = local +y).
+/// The projection of a scene camera (scene files: kind = "pinhole", "omni").
+enum class CameraKind { Pinhole, Omni };
+
+/// @brief The kind a scene file names, or nothing for an unknown name.
+std::optional<CameraKind> parseCameraKind(const std::string& name);
+
+/// A scene camera. Pinhole: looks along local +x, local +z up (image left = local +y). Omni: a
+/// single-viewpoint catadioptric camera (paraboloidal mirror, Nayar) whose viewpoint is the pose's
+/// position, its mirror axis local −z (straight down), local +x to the image's right and local +y
+/// up the image (a map seen from above); render/omni_camera.hpp.
 struct Camera {
     std::string name;
+    CameraKind kind = CameraKind::Pinhole;
     Pose pose;
     int width = 640, height = 480;
     double hfov_deg = 60.0;
     double fx_px = 0, fy_px = 0;  ///< focal lengths [px]; 0 = from hfov_deg (fy = fx)
-    double cx_px = -1, cy_px = -1;  ///< principal point [px]; < 0 = the image centre
+    double cx_px = -1, cy_px = -1;  ///< principal point (omni: image centre) [px]; < 0 = the image centre
+    double mirror_radius_px = 192;  ///< omni: R, the image radius of the 90° incidence circle [px]
+    double max_incidence_deg = 110;  ///< omni: the mirror's rim, incidence from straight down [deg]
+    double base_radius_px = 0;  ///< omni: the robot's base hides the image within this radius [px]
     CameraSensor sensor;  ///< exposure, noise, white balance, encoding (camera_sensor.hpp)
 };
 

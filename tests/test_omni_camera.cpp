@@ -1,0 +1,119 @@
+// The catadioptric omnidirectional camera (render/omni_camera.hpp) against its closed form.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/random.hpp"
+#include "smokescan/render/omni_camera.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+using namespace smokescan;
+
+namespace {
+/// The paper's camera (1024×768, R = 192 px) with its viewpoint 0.931 m above the floor at
+/// (1, 2), turned 30° about the vertical.
+OmniCamera papersCamera() { return OmniCamera(Pose::fromRpyDeg(Vec3(1, 2, 0.931), Vec3(0, 0, 30)), OmniIntrinsics{}); }
+
+/// Where a ray meets the floor z = 0 (its distance along the ray).
+double floorHit(const Ray& r) { return -r.o.z() / r.d.z(); }
+}  // namespace
+
+TEST(OmniCamera, AFloorPointLandsWhereTheMirrorEquationSays)
+{
+    // A floor point 2 m away at a world bearing of 40°, i.e. 10° left of the camera's +x:
+    // θ = atan(2/0.931) from straight down, ρ = R·tan(θ/2), the point at (cx + ρ cos 10°,
+    // cy − ρ sin 10°).
+    const OmniCamera cam = papersCamera();
+    const double b = 40 * M_PI / 180;
+    const Vec3 p(1 + 2 * std::cos(b), 2 + 2 * std::sin(b), 0);
+    const double theta = std::atan(2 / 0.931), rho = 192 * std::tan(theta / 2), phi = 10 * M_PI / 180;
+    const Vec2 px = cam.project(p);
+    EXPECT_NEAR(px.x(), 512 + rho * std::cos(phi), 1e-9);
+    EXPECT_NEAR(px.y(), 384 - rho * std::sin(phi), 1e-9);
+    // The ray through that pixel meets the floor at the point (sub-pixel: to 1e-9 m).
+    Ray r;
+    ASSERT_TRUE(cam.generateRay(px.x(), px.y(), r));
+    EXPECT_LT((r.at(floorHit(r)) - p).norm(), 1e-9);
+}
+
+TEST(OmniCamera, RaysAndProjectionsRoundTrip)
+{
+    const OmniCamera cam = papersCamera();
+    KeyedRng rng(3, 0, 0);
+    int inside = 0;
+    for (int k = 0; k < 2000; ++k) {
+        const double x = 1024 * rng.uniform(), y = 768 * rng.uniform();
+        Ray r;
+        if (!cam.generateRay(x, y, r)) continue;
+        ++inside;
+        EXPECT_NEAR(r.d.norm(), 1.0, 1e-12);
+        const Vec2 back = cam.project(r.at(3.7));
+        EXPECT_NEAR(back.x(), x, 1e-8);
+        EXPECT_NEAR(back.y(), y, 1e-8);
+    }
+    // The mirror's disc (rim at 110°: ρ = 192·tan 55° = 274 px) within the 1024×768 frame.
+    const double disc = M_PI * std::pow(192 * std::tan(55 * M_PI / 180), 2) / (1024.0 * 768.0);
+    EXPECT_NEAR(inside / 2000.0, disc, 4 * std::sqrt(disc * (1 - disc) / 2000));
+}
+
+TEST(OmniCamera, FloorDistanceIsHeightTimesTanThetaAtThePapersMount)
+{
+    // d = h·tan θ with θ = 2·arctan(ρ/R), h = 0.931 m, R = 192 px: the 90° circle is the horizon
+    // (d infinite), and the paper's 3.8 m maximum range lies at ρ ≈ 150.6 px (θ = 76.2°).
+    const OmniCamera cam = papersCamera();
+    EXPECT_NEAR(cam.floorDistance(150.6, 0.931), 3.80, 0.01);
+    EXPECT_EQ(cam.floorDistance(192, 0.931), kInf);
+    EXPECT_EQ(cam.floorDistance(250, 0.931), kInf);
+    EXPECT_DOUBLE_EQ(cam.floorDistance(0, 0.931), 0.0);
+    // Against the geometry: the ray through radius ρ (to the right of the centre) meets the floor
+    // at that horizontal distance from the point below the viewpoint.
+    for (double rho = 5; rho < 190; rho += 7.3) {
+        Ray r;
+        ASSERT_TRUE(cam.generateRay(512 + rho, 384, r));
+        const Vec3 p = r.at(floorHit(r));
+        EXPECT_NEAR(std::hypot(p.x() - 1, p.y() - 2), cam.floorDistance(rho, 0.931), 1e-9 * (1 + p.norm()));
+    }
+    // One pixel's metric error grows hyperbolically (the paper's Fig. 8): 2.5 cm at 1 m, 11 cm at 3.8 m.
+    EXPECT_NEAR(cam.floorDistance(151.6, 0.931) - cam.floorDistance(150.6, 0.931), 0.105, 0.005);
+}
+
+TEST(OmniCamera, TheRimAndTheBaseSeeNothing)
+{
+    OmniIntrinsics k;
+    k.base_radius = 40;
+    const OmniCamera cam(Pose{}, k);
+    Ray r;
+    EXPECT_FALSE(cam.generateRay(512 + 30, 384, r));  // on the base
+    EXPECT_TRUE(cam.generateRay(512 + 50, 384, r));
+    EXPECT_TRUE(cam.generateRay(512, 384 - 270, r));  // inside the rim (274 px)
+    EXPECT_FALSE(cam.generateRay(512, 384 - 280, r));
+    EXPECT_FALSE(cam.generateRay(0, 0, r));
+}
+
+TEST(OmniCamera, SceneFilesMakeOmniCamerasAndRefuseBadMirrors)
+{
+    const std::string head = "[[cameras]]\nname = \"omni\"\nposition = [0, 0, 0.931]\n";
+    const Scene s =
+        parseScene(head + "kind = \"omni\"\nwidth = 1024\nheight = 768\nbase_radius_px = 30\n", "omni.toml", "");
+    ASSERT_EQ(s.cameras.size(), 1u);
+    EXPECT_EQ(s.cameras[0].kind, CameraKind::Omni);
+    const auto cam = makeCamera(s.cameras[0]);
+    Ray r;
+    ASSERT_TRUE(cam->generateRay(512 + 192, 384, r));  // the 90° circle: horizontal
+    EXPECT_NEAR(r.d.z(), 0.0, 1e-12);
+    EXPECT_NEAR(r.d.x(), 1.0, 1e-12);
+    auto refused = [&](const std::string& extra, const std::string& needle) {
+        try {
+            parseScene(head + (extra.rfind("kind", 0) == 0 ? "" : "kind = \"omni\"\n") + extra, "omni.toml", "");
+            ADD_FAILURE() << "accepted: " << extra;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("omni.toml"), std::string::npos) << e.what();
+        }
+    };
+    refused("mirror_radius_px = 0\n", "mirror_radius_px");
+    refused("max_incidence_deg = 175\n", "max_incidence_deg");
+    refused("base_radius_px = 400\n", "hides the whole mirror");
+    refused("kind = \"fisheye\"\n", "pinhole or omni");
+}
