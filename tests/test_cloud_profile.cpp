@@ -1,6 +1,8 @@
 // The cloud-profile measure (cloud_profile.hpp) on hand-made scans.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "smokescan/sensors/cloud_profile.hpp"
 
 using namespace smokescan;
@@ -46,6 +48,13 @@ TEST(CloudProfile, SplitsEachRunIntoCoreAndEdgeByItsPeakColumn)
     EXPECT_DOUBLE_EQ(r.edgeShareOfBeams(), 5.0 / 7.0);
     EXPECT_EQ(r.error_causes.at("weak_echo"), std::make_pair(1LL, 2LL));
     EXPECT_NE(r.text().find("weak_echo 1, 2"), std::string::npos);
+    // No surface in range: any range reads as an obstacle.
+    CloudProfile q;
+    Scan open;
+    open.beams = {beam(0.02, 7.0)};
+    open.beams[0].hit.hit = false;
+    q.add(open);
+    EXPECT_EQ(q.result().core_obstacles, 1);
 }
 
 TEST(CloudProfile, EmptyAndClearScansCountNothing)
@@ -53,7 +62,7 @@ TEST(CloudProfile, EmptyAndClearScansCountNothing)
     CloudProfile p;
     p.add(Scan{});
     Scan s;
-    s.beams = {beam(0, 5.0), beam(0.0005, 5.0)};
+    s.beams = {beam(0, 5.0), beam(0.0005, 5.0), beam(NAN, 5.0)};  // a NaN column is no cloud (and no hang)
     p.add(s);
     EXPECT_EQ(p.result().runs, 0);
     EXPECT_DOUBLE_EQ(p.result().coreObstacleShare(), 0.0);

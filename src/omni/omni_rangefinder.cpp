@@ -105,10 +105,12 @@ long long trainFreeSpace(ColourHistogram& hist, const Image& frame, const OmniCa
             if (std::hypot(p.x() - o.x(), p.y() - o.y()) > cfg.max_range_m) continue;
             const Vec3 q = laser.pose.R.transpose() * (p - laser.pose.t);
             const double a = std::atan2(q.y(), q.x()), dist = std::hypot(q.x(), q.y());
+            // The nearest beam in bearing, the scan's two ends neighbours across ±π (a 360° laser).
             const auto it = std::lower_bound(laser.angle_rad.begin(), laser.angle_rad.end(), a);
-            size_t i = size_t(it - laser.angle_rad.begin());
-            if (i == nb || (i > 0 && a - laser.angle_rad[i - 1] < laser.angle_rad[i] - a)) i = i == 0 ? 0 : i - 1;
-            if (std::abs(a - laser.angle_rad[i]) > half_step + 1e-12) continue;  // outside the laser's field
+            const size_t hi = size_t(it - laser.angle_rad.begin()) % nb, lo = (hi + nb - 1) % nb;
+            auto gap = [&](size_t k) { return std::abs(std::remainder(a - laser.angle_rad[k], 2 * M_PI)); };
+            const size_t i = gap(lo) < gap(hi) ? lo : hi;
+            if (gap(i) > half_step + 1e-12) continue;  // outside the laser's field
             const double range = laser.range_m[i];
             if (!std::isfinite(range) || !(dist < range - margin_m)) continue;
             hist.add(frame.at(x, y, 0), frame.at(x, y, 1), frame.at(x, y, 2));

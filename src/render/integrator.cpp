@@ -349,7 +349,7 @@ RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const Render
     if (scene.cameras.empty()) throw Error(scene.source, "the scene has no camera to render");
     const Camera* cam = scene.findCamera(cfg.camera);
     if (!cam) throw Error(scene.source, "no camera named '" + cfg.camera + "'");
-    Camera c = *cam;
+    Camera c = scene.cameraAt(*cam, cfg.time_s);  // on its robot, when it rides on one
     if (cfg.width < 0 || cfg.height < 0) throw Error("--width", "resolution must be > 0");
     if (cfg.width > 0) c.width = cfg.width;
     if (cfg.height > 0) c.height = cfg.height;

@@ -21,6 +21,36 @@ std::optional<CameraKind> parseCameraKind(const std::string& name)
     return std::nullopt;
 }
 
+namespace {
+Pose compose(const Pose& outer, const Pose& inner)
+{
+    Pose p;
+    p.R = outer.R * inner.R;
+    p.t = outer.apply(inner.t);
+    return p;
+}
+}  // namespace
+
+SensorMount Scene::sensorAt(const SensorMount& m, double t_s) const
+{
+    SensorMount out = m;
+    if (m.robot >= 0) {
+        out.pose = compose(robots[size_t(m.robot)].at(t_s), m.pose);
+        out.robot = -1;
+    }
+    return out;
+}
+
+Camera Scene::cameraAt(const Camera& c, double t_s) const
+{
+    Camera out = c;
+    if (c.robot >= 0) {
+        out.pose = compose(robots[size_t(c.robot)].at(t_s), c.pose);
+        out.robot = -1;
+    }
+    return out;
+}
+
 const Camera* Scene::findCamera(const std::string& name) const
 {
     for (const auto& c : cameras)

@@ -101,7 +101,40 @@ Surface readSurface(TomlTable t, const std::map<std::string, int>& materials, co
     return s;
 }
 
-SensorMount readSensor(TomlTable t, const std::string& base_dir)
+/// The robot a sensor or camera rides on (`robot = "name"`), or −1.
+int readRobotRef(TomlTable& t, const std::vector<Robot>& robots)
+{
+    if (!t.has("robot")) return -1;
+    const std::string name = t.strReq("robot");
+    for (size_t i = 0; i < robots.size(); ++i)
+        if (robots[i].name == name) return int(i);
+    t.error("robot", "names no robot of the scene: '" + name + "'");
+}
+
+Robot readRobot(TomlTable t)
+{
+    Robot r;
+    r.name = t.strReq("name");
+    auto frames = t.tables("keyframes");
+    if (frames.empty()) t.error("keyframes", "needs at least one keyframe");
+    if (int64_t(frames.size()) > limits::kKeyframes)
+        t.error("keyframes", "more than " + std::to_string(limits::kKeyframes) + " keyframes");
+    for (auto& f : frames) {
+        Keyframe k;
+        k.time_s = f.numReq("time_s");
+        k.position = f.vec3("position", k.position);
+        k.yaw_deg = f.num("yaw_deg", 0.0);
+        if (!r.keyframes.empty() && !(k.time_s > r.keyframes.back().time_s))
+            f.error("time_s", "must exceed the previous keyframe's");
+        if (!k.position.allFinite()) f.error("position", "must be finite");
+        f.finish();
+        r.keyframes.push_back(k);
+    }
+    t.finish();
+    return r;
+}
+
+SensorMount readSensor(TomlTable t, const std::string& base_dir, const std::vector<Robot>& robots)
 {
     const std::string type = t.strReq("type");
     const auto kind = parseSensorType(type);
@@ -110,6 +143,7 @@ SensorMount readSensor(TomlTable t, const std::string& base_dir)
     m.config = SensorConfig::defaults(*kind);
     m.name = t.str("name", type);
     m.pose = readPose(t);
+    m.robot = readRobotRef(t, robots);
     if (t.has("sensor_file")) applySensorFile(resolve(base_dir, t.strReq("sensor_file")), m.config);
     readSceneSensorKeys(t, m.config);
     t.finish();
@@ -161,11 +195,12 @@ CameraSensor readCameraSensor(TomlTable t)
     return s;
 }
 
-Camera readCamera(TomlTable t)
+Camera readCamera(TomlTable t, const std::vector<Robot>& robots)
 {
     Camera c;
     c.name = t.strReq("name");
     c.pose = readPose(t);
+    c.robot = readRobotRef(t, robots);
     c.width = int(t.integer("width", c.width));
     c.height = int(t.integer("height", c.height));
     if (c.width <= 0 || c.height <= 0) t.error("width", "and height must be > 0");
@@ -382,9 +417,15 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
         s.materials.push_back(m);
     }
     for (auto& t : top.tables("surfaces")) s.surfaces.push_back(readSurface(t, mats, base_dir));
-    for (auto& t : top.tables("sensors")) s.sensors.push_back(readSensor(t, base_dir));
+    for (auto& t : top.tables("robots")) {
+        s.robots.push_back(readRobot(t));
+        for (size_t i = 0; i + 1 < s.robots.size(); ++i)
+            if (s.robots[i].name == s.robots.back().name)
+                t.error("name", "repeats robot '" + s.robots.back().name + "'");
+    }
+    for (auto& t : top.tables("sensors")) s.sensors.push_back(readSensor(t, base_dir, s.robots));
     for (auto& t : top.tables("lights")) s.lights.push_back(readLight(t));
-    for (auto& t : top.tables("cameras")) s.cameras.push_back(readCamera(t));
+    for (auto& t : top.tables("cameras")) s.cameras.push_back(readCamera(t, s.robots));
     for (auto& t : top.tables("smoke")) s.volumes.push_back(readSmoke(t, base_dir));
     top.finish();
     return s;

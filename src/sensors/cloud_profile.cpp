@@ -27,14 +27,14 @@ std::string CloudProfileResult::text() const
     char line[512];
     std::snprintf(
         line, sizeof line,
-        "clouds crossed: %lld runs of beams; in their cores (column >= half the run's peak, >= %.3g density.m) "
+        "clouds crossed: %lld runs of beams; in their cores (column >= %.2g x the run's peak, >= %.3g density.m) "
         "%lld beams: "
         "%.1f %% obstacles, %.1f %% error codes\n"
         "at their edges %lld beams: %.1f %% obstacles, %.1f %% error codes; %.1f %% of the clouds' error "
         "codes at the edges (%.1f %% of their beams)\n",
-        runs, config.core_min_column, core_beams, 100 * coreObstacleShare(), 100 * coreErrorRate(), edge_beams,
-        100 * ratio(edge_obstacles, edge_beams), 100 * edgeErrorRate(), 100 * errorShareAtEdges(),
-        100 * edgeShareOfBeams());
+        runs, config.core_fraction, config.core_min_column, core_beams, 100 * coreObstacleShare(),
+        100 * coreErrorRate(), edge_beams, 100 * ratio(edge_obstacles, edge_beams), 100 * edgeErrorRate(),
+        100 * errorShareAtEdges(), 100 * edgeShareOfBeams());
     std::string out = line;
     if (error_causes.empty()) return out;
     out += "error causes (cores, edges):";
@@ -51,7 +51,7 @@ void CloudProfile::add(const Scan& s)
     const size_t n = s.beams.size();
     size_t i = 0;
     while (i < n) {
-        if (s.beams[i].smoke.column_local < cfg_.min_column) {
+        if (!(s.beams[i].smoke.column_local >= cfg_.min_column)) {  // also NaN
             ++i;
             continue;
         }

@@ -45,12 +45,13 @@ std::vector<double> Scanner::times() const
     return t;
 }
 
-Ray Scanner::beamRay(int i) const { return mount_.beamRay(spec().angle(i)); }
+Ray Scanner::beamRay(int i) const { return scene_.sensorAt(mount_, cfg_.from_s).beamRay(spec().angle(i)); }
 
 Scan Scanner::scanAt(double t_s, uint64_t index) const
 {
     const SmokeField field = SmokeField::at(scene_.volumes, t_s);
     const BeamWorld world{scene_, surfaces_, field, regionalSmokeRising(scene_, t_s)};
+    const SensorMount at = scene_.sensorAt(mount_, t_s);  // on its robot, when it rides on one
     Scan scan;
     scan.time_s = t_s;
     const int n = spec().n_beams;
@@ -59,7 +60,8 @@ Scan Scanner::scanAt(double t_s, uint64_t index) const
     scan.beams.resize(cfg_.keep_beams ? size_t(n) : 0);
     tbb::parallel_for(0, n, [&](int i) {
         KeyedRng rng(cfg_.seed, index, uint64_t(i));
-        BeamResult r = model_->read(world, LaserBeam(beamRay(i), spec().angle(i)), rng, cfg_.keep_beams);
+        BeamResult r =
+            model_->read(world, LaserBeam(at.beamRay(spec().angle(i)), spec().angle(i)), rng, cfg_.keep_beams);
         scan.angle_rad[size_t(i)] = spec().angle(i);
         scan.value[size_t(i)] = r.value;
         if (cfg_.keep_beams) scan.beams[size_t(i)] = std::move(r);

@@ -46,6 +46,8 @@ inline constexpr double kGridSide = 4000;
 inline constexpr int kPlumeBins = 1000;
 /// Triangles of one mesh.
 inline constexpr int64_t kMeshTriangles = 50'000'000;
+/// Keyframes of one robot's trajectory.
+inline constexpr int64_t kKeyframes = 1'000'000;
 
 /// A requested count for an error message, whatever its size ("1.75e+25"; never cast to an
 /// integer, which is undefined beyond its range).

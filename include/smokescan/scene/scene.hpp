@@ -12,6 +12,7 @@
 #include "smokescan/core/ray.hpp"
 #include "smokescan/media/smoke.hpp"
 #include "smokescan/scene/camera_sensor.hpp"
+#include "smokescan/scene/trajectory.hpp"
 #include "smokescan/sensors/sensor_config.hpp"
 
 namespace smokescan {
@@ -59,8 +60,9 @@ struct Surface {
 /// angle 0 along local +x. What the sensor is and does lives in its config.
 struct SensorMount {
     std::string name;
-    Pose pose;
+    Pose pose;  ///< in the world, or in its robot's frame when it rides on one
     SensorConfig config;
+    int robot = -1;  ///< index into Scene::robots, or −1: fixed in the world
 
     /// World ray of the beam at `angle_rad` in the sensor's scan plane (local x–y, 0 = local +x).
     Ray beamRay(double angle_rad) const
@@ -101,7 +103,8 @@ std::optional<CameraKind> parseCameraKind(const std::string& name);
 struct Camera {
     std::string name;
     CameraKind kind = CameraKind::Pinhole;
-    Pose pose;
+    Pose pose;  ///< in the world, or in its robot's frame when it rides on one
+    int robot = -1;  ///< index into Scene::robots, or −1: fixed in the world
     int width = 640, height = 480;
     double hfov_deg = 60.0;
     double fx_px = 0, fy_px = 0;  ///< focal lengths [px]; 0 = from hfov_deg (fy = fx)
@@ -120,10 +123,15 @@ struct Scene {
     std::vector<Light> lights;
     std::vector<Camera> cameras;
     std::vector<SmokeVolume> volumes;
+    std::vector<Robot> robots;
     double t_start_s = 0, t_end_s = 60;
 
     /// @brief Index of the sensor with this name, else of the first of this type; −1 if none.
     int findSensor(const std::string& name_or_type) const;
+    /// @brief The sensor at time t_s, its pose in the world (on its robot, when it rides on one).
+    SensorMount sensorAt(const SensorMount& m, double t_s) const;
+    /// @brief The camera at time t_s, its pose in the world (on its robot, when it rides on one).
+    Camera cameraAt(const Camera& c, double t_s) const;
     /// @brief Index of the surface with this name; −1 if none.
     int findSurface(const std::string& name) const;
     /// @brief The camera with this name ("" = the first); null if none.

@@ -55,7 +55,7 @@ public:
     /// The mount with the sensor file, model and penetration power of the config applied.
     const SensorMount& mount() const { return mount_; }
     const BeamModel& model() const { return *model_; }
-    /// World ray of beam i.
+    /// World ray of beam i (at the run's first time, for a sensor that rides on a robot).
     Ray beamRay(int i) const;
 
 private:
