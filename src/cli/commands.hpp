@@ -61,5 +61,6 @@ void addCalibration(CLI::App& app, Runner& run);
 void addFit(CLI::App& app, Runner& run);
 void addFitPlume(CLI::App& app, Runner& run);
 void addDiagnose(CLI::App& app, Runner& run);
+void addOmnirange(CLI::App& app, Runner& run);
 
 }  // namespace smokescan::cli

@@ -20,6 +20,7 @@ int main(int argc, char** argv)
     smokescan::cli::addFit(app, run);
     smokescan::cli::addFitPlume(app, run);
     smokescan::cli::addDiagnose(app, run);
+    smokescan::cli::addOmnirange(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

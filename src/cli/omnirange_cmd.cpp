@@ -1,0 +1,152 @@
+// `smokescan omnirange`: the omnidirectional camera as a colour-based rangefinder beside a laser.
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <memory>
+
+#include "commands.hpp"
+#include "progress.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/run_files.hpp"
+#include "smokescan/io/text_input.hpp"
+#include "smokescan/omni/omni_compare.hpp"
+#include "smokescan/omni/omni_run.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+namespace smokescan::cli {
+namespace {
+
+struct OmniArgs {
+    std::string scene, out, laser_out, histogram, save_histogram, train;
+    double from = NAN, to = NAN, rate_hz = 1;
+    OmniRunConfig cfg;
+};
+
+void writeOmniScan(std::ostream& o, const OmniFrame& f)
+{
+    o << std::fixed << std::setprecision(3) << f.time_s;
+    for (size_t i = 0; i < f.omni.range_m.size(); ++i)
+        o << ' ' << std::setprecision(6) << f.omni.angle_rad[i] << ' ' << std::llround(f.omni.range_m[i] * 1000);
+    o << '\n';
+}
+
+void writeLaserScan(std::ostream& o, const OmniFrame& f, const LrfSpec& spec)
+{
+    o << std::fixed << std::setprecision(3) << f.time_s;
+    for (size_t i = 0; i < f.laser_range_m.size(); ++i) {
+        const double r = f.laser_range_m[i];
+        o << ' ' << std::setprecision(6) << f.laser_angle_rad[i] << ' '
+          << (std::isfinite(r) ? std::llround(r * 1000)
+                               : std::llround(double(spec.no_return_code) * spec.unit_m * 1000));
+    }
+    o << '\n';
+}
+
+std::vector<double> scanTimes(const OmniArgs& a, const Scene& scene)
+{
+    const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? scene.t_end_s : a.to;
+    if (!(to >= from)) throw Error("--to", "must not precede --from");
+    const double n = std::floor((to - from) * a.rate_hz + 1e-9) + 1;
+    if (n > double(limits::kFrames))
+        throw Error("--rate", "would render over " + std::to_string(limits::kFrames) + " frames");
+    std::vector<double> t;
+    for (long long k = 0; k < (long long)n; ++k) t.push_back(from + double(k) / a.rate_hz);
+    return t;
+}
+
+int runOmnirange(const OmniArgs& a)
+{
+    RunFiles files;
+    files.input(a.scene, "the scene");
+    files.input(a.histogram, "--histogram");
+    files.output(a.out, "--out");
+    files.output(a.laser_out, "--laser-out");
+    files.output(a.save_histogram, "--save-histogram");
+    if (a.train.empty() == a.histogram.empty()) throw Error("--train", "give either --train TIMES or --histogram FILE");
+    const std::vector<double> train = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
+    if ((long long)train.size() > limits::kFrames) throw Error("--train", "too many training times");
+    const Scene scene = loadScene(a.scene);
+    const SurfaceSet surfaces(scene);
+    const std::vector<double> times = scanTimes(a, scene);
+    OmniRun run(scene, surfaces, a.cfg);
+    ColourHistogram hist = a.histogram.empty() ? ColourHistogram(13) : ColourHistogram::load(a.histogram);
+    long long trained = 0;
+    for (size_t k = 0; k < train.size(); ++k) trained += run.train(hist, train[k], uint64_t(k));
+    if (hist.total() == 0) throw Error("--train", "no free floor pixels to train on (the laser saw no free floor)");
+    AtomicFile log(files.stage(a.out));
+    log.stream() << "# smokescan omnirange " << scene.source << "\n# camera " << run.cameraName() << ", trained on "
+                 << (a.histogram.empty() ? std::to_string(trained) + " pixels at " + a.train : a.histogram)
+                 << ", threshold " << a.cfg.range.threshold << ", N " << a.cfg.range.filter.n_behind << ", K "
+                 << a.cfg.range.filter.k_free << ", range " << a.cfg.range.min_range_m << "-" << a.cfg.range.max_range_m
+                 << " m\n# format: time_s then pairs of (angle_rad, range_mm)\n";
+    std::unique_ptr<AtomicFile> laser;
+    if (!a.laser_out.empty()) {
+        laser = std::make_unique<AtomicFile>(files.stage(a.laser_out));
+        laser->stream() << "# smokescan omnirange " << scene.source << ": the laser " << run.laser().mount().name
+                        << " at the omnicam's times\n"
+                        << "# format: time_s then pairs of (angle_rad, range_mm); error codes: "
+                        << run.laser().spec().errorValueSummary() << "\n";
+    }
+    const Progress progress("omnirange", "frames");
+    OmniComparison cmp;
+    for (size_t k = 0; k < times.size(); ++k) {
+        // Keys apart from the training frames': a run with the histogram saved from this one
+        // reads the same frames.
+        const OmniFrame f = run.read(hist, times[k], (uint64_t(1) << 32) + k);
+        writeOmniScan(log.stream(), f);
+        if (laser) writeLaserScan(laser->stream(), f, run.laser().spec());
+        cmp.add(f);
+        progress.update((long long)k + 1, (long long)times.size());
+    }
+    log.commit();
+    if (laser) laser->commit();
+    if (!a.save_histogram.empty()) hist.save(files.stage(a.save_histogram));
+    files.commit();
+    std::printf(
+        "omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
+        "(laser - omnicam) %+.4f m; %lld outliers over %.2f m left out\n",
+        cmp.pairs, cmp.meanAbsM(), cmp.meanPercent(), cmp.meanSignedM(), cmp.outliers, cmp.outlier_m);
+    std::printf("wrote %s (%zu scans)%s%s\n", a.out.c_str(), times.size(), a.laser_out.empty() ? "" : ", ",
+                a.laser_out.c_str());
+    return 0;
+}
+
+}  // namespace
+
+void addOmnirange(CLI::App& app, Runner& run)
+{
+    auto a = std::make_shared<OmniArgs>();
+    auto* c = app.add_subcommand(
+        "omnirange", "The omnidirectional camera as a colour-based rangefinder beside a laser (docs/omnicam.md)");
+    c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml) with an omni camera")->required();
+    c->add_option("--out", a->out, "The omnicam's ranges as a laser log (360 scanlines)")->required();
+    c->add_option("--train", a->train, "Times [s] at which the laser's scan trains the colour histogram (comma list)");
+    c->add_option("--histogram", a->histogram, "A trained colour histogram to use instead of --train");
+    c->add_option("--save-histogram", a->save_histogram, "Also write the trained colour histogram");
+    c->add_option("--laser-out", a->laser_out, "Also write the laser's log at the same times");
+    c->add_option("--camera", a->cfg.camera, "Omni camera of the scene (default: the first)");
+    c->add_option("--laser", a->cfg.laser, "Sensor that trains it (default: the scene's first)");
+    c->add_option("--from", a->from, "First frame time [s] (default: scene start)")->check(finite());
+    c->add_option("--to", a->to, "Last frame time [s] (default: scene end)")->check(finite());
+    c->add_option("--rate", a->rate_hz, "Frames per second [Hz]")->capture_default_str()->check(positive());
+    c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
+    c->add_option("--seed", a->cfg.seed, "Noise seed")->capture_default_str();
+    c->add_option("--threshold", a->cfg.range.threshold, "Θ: a pixel is free when its bin's share is at least this")
+        ->capture_default_str();
+    c->add_option("--n-behind", a->cfg.range.filter.n_behind, "N: non-free pixels behind a hit point")
+        ->capture_default_str();
+    c->add_option("--k-free", a->cfg.range.filter.k_free, "K: free pixels that break an obstacle")
+        ->capture_default_str();
+    c->add_option("--scanlines", a->cfg.range.scanlines, "Scanlines")->capture_default_str();
+    c->add_option("--min-range", a->cfg.range.min_range_m, "Minimum range [m]")->capture_default_str();
+    c->add_option("--max-range", a->cfg.range.max_range_m, "Maximum range [m]")->capture_default_str();
+    c->add_option("--floor-z", a->cfg.floor_z_m, "Floor height [m]")->capture_default_str()->check(finite());
+    c->add_option("--exposure", a->cfg.exposure, "Radiance scale of the frames (<= 0: metered once, then held)")
+        ->capture_default_str()
+        ->check(finite());
+    c->callback([&run, a] { run = [a] { return runOmnirange(*a); }; });
+}
+
+}  // namespace smokescan::cli

@@ -1,0 +1,102 @@
+#include "smokescan/omni/omni_run.hpp"
+
+#include <cmath>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/render/renderer.hpp"
+
+namespace smokescan {
+
+OmniRun::OmniRun(const Scene& scene, const SurfaceSet& surfaces, const OmniRunConfig& cfg)
+    : scene_(scene), surfaces_(surfaces), cfg_(cfg), exposure_(cfg.exposure)
+{
+    const Camera* found = nullptr;
+    for (const Camera& c : scene.cameras)
+        if (c.kind == CameraKind::Omni && (cfg.camera.empty() || c.name == cfg.camera)) {
+            found = &c;
+            break;
+        }
+    if (!found)
+        throw Error(scene.source,
+                    cfg.camera.empty() ? "the scene has no omni camera (kind = \"omni\")"
+                                       : "no omni camera named '" + cfg.camera + "'");
+    cam_ = *found;
+    if (cfg.spp < 1 || cfg.spp > limits::kSpp) throw Error("--spp", "must lie in 1…" + std::to_string(limits::kSpp));
+    if (int64_t(cam_.width) * cam_.height > limits::kFramePixels)
+        throw Error(cam_.name, "frame over " + std::to_string(limits::kFramePixels) + " pixels");
+    if (!(cfg.margin_m >= 0) || !std::isfinite(cfg.margin_m)) throw Error("margin_m", "must be finite and >= 0");
+    if (!std::isfinite(cfg.floor_z_m)) throw Error("floor_z_m", "must be finite");
+    ScanConfig sc;
+    sc.sensor = cfg.laser;
+    sc.seed = cfg.seed;
+    sc.from_s = sc.to_s = 0;
+    sc.rate_hz = 1;
+    scanner_ = std::make_unique<Scanner>(scene, surfaces, sc);
+    checkOmniRangeConfig(rangeAt(scene.t_start_s), cameraAt(scene.t_start_s));
+}
+
+const OmniCamera& OmniRun::cameraAt(double t_s)
+{
+    model_ = makeCamera(scene_.cameraAt(cam_, t_s));
+    return dynamic_cast<const OmniCamera&>(*model_);
+}
+
+OmniRangeConfig OmniRun::rangeAt(double t_s) const
+{
+    OmniRangeConfig r = cfg_.range;
+    r.height_m = scene_.cameraAt(cam_, t_s).pose.t.z() - cfg_.floor_z_m;
+    if (!(r.height_m > 0))
+        throw Error(cam_.name, "the omni camera is not above the floor at t = " + std::to_string(t_s) + " s");
+    return r;
+}
+
+Image OmniRun::render(double t_s, uint64_t k)
+{
+    RenderConfig rc;
+    rc.time_s = t_s;
+    rc.spp = cfg_.spp;
+    rc.seed = cfg_.seed * 1000003 + k;
+    rc.progress = false;
+    const RenderResult rr = smokescan::render(scene_, surfaces_, cameraAt(t_s), rc);
+    double used = 0;
+    Image display = toDisplay(rr.radiance, exposure_, &used);
+    exposure_ = used;  // metered once, then held: the histogram's colours stay comparable
+    return display;
+}
+
+LaserFreeSpace OmniRun::laserAt(double t_s, uint64_t k) const
+{
+    const Scan s = scanner_->scanAt(t_s, k);
+    LaserFreeSpace l;
+    l.pose = scene_.sensorAt(scanner_->mount(), t_s).pose;
+    const LrfSpec& spec = scanner_->spec();
+    for (size_t i = 0; i < s.value.size(); ++i) {
+        l.angle_rad.push_back(s.angle_rad[i]);
+        l.range_m.push_back(spec.isErrorValue(s.value[i]) ? NAN : double(s.value[i]) * spec.unit_m);
+    }
+    return l;
+}
+
+long long OmniRun::train(ColourHistogram& hist, double t_s, uint64_t k)
+{
+    const Image frame = render(t_s, k);
+    return trainFreeSpace(hist, frame, cameraAt(t_s), laserAt(t_s, k), rangeAt(t_s), cfg_.margin_m);
+}
+
+OmniFrame OmniRun::read(const ColourHistogram& hist, double t_s, uint64_t k, Image* frame_out)
+{
+    Image frame = render(t_s, k);
+    OmniFrame f;
+    f.time_s = t_s;
+    f.omni = omniRange(frame, cameraAt(t_s), hist, rangeAt(t_s));
+    const LaserFreeSpace l = laserAt(t_s, k);
+    f.laser_angle_rad = l.angle_rad;
+    f.laser_range_m = l.range_m;
+    f.laser_pose = l.pose;
+    f.camera_pose = scene_.cameraAt(cam_, t_s).pose;
+    if (frame_out) *frame_out = std::move(frame);
+    return f;
+}
+
+}  // namespace smokescan
