@@ -1,10 +1,12 @@
 // The catadioptric omnidirectional camera (render/omni_camera.hpp) against its closed form.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/omni/birdseye.hpp"
 #include "smokescan/render/omni_camera.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -118,4 +120,39 @@ TEST(OmniCamera, SceneFilesMakeOmniCamerasAndRefuseBadMirrors)
     refused("max_incidence_deg = 175\n", "max_incidence_deg");
     refused("base_radius_px = 400\n", "hides the whole mirror");
     refused("kind = \"fisheye\"\n", "pinhole or omni");
+}
+
+TEST(OmniCamera, TheBirdseyeViewPutsEachFloorPointWhereItLies)
+{
+    // A synthetic frame whose every pixel shows the floor point its ray meets, painted as a 0.5 m
+    // checkerboard (white and black): the bird's-eye view shows the same checkerboard, each output
+    // pixel the square of its own floor point, except within a pixel of the squares' edges.
+    const OmniCamera cam(Pose::fromRpyDeg(Vec3(0.3, -0.2, 0.931), Vec3(0, 0, 25)), OmniIntrinsics{});
+    auto square = [](double x, double y) { return (int(std::floor(x / 0.5)) + int(std::floor(y / 0.5))) & 1; };
+    Image frame(1024, 768, 3);
+    for (int y = 0; y < 768; ++y)
+        for (int x = 0; x < 1024; ++x) {
+            Ray r;
+            if (!cam.generateRay(x + 0.5, y + 0.5, r) || !(r.d.z() < 0)) continue;
+            const Vec3 p = r.at(-r.o.z() / r.d.z());
+            for (int k = 0; k < 3; ++k) frame.at(x, y, k) = float(square(p.x(), p.y()));
+        }
+    BirdseyeConfig bc;
+    bc.size_px = 300;
+    bc.metres_per_px = 0.02;  // 6 m × 6 m
+    const Image view = birdseye(frame, cam, bc);
+    int checked = 0, agree = 0;
+    for (int j = 0; j < 300; ++j)
+        for (int i = 0; i < 300; ++i) {
+            const Vec3 p = cam.pose().apply(Vec3((i + 0.5 - 150) * 0.02, (150 - j - 0.5) * 0.02, -0.931));
+            const double fx = p.x() / 0.5 - std::floor(p.x() / 0.5), fy = p.y() / 0.5 - std::floor(p.y() / 0.5);
+            if (std::min({fx, 1 - fx, fy, 1 - fy}) < 0.1) continue;  // near an edge: mixed by the sampling
+            if (std::hypot(p.x() - 0.3, p.y() + 0.2) > 2.5) continue;  // far out a pixel spans several cm
+            ++checked;
+            agree += std::abs(view.at(i, j, 0) - float(square(p.x(), p.y()))) < 0.5f;
+        }
+    EXPECT_GT(checked, 20000);
+    EXPECT_EQ(agree, checked);
+    EXPECT_THROW(birdseye(frame, cam, BirdseyeConfig{0, 0.01, 0.9}), Error);
+    EXPECT_THROW(birdseye(Image(10, 10, 3), cam, bc), Error);
 }

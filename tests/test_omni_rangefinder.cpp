@@ -272,16 +272,19 @@ TEST(OmniRangefinder, RefusesConfigurationsThatCannotWork)
     refused(c, "threshold");
     c = {};
     c.filter.n_behind = 0;
-    refused(c, "N");
+    refused(c, "--n-behind");
     c = {};
     c.filter.k_free = 0;
-    refused(c, "K");
+    refused(c, "--k-free");
     // A mirror that puts the floor at 3.8 m outside the frame (R = 600 px: radius 470 px), or
     // a rim that stops short of it (60°, where 3.8 m lies at 76°).
     OmniIntrinsics big;
     big.mirror_radius = 600;
     big.max_incidence_deg = 100;
     EXPECT_THROW(checkOmniRangeConfig({}, OmniCamera(Pose{}, big)), Error);
+    OmniIntrinsics based;
+    based.base_radius = 160;  // hides the floor out to 4.4 m
+    EXPECT_THROW(checkOmniRangeConfig({}, OmniCamera(Pose{}, based)), Error);
     OmniIntrinsics narrow;
     narrow.max_incidence_deg = 60;
     try {
@@ -291,10 +294,13 @@ TEST(OmniRangefinder, RefusesConfigurationsThatCannotWork)
         EXPECT_NE(std::string(e.what()).find("outside the image or the mirror's rim"), std::string::npos) << e.what();
     }
     c = {};
+    c.max_range_m = 1e5;  // beyond what a laser log holds
+    refused(c, "--max-range");
+    c = {};
     c.min_range_m = 4;
-    refused(c, "min_range_m");
+    refused(c, "--min-range");
     c = {};
     c.height_m = -1;
-    refused(c, "height_m");
+    refused(c, "above the floor");
     EXPECT_THROW(omniRange(Image(640, 480, 3), cam, hist, OmniRangeConfig{}), Error);  // another size
 }

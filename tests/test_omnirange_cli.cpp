@@ -103,8 +103,26 @@ TEST(OmnirangeCli, BadInputGivesOneLineAndNoOutput)
     const std::string base = "omnirange " + scene + " --from 0 --to 0 --spp 1 ";
     expectBad(base + "--train 0 --threshold 0 --out " + out, "threshold", out);
     expectBad(base + "--train 0 --threshold 1.5 --out " + out, "threshold", out);
-    expectBad(base + "--train 0 --n-behind 0 --out " + out, "N:", out);
-    expectBad(base + "--train 0 --k-free 0 --out " + out, "K:", out);
+    expectBad(base + "--train 0 --n-behind 0 --out " + out, "--n-behind", out);
+    expectBad(base + "--train 0 --k-free 0 --out " + out, "--k-free", out);
+    expectBad(base + "--train 0 --max-range 1e300 --out " + out, "--max-range", out);
+    expectBad(base + "--train 0 --exposure 1e300 --out " + out, "--exposure", out);
+    expectBad(base + "--train 100 --out " + out, "--train: time 100", out);
+    expectBad("omnirange " + scene + " --from 1 --to 5 --spp 1 --train 0 --out " + out, "--from", out);
+    expectBad(base + "--train 0 --floor-z 0.5 --out " + out, "--floor-z", out);
+    // A file the scene reads (a sensor file) is an input: never an output.
+    const std::string sens = file("court_sick.toml", "type = \"lms200\"\n");
+    std::string with_file = court();
+    with_file.replace(with_file.find("robot = \"r\"\nposition = [0, 0, 0.3]"), 0, "sensor_file = \"" + sens + "\"\n");
+    const std::string scene2 = file("court2.toml", with_file);
+    expectBad("omnirange " + scene2 + " --from 0 --to 0 --spp 1 --train 0 --out " + sens, "a file the scene reads",
+              sens + ".never");
+    EXPECT_EQ(slurp(sens), "type = \"lms200\"\n");
+    // A tilted omni camera: the distance formula takes the mirror's axis as vertical.
+    std::string tilted = court();
+    tilted.replace(tilted.find("position = [0, 0, 0.931]"), 24, "position = [0, 0, 0.931]\nrpy_deg = [0, 20, 0]");
+    const std::string tilt = file("tilted.toml", tilted);
+    expectBad("omnirange " + tilt + " --from 0 --to 0 --spp 1 --train 0 --out " + out, "must look straight down", out);
     expectBad(base + "--out " + out, "give either --train TIMES or --histogram FILE", out);
     const std::string junk = file("junk_hist.txt", "# smokescan colour histogram v1, bins per channel: 13\n1 2 x 4\n");
     expectBad(base + "--histogram " + junk + " --out " + out, junk + ":2: expected 'r g b count'", out);

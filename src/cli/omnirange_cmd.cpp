@@ -48,6 +48,10 @@ std::vector<double> scanTimes(const OmniArgs& a, const Scene& scene)
 {
     const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? scene.t_end_s : a.to;
     if (!(to >= from)) throw Error("--to", "must not precede --from");
+    if (from < scene.t_start_s || to > scene.t_end_s)
+        throw Error("--from",
+                    "and --to must lie within the scene's " + std::to_string(scene.t_start_s) + "…" +
+                        std::to_string(scene.t_end_s) + " s");
     const double n = std::floor((to - from) * a.rate_hz + 1e-9) + 1;
     if (n > double(limits::kFrames))
         throw Error("--rate", "would render over " + std::to_string(limits::kFrames) + " frames");
@@ -58,8 +62,10 @@ std::vector<double> scanTimes(const OmniArgs& a, const Scene& scene)
 
 int runOmnirange(const OmniArgs& a)
 {
+    const Scene scene = loadScene(a.scene);
     RunFiles files;
     files.input(a.scene, "the scene");
+    for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
     files.input(a.histogram, "--histogram");
     files.output(a.out, "--out");
     files.output(a.laser_out, "--laser-out");
@@ -67,9 +73,13 @@ int runOmnirange(const OmniArgs& a)
     if (a.train.empty() == a.histogram.empty()) throw Error("--train", "give either --train TIMES or --histogram FILE");
     const std::vector<double> train = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
     if ((long long)train.size() > limits::kFrames) throw Error("--train", "too many training times");
-    const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
     const std::vector<double> times = scanTimes(a, scene);
+    for (double t : train)
+        if (!(t >= scene.t_start_s && t <= scene.t_end_s))
+            throw Error("--train",
+                        "time " + std::to_string(t) + " s lies outside the scene's " + std::to_string(scene.t_start_s) +
+                            "…" + std::to_string(scene.t_end_s) + " s");
     OmniRun run(scene, surfaces, a.cfg);
     ColourHistogram hist = a.histogram.empty() ? ColourHistogram(13) : ColourHistogram::load(a.histogram);
     long long trained = 0;
@@ -104,10 +114,16 @@ int runOmnirange(const OmniArgs& a)
     if (laser) laser->commit();
     if (!a.save_histogram.empty()) hist.save(files.stage(a.save_histogram));
     files.commit();
-    std::printf(
-        "omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
-        "(laser - omnicam) %+.4f m; %lld outliers over %.2f m left out\n",
-        cmp.pairs, cmp.meanAbsM(), cmp.meanPercent(), cmp.meanSignedM(), cmp.outliers, cmp.outlier_m);
+    if (cmp.pairs == 0)
+        std::printf(
+            "omnicam against the laser: no scanline to compare (the omnicam read no hit where the laser "
+            "read a range); %lld outliers over %.2f m\n",
+            cmp.outliers, cmp.outlier_m);
+    else
+        std::printf(
+            "omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
+            "(laser - omnicam) %+.4f m; %lld outliers over %.2f m left out\n",
+            cmp.pairs, cmp.meanAbsM(), cmp.meanPercent(), cmp.meanSignedM(), cmp.outliers, cmp.outlier_m);
     std::printf("wrote %s (%zu scans)%s%s\n", a.out.c_str(), times.size(), a.laser_out.empty() ? "" : ", ",
                 a.laser_out.c_str());
     return 0;

@@ -8,6 +8,8 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/run_files.hpp"
+#include "smokescan/omni/birdseye.hpp"
+#include "smokescan/render/omni_camera.hpp"
 #include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -15,10 +17,12 @@ namespace smokescan::cli {
 namespace {
 
 struct RenderArgs {
-    std::string scene = "bocas", out, exr, ids, exposure = "auto";
+    std::string scene = "bocas", out, exr, ids, exposure = "auto", birdseye;
+    BirdseyeConfig bird;
     RenderConfig cfg;
     double from = NAN, to = NAN, every = 0;
     int width = -1, height = -1;  // -1: the camera's
+    double floor_z = 0;
 };
 
 /// Fails before any work when an output cannot be written: wrong extension.
@@ -60,22 +64,28 @@ int runRender(const RenderArgs& a)
                             " frames (at most " + std::to_string(limits::kFrames) + ")");
         times.clear();
         for (int k = 0; a.from + k * a.every <= a.to + 1e-9; ++k) times.push_back(a.from + k * a.every);
-        for (const std::string* p : {&a.out, &a.exr, &a.ids})
+        for (const std::string* p : {&a.out, &a.exr, &a.ids, &a.birdseye})
             if (!p->empty() && p->find("{i}") == std::string::npos && p->find("{t}") == std::string::npos)
                 throw Error(*p, "a time series needs {i} (frame index) or {t} (time) in each output name");
     }
     checkFormat(a.out, false);
     checkFormat(a.exr, true);
     checkFormat(a.ids, true);
+    checkFormat(a.birdseye, false);
+    const Scene scene = loadScene(a.scene);
     RunFiles files;
     files.input(a.scene, "the scene");
+    for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
     for (size_t k = 0; k < times.size(); ++k) {
         files.output(expand(a.out, int(k), times[k]), "--out");
         files.output(expand(a.exr, int(k), times[k]), "--exr");
         files.output(expand(a.ids, int(k), times[k]), "--ids");
+        files.output(expand(a.birdseye, int(k), times[k]), "--birdseye");
     }
-    const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
+    const Camera* scene_cam = scene.findCamera(a.cfg.camera);
+    if (!a.birdseye.empty() && scene_cam && scene_cam->kind != CameraKind::Omni)
+        throw Error("--birdseye", "needs an omni camera (camera '" + scene_cam->name + "' is a pinhole)");
     for (size_t k = 0; k < times.size(); ++k) {
         RenderConfig cfg = a.cfg;
         cfg.time_s = times[k];
@@ -88,6 +98,17 @@ int runRender(const RenderArgs& a)
         writeImage(files.stage(out), frame);
         if (!a.exr.empty()) writeImage(files.stage(expand(a.exr, int(k), times[k])), r.radiance);
         if (!a.ids.empty()) writeImage(files.stage(expand(a.ids, int(k), times[k])), r.ids);
+        if (!a.birdseye.empty()) {
+            Camera c = scene.cameraAt(*scene_cam, times[k]);
+            if (a.width > 0) c.width = a.width;
+            if (a.height > 0) c.height = a.height;
+            const auto model = makeCamera(c);
+            BirdseyeConfig bc = a.bird;
+            bc.height_m = c.pose.t.z() - a.floor_z;
+            if (!(bc.height_m > 0)) throw Error("--floor-z", "the camera is not above the floor");
+            writeImage(files.stage(expand(a.birdseye, int(k), times[k])),
+                       birdseye(frame, dynamic_cast<const OmniCamera&>(*model), bc));
+        }
         std::printf("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
                     r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);
     }
@@ -116,6 +137,14 @@ void addRender(CLI::App& app, Runner& run)
         ->check(intRange(0, limits::kPathDepth));
     c->add_option("--exposure", a->exposure, "'auto' (average metering to 18 % grey) or a radiance scale")
         ->capture_default_str();
+    c->add_option("--birdseye", a->birdseye, "Also write the floor seen from above (omni cameras; PNG)");
+    c->add_option("--birdseye-size", a->bird.size_px, "Side of --birdseye [px]")
+        ->capture_default_str()
+        ->check(intRange(1, limits::kFrameSide));
+    c->add_option("--birdseye-scale", a->bird.metres_per_px, "Floor metres per --birdseye pixel")
+        ->capture_default_str()
+        ->check(positive());
+    c->add_option("--floor-z", a->floor_z, "Floor height for --birdseye [m]")->capture_default_str()->check(finite());
     c->add_option("--from", a->from, "Time series: first time [s]")->check(finite());
     c->add_option("--to", a->to, "Time series: last time [s]")->check(finite());
     c->add_option("--every", a->every, "Time series: interval [s]")->check(positive());

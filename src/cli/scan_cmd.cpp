@@ -119,11 +119,12 @@ void recordFiles(RunFiles& files, const ScanArgs& a)
 int runScan(const ScanArgs& a0)
 {
     ScanArgs a = a0;
+    const Scene scene = loadScene(a.scene);
     RunFiles files;
+    for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
     recordFiles(files, a);
     if (!a.image.empty() && !isImageExtension(a.image))
         throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
-    const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
     if (!std::isnan(a.to)) a.cfg.to_s = a.to;

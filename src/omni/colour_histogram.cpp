@@ -56,7 +56,7 @@ void ColourHistogram::save(const std::string& path) const
 
 ColourHistogram ColourHistogram::load(const std::string& path)
 {
-    const std::string text = readTextInput(path, "colour histogram");
+    const std::string text = readTextInput(path, "colour histogram", size_t(16) << 20);
     std::istringstream in(text);
     std::string line;
     int lineno = 0;

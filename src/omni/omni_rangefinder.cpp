@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "smokescan/core/error.hpp"
 
@@ -26,22 +28,27 @@ void checkFrame(const Image& frame, const OmniCamera& cam)
 
 void checkOmniRangeConfig(const OmniRangeConfig& cfg, const OmniCamera& cam)
 {
-    if (cfg.scanlines < 1 || cfg.scanlines > 36000) throw Error("scanlines", "must lie in 1…36000");
-    if (!(cfg.threshold > 0 && cfg.threshold <= 1)) throw Error("threshold", "Θ must lie in (0, 1]");
-    if (cfg.filter.n_behind < 1 || cfg.filter.n_behind > 10000) throw Error("N", "must lie in 1…10000 pixels");
-    if (cfg.filter.k_free < 1 || cfg.filter.k_free > 10000) throw Error("K", "must lie in 1…10000 pixels");
-    if (!positiveFinite(cfg.height_m)) throw Error("height_m", "must be finite and > 0");
-    if (!positiveFinite(cfg.max_range_m)) throw Error("max_range_m", "must be finite and > 0");
+    if (cfg.scanlines < 1 || cfg.scanlines > 36000) throw Error("--scanlines", "must lie in 1…36000");
+    if (!(cfg.threshold > 0 && cfg.threshold <= 1)) throw Error("--threshold", "Θ must lie in (0, 1]");
+    if (cfg.filter.n_behind < 1 || cfg.filter.n_behind > 10000)
+        throw Error("--n-behind", "N must lie in 1…10000 pixels");
+    if (cfg.filter.k_free < 1 || cfg.filter.k_free > 10000) throw Error("--k-free", "K must lie in 1…10000 pixels");
+    if (!positiveFinite(cfg.height_m)) throw Error("omni camera", "its viewpoint must be above the floor (height > 0)");
+    if (!positiveFinite(cfg.max_range_m) || cfg.max_range_m > 1000)
+        throw Error("--max-range", "must lie in (0, 1000] m");
     if (!(cfg.min_range_m >= 0) || !(cfg.min_range_m < cfg.max_range_m))
-        throw Error("min_range_m", "must lie in [0, max_range_m)");
+        throw Error("--min-range", "must lie in [0, --max-range)");
     const OmniIntrinsics& k = cam.intrinsics();
     const double rho = radiusAtRange(cam, cfg.height_m, cfg.max_range_m) + cfg.filter.n_behind + 1;
     const double rim = cam.radius(k.max_incidence_deg * M_PI / 180);
+    char where[160];
+    std::snprintf(where, sizeof where, "the floor at %.3g m (image radius %.4g px with N pixels behind it)",
+                  cfg.max_range_m, rho);
     if (rho > rim || rho > k.cx || rho > k.cy || rho > k.width - k.cx || rho > k.height - k.cy)
-        throw Error("omnicam",
-                    "the mirror and mount put the floor at " + std::to_string(cfg.max_range_m) + " m (image radius " +
-                        std::to_string(int(std::ceil(rho))) +
-                        " px with N pixels behind it) outside the image or the mirror's rim");
+        throw Error("omni camera",
+                    std::string("the mirror and mount put ") + where + " outside the image or the mirror's rim");
+    if (k.base_radius >= radiusAtRange(cam, cfg.height_m, cfg.max_range_m))
+        throw Error("omni camera", "base_radius_px hides the floor out to beyond --max-range");
 }
 
 OmniRangeResult omniRange(const Image& frame, const OmniCamera& cam, const ColourHistogram& hist,

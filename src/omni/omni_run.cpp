@@ -33,6 +33,13 @@ OmniRun::OmniRun(const Scene& scene, const SurfaceSet& surfaces, const OmniRunCo
     sc.from_s = sc.to_s = 0;
     sc.rate_hz = 1;
     scanner_ = std::make_unique<Scanner>(scene, surfaces, sc);
+    if (!(std::abs(cfg.exposure) <= 1e6)) throw Error("--exposure", "must lie in [-1e6, 1e6] (<= 0: metered)");
+    // The distance formula takes the mirror's axis as vertical.
+    const Pose cp = scene.cameraAt(cam_, scene.t_start_s).pose;
+    if (!((cp.R * Vec3(0, 0, -1)).z() < -std::cos(M_PI / 180)))
+        throw Error(scene.source, "omni camera '" + cam_.name + "' must look straight down (tilted more than 1°)");
+    if (!(scene.sensorAt(scanner_->mount(), scene.t_start_s).pose.t.z() > cfg.floor_z_m))
+        throw Error("--floor-z", "puts the floor above the laser");
     checkOmniRangeConfig(rangeAt(scene.t_start_s), cameraAt(scene.t_start_s));
 }
 

@@ -215,6 +215,7 @@ Camera readCamera(TomlTable t, const std::vector<Robot>& robots)
     if (!k) t.error("kind", "must be pinhole or omni, got '" + kind + "'");
     c.kind = *k;
     c.mirror_radius_px = t.positive("mirror_radius_px", c.mirror_radius_px);
+    if (c.mirror_radius_px > 1e6) t.error("mirror_radius_px", "must be at most 1e6");
     c.max_incidence_deg = t.positive("max_incidence_deg", c.max_incidence_deg);
     if (c.max_incidence_deg >= 170)
         t.error("max_incidence_deg", "must be < 170 (a paraboloid's image grows without bound towards 180)");
@@ -340,6 +341,7 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
             v.source = std::make_shared<const DensityGrid>(DensityGrid::box(lo, hi, rho, h, edge));
         } else if (type == "mesh") {
             const std::string file = resolve(base_dir, t.strReq("file"));
+            v.file = file;
             const Pose pose = readPose(t);
             const double scale = t.positive("scale", 1.0);
             const double rho = density(t), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
@@ -357,6 +359,7 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
         } else if (type == "vdb") {
             VdbLoadConfig c;
             const std::string file = resolve(base_dir, t.strReq("file"));
+            v.file = file;
             c.grid_name = t.str("grid", c.grid_name);
             c.scale = t.positive("scale", 1.0);
             v.source = std::make_shared<const DensityGrid>(DensityGrid::loadVdb(file, c));
@@ -429,6 +432,18 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
     for (auto& t : top.tables("smoke")) s.volumes.push_back(readSmoke(t, base_dir));
     top.finish();
     return s;
+}
+
+std::vector<std::string> sceneFiles(const Scene& s)
+{
+    std::vector<std::string> f;
+    for (const Surface& x : s.surfaces)
+        if (const auto* m = std::get_if<MeshShape>(&x.shape)) f.push_back(m->obj_path);
+    for (const SensorMount& m : s.sensors)
+        if (!m.config.sensor_file.empty()) f.push_back(m.config.sensor_file);
+    for (const SmokeVolume& v : s.volumes)
+        if (!v.file.empty()) f.push_back(v.file);
+    return f;
 }
 
 Scene loadScene(const std::string& name_or_path)

@@ -29,6 +29,7 @@ struct SmokeVolume {
     DensityTimeline timeline = DensityTimeline::constant();
     /// A fixed grid (area from a mesh or box, or a loaded .vdb) or a plume rasterised per time.
     std::variant<std::shared_ptr<const DensityGrid>, PlumeConfig> source;
+    std::string file;  ///< the mesh or .vdb file it was made from ("" for none)
 
     /// The grid at time t [s], before the timeline's scale.
     std::shared_ptr<const DensityGrid> gridAt(double t_s) const;

@@ -16,6 +16,10 @@ Scene loadScene(const std::string& name_or_path);
 /// (OBJ, VDB) are resolved against `base_dir`.
 Scene parseScene(const std::string& text, const std::string& source, const std::string& base_dir);
 
+/// @brief The files a loaded scene read besides its own: meshes, .vdb grids, sensor files (a
+/// command records them as inputs, so that no output replaces them).
+std::vector<std::string> sceneFiles(const Scene& scene);
+
 std::vector<std::string> builtinSceneNames();
 /// The TOML text of a built-in scene; throws Error for an unknown name.
 std::string builtinSceneText(const std::string& name);
