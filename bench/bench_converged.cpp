@@ -18,12 +18,12 @@ using namespace smokescan;
 
 namespace {
 
-void run(const Scene& scene, const SurfaceSet& set, const TargetRadianceConfig& field, const char* what)
+void run(const Scene& scene, const SurfaceSet& set, const TargetRadianceConfig& field, const char* what, uint64_t seed)
 {
     RenderConfig rc;
     rc.width = 640;
     rc.height = 480;
-    rc.seed = 7;
+    rc.seed = seed;  // the reference's own: no metering frame, camera noise or batch shared with the default
     rc.progress = false;
     const auto t0 = std::chrono::steady_clock::now();
     const TargetSaturation m = measureConvergedSaturation(scene, set, rc, "target_", field);
@@ -40,11 +40,11 @@ int main(int argc, char** argv)
     const int ref_spp = std::clamp(argc > 1 ? std::atoi(argv[1]) : 1024, 0, 2048);  // 2 GiB of batches
     const Scene scene = uniformSmokeScene(loadScene("bocas"), 0.0028);
     const SurfaceSet set(scene);
-    run(scene, set, TargetRadianceConfig{}, "default");
+    run(scene, set, TargetRadianceConfig{}, "default", 7);
     if (ref_spp <= 0) return 0;
     TargetRadianceConfig ref;
     ref.min_batches = ref.max_batches = std::max(4, ref_spp / ref.batch_spp);
     ref.rel_error = 1e-9;
-    run(scene, set, ref, "reference");
+    run(scene, set, ref, "reference", 1007);
     return 0;
 }
