@@ -7,6 +7,8 @@
 #include <fstream>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/io/image.hpp"
+#include "smokescan/omni/omni_plots.hpp"
 #include "smokescan/omni/omni_rangefinder.hpp"
 #include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -303,4 +305,45 @@ TEST(OmniRangefinder, RefusesConfigurationsThatCannotWork)
     c.height_m = -1;
     refused(c, "above the floor");
     EXPECT_THROW(omniRange(Image(640, 480, 3), cam, hist, OmniRangeConfig{}), Error);  // another size
+}
+
+TEST(OmniPlots, OccupancyGridsMarkWallsFreeSpaceAndTheUnknown)
+{
+    // One frame: both sensors at the origin read a circle of radius 2 m (the laser over its front
+    // half, the omnicam all round): cells at 2 m are occupied (black), at 1 m free (white), behind
+    // the laser unknown in its panel (grey) but free in the omnicam's.
+    OmniFrame f;
+    for (int i = 0; i < 181; ++i) {
+        f.laser_angle_rad.push_back((i - 90) * M_PI / 180);
+        f.laser_range_m.push_back(2.0);
+    }
+    for (int i = 0; i < 360; ++i) {
+        f.omni.angle_rad.push_back(std::remainder(i * M_PI / 180, 2 * M_PI));
+        f.omni.range_m.push_back(2.0);
+        f.omni.status.push_back(OmniRangeStatus::Hit);
+        f.omni.hit_radius_px.push_back(50);
+    }
+    const std::string path = (test::scratch("omni_map") / "map.png").string();
+    OccupancyConfig cfg;
+    cfg.cell_m = 0.1;
+    writeOccupancyGrids(path, {f}, cfg);
+    const Image m = readImage(path);
+    // The area: ±2 m and half a metre round: 50 cells a side; the panels 10 px apart.
+    ASSERT_EQ(m.height, 50);
+    ASSERT_EQ(m.width, 2 * 50 + 10);
+    auto at = [&](int panel, double x, double y) {
+        const int i = int(std::floor((x + 2.5) / 0.1)), j = int(std::floor((2.5 - y) / 0.1));
+        return m.at(panel * 60 + i, j, 1);
+    };
+    for (int p = 0; p < 2; ++p) {
+        EXPECT_LT(at(p, 1.99, 0.05), 0.2f) << "panel " << p;  // the wall ahead
+        EXPECT_GT(at(p, 1.0, 0.05), 0.9f) << "panel " << p;  // free
+        EXPECT_NEAR(at(p, 2.3, 0.05), 0.75f, 0.05f) << "panel " << p;  // beyond the wall: unknown
+    }
+    EXPECT_NEAR(at(0, -1.0, 0.05), 0.75f, 0.05f);  // behind the laser: unknown
+    EXPECT_GT(at(1, -1.0, 0.05), 0.9f);  // the omnicam sees all round
+    EXPECT_THROW(writeOccupancyGrids(path, {}, cfg), Error);
+    // The histogram of differences writes a picture.
+    writeDifferenceHistogram((test::scratch("omni_map") / "fig9.png").string(), {0.01, -0.02, 0.3}, 1.25, "test");
+    EXPECT_GT(readImage((test::scratch("omni_map") / "fig9.png").string()).width, 100);
 }

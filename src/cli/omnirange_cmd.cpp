@@ -9,9 +9,11 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
+#include "smokescan/io/image.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/omni/omni_compare.hpp"
+#include "smokescan/omni/omni_plots.hpp"
 #include "smokescan/omni/omni_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -19,7 +21,7 @@ namespace smokescan::cli {
 namespace {
 
 struct OmniArgs {
-    std::string scene, out, laser_out, histogram, save_histogram, train;
+    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map;
     double from = NAN, to = NAN, rate_hz = 1;
     OmniRunConfig cfg;
 };
@@ -70,6 +72,10 @@ int runOmnirange(const OmniArgs& a)
     files.output(a.out, "--out");
     files.output(a.laser_out, "--laser-out");
     files.output(a.save_histogram, "--save-histogram");
+    files.output(a.plot, "--plot");
+    files.output(a.map, "--map");
+    for (const std::string* p : {&a.plot, &a.map})
+        if (!p->empty() && !isImageExtension(*p)) throw Error(*p, "unknown image format (png, jpg, tif)");
     if (a.train.empty() == a.histogram.empty()) throw Error("--train", "give either --train TIMES or --histogram FILE");
     const std::vector<double> train = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
     if ((long long)train.size() > limits::kFrames) throw Error("--train", "too many training times");
@@ -101,6 +107,7 @@ int runOmnirange(const OmniArgs& a)
     }
     const Progress progress("omnirange", "frames");
     OmniComparison cmp;
+    std::vector<OmniFrame> kept;  // for --map
     for (size_t k = 0; k < times.size(); ++k) {
         // Keys apart from the training frames': a run with the histogram saved from this one
         // reads the same frames.
@@ -108,11 +115,16 @@ int runOmnirange(const OmniArgs& a)
         writeOmniScan(log.stream(), f);
         if (laser) writeLaserScan(laser->stream(), f, run.laser().spec());
         cmp.add(f);
+        if (!a.map.empty()) kept.push_back(f);
         progress.update((long long)k + 1, (long long)times.size());
     }
     log.commit();
     if (laser) laser->commit();
     if (!a.save_histogram.empty()) hist.save(files.stage(a.save_histogram));
+    if (!a.plot.empty())
+        writeDifferenceHistogram(files.stage(a.plot), cmp.differences_m, cmp.outlier_m,
+                                 "laser - omnicam per scanline, " + scene.source);
+    if (!a.map.empty()) writeOccupancyGrids(files.stage(a.map), kept, OccupancyConfig{});
     files.commit();
     if (cmp.pairs == 0)
         std::printf(
@@ -142,6 +154,11 @@ void addOmnirange(CLI::App& app, Runner& run)
     c->add_option("--histogram", a->histogram, "A trained colour histogram to use instead of --train");
     c->add_option("--save-histogram", a->save_histogram, "Also write the trained colour histogram");
     c->add_option("--laser-out", a->laser_out, "Also write the laser's log at the same times");
+    c->add_option("--plot", a->plot,
+                  "Also draw the histogram of laser - omnicam per scanline (the paper's Fig. 9; PNG)");
+    c->add_option(
+        "--map", a->map,
+        "Also draw occupancy grids from the laser's and the omnicam's scans with the true poses (Fig. 10; PNG)");
     c->add_option("--camera", a->cfg.camera, "Omni camera of the scene (default: the first)");
     c->add_option("--laser", a->cfg.laser, "Sensor that trains it (default: the scene's first)");
     c->add_option("--from", a->from, "First frame time [s] (default: scene start)")->check(finite());
