@@ -13,7 +13,7 @@ spp=${SPP:-8}
 echo "maze:"
 "$top/build/smokescan" omnirange maze --train 0,20,44 --from 0 --to 60 --rate 1 --spp "$spp" --threshold 0.05 \
   --out "$here/maze_omnicam.log" --laser-out "$here/maze_laser.log" --save-histogram "$here/maze_histogram.txt" \
-  --plot "$here/maze_fig9.png" --map "$here/maze_fig10.png" "$@"
+  --plot "$here/maze_fig9.png" --map "$here/maze_fig10.png" --fig8 "$here/fig8.png" "$@"
 echo "factory:"
 "$top/build/smokescan" omnirange factory --train 0,20,40 --from 0 --to 48 --rate 1 --spp "$spp" --threshold 0.075 \
   --out "$here/factory_omnicam.log" --laser-out "$here/factory_laser.log" --save-histogram "$here/factory_histogram.txt" \

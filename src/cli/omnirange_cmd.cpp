@@ -21,7 +21,7 @@ namespace smokescan::cli {
 namespace {
 
 struct OmniArgs {
-    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map;
+    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map, fig8;
     double from = NAN, to = NAN, rate_hz = 1;
     OmniRunConfig cfg;
 };
@@ -74,7 +74,8 @@ int runOmnirange(const OmniArgs& a)
     files.output(a.save_histogram, "--save-histogram");
     files.output(a.plot, "--plot");
     files.output(a.map, "--map");
-    for (const std::string* p : {&a.plot, &a.map})
+    files.output(a.fig8, "--fig8");
+    for (const std::string* p : {&a.plot, &a.map, &a.fig8})
         if (!p->empty() && !isImageExtension(*p)) throw Error(*p, "unknown image format (png, jpg, tif)");
     if (a.train.empty() == a.histogram.empty()) throw Error("--train", "give either --train TIMES or --histogram FILE");
     const std::vector<double> train = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
@@ -125,6 +126,11 @@ int runOmnirange(const OmniArgs& a)
         writeDifferenceHistogram(files.stage(a.plot), cmp.differences_m, cmp.outlier_m,
                                  "laser - omnicam per scanline, " + scene.source);
     if (!a.map.empty()) writeOccupancyGrids(files.stage(a.map), kept, OccupancyConfig{});
+    if (!a.fig8.empty()) {
+        const double h =
+            scene.cameraAt(*scene.findCamera(run.cameraName()), times.front()).pose.t.z() - a.cfg.floor_z_m;
+        writePixelDistancePlot(files.stage(a.fig8), run.cameraAt(times.front()), h, a.cfg.range.max_range_m);
+    }
     files.commit();
     if (cmp.pairs == 0)
         std::printf(
@@ -154,6 +160,8 @@ void addOmnirange(CLI::App& app, Runner& run)
     c->add_option("--histogram", a->histogram, "A trained colour histogram to use instead of --train");
     c->add_option("--save-histogram", a->save_histogram, "Also write the trained colour histogram");
     c->add_option("--laser-out", a->laser_out, "Also write the laser's log at the same times");
+    c->add_option("--fig8", a->fig8,
+                  "Also draw the floor distance against the pixel distance and one pixel's error (Fig. 8; PNG)");
     c->add_option("--plot", a->plot,
                   "Also draw the histogram of laser - omnicam per scanline (the paper's Fig. 9; PNG)");
     c->add_option(

@@ -41,6 +41,39 @@ void writeDifferenceHistogram(const std::string& path, const std::vector<double>
     writeImage(path, c.image());
 }
 
+void writePixelDistancePlot(const std::string& path, const OmniCamera& cam, double height_m, double max_range_m)
+{
+    if (!(height_m > 0) || !(max_range_m > 0)) throw Error(path, "height and range must be > 0");
+    const double rho_max = cam.radius(std::atan2(max_range_m, height_m));
+    const double ymax = 1.1 * max_range_m;
+    const int W = 720, H = 440;
+    Canvas c(W, H);
+    const Frame f{80, 50, W - 80, H - 70, 0.0, std::ceil(rho_max / 10) * 10, 0.0, ymax};
+    // The error per pixel on its own scale (right): up to its value at the maximum range.
+    const double emax = 1.1 * (cam.floorDistance(rho_max + 1, height_m) - max_range_m);
+    int px = -1, py = -1, ex = -1, ey = -1;
+    for (double r = 0; r <= rho_max; r += 0.25) {
+        const double d = cam.floorDistance(r, height_m), e = cam.floorDistance(r + 1, height_m) - d;
+        const int x = f.X(r), y = f.Y(d), y2 = f.Y(e / emax * ymax);
+        if (px >= 0) {
+            c.line(px, py, x, y, {0.15f, 0.3f, 0.7f});
+            c.line(ex, ey, x, y2, {0.8f, 0.25f, 0.1f});
+        }
+        px = x, py = y, ex = x, ey = y2;
+    }
+    f.axes(c, "pixel distance from the centre [px]", "floor distance [m] (blue)", "%.0f", "%.1f");
+    for (int k = 0; k <= 5; ++k)
+        c.text(f.x1 + 8, f.Y(ymax * k / 5) + 4, fmt("%.3f", emax * k / 5), 12, {0.8f, 0.25f, 0.1f});
+    c.text(f.x1 - 140, f.y0 - 8, "one pixel's error [m] (red)", 13, {0.8f, 0.25f, 0.1f});
+    c.text(f.x0 + 10, f.y0 + 20,
+           fmt("h = %.3f m, R = %.0f px: %.3f m a pixel at 1 m, %.3f m at %.1f m", height_m,
+               cam.intrinsics().mirror_radius,
+               cam.floorDistance(cam.radius(std::atan2(1.0, height_m)) + 1, height_m) - 1.0,
+               cam.floorDistance(rho_max + 1, height_m) - max_range_m, max_range_m),
+           12);
+    writeImage(path, c.image());
+}
+
 void writeOccupancyGrids(const std::string& path, const std::vector<OmniFrame>& frames, const OccupancyConfig& cfg)
 {
     if (!(cfg.cell_m > 0) || !(cfg.range_m > 0)) throw Error(path, "occupancy cell and range must be > 0");

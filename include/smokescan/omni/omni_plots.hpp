@@ -20,6 +20,11 @@ namespace smokescan {
 void writeDifferenceHistogram(const std::string& path, const std::vector<double>& differences_m, double outlier_m,
                               const std::string& title);
 
+/// @brief Fig. 8: the floor distance d = h·tan(2·arctan(ρ/R)) against the pixel distance ρ from the
+/// image centre, with one pixel's metric error d(ρ + 1) − d(ρ) (its hyperbolic growth), up to
+/// max_range_m; written as a PNG. @throw Error naming the file.
+void writePixelDistancePlot(const std::string& path, const OmniCamera& cam, double height_m, double max_range_m);
+
 struct OccupancyConfig {
     double cell_m = 0.03;
     double range_m = 8.0;
