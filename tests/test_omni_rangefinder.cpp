@@ -14,6 +14,7 @@
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
+#include "omni_court.hpp"
 #include "sanitized.hpp"
 #include "scratch.hpp"
 
@@ -117,79 +118,9 @@ TEST(OmniHistogram, SavesLoadsAndRefusesBadFiles)
     fs::remove_all(dir);
 }
 
-namespace {
-/// A 4 m × 3.2 m court open to the sky: grass floor, brick-red walls 1.5 m ahead of the robot
-/// (+x), 2.5 m behind, 2.0 m to its left (+y) and 1.2 m to its right, lit by the sun straight above (so that the floor is lit evenly up to the walls) and the sky; an omnicam 0.931 m above the floor and a Sick LMS200 at 0.3 m, both at the
-/// centre facing +x.
-const char* kOmniRoom = R"(
-[[materials]]
-name = "grass"
-albedo = [0.10, 0.35, 0.06]
-[[materials]]
-name = "brick"
-albedo = [0.45, 0.12, 0.08]
-[[surfaces]]
-name = "floor"
-material = "grass"
-type = "quad"
-corner = [-2.5, -1.2, 0]
-u = [4, 0, 0]
-v = [0, 3.2, 0]
-[[surfaces]]
-name = "wall_east"
-material = "brick"
-type = "quad"
-corner = [1.5, -1.2, 0]
-u = [0, 3.2, 0]
-v = [0, 0, 2]
-[[surfaces]]
-name = "wall_west"
-material = "brick"
-type = "quad"
-corner = [-2.5, -1.2, 0]
-u = [0, 3.2, 0]
-v = [0, 0, 2]
-[[surfaces]]
-name = "wall_north"
-material = "brick"
-type = "quad"
-corner = [-2.5, 2.0, 0]
-u = [4, 0, 0]
-v = [0, 0, 2]
-[[surfaces]]
-name = "wall_south"
-material = "brick"
-type = "quad"
-corner = [-2.5, -1.2, 0]
-u = [4, 0, 0]
-v = [0, 0, 2]
-[[lights]]
-name = "sky"
-kind = "ambient"
-radiance = 0.2
-[[lights]]
-name = "sun"
-kind = "directional"
-rpy_deg = [0, 90, 0]
-irradiance = 3.0
-[[cameras]]
-name = "omni"
-kind = "omni"
-position = [0, 0, 0.931]
-width = 400
-height = 300
-mirror_radius_px = 75
-[[sensors]]
-name = "sick"
-type = "lms200"
-position = [0, 0, 0.3]
-rpy_deg = [0, 0, -90]
-)";
-}  // namespace
-
 TEST(OmniRangefinder, ReadsTheWallsOfARenderedRoomWithinAPixel)
 {
-    const Scene scene = parseScene(kOmniRoom, "omni_room.toml", "");
+    const Scene scene = parseScene(test::omniCourt(), "omni_room.toml", "");
     const SurfaceSet surfaces(scene);
     const auto model = makeCamera(scene.cameras[0]);
     const auto& cam = dynamic_cast<const OmniCamera&>(*model);

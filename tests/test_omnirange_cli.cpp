@@ -4,75 +4,15 @@
 #include <cmath>
 
 #include "cli_run.hpp"
+#include "omni_court.hpp"
 #include "smokescan/io/recorded.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;
 
-namespace {
-/// The rangefinder test's court (1.5 m ahead, 2.5 m behind, 2.0 m left, 1.2 m right) with the
-/// camera and the Sick on a robot standing at the origin.
-std::string court(const std::string& camera_extra = "")
-{
-    std::string s = R"(
-[scene]
-t_start_s = 0
-t_end_s = 2
-[[materials]]
-name = "grass"
-albedo = [0.10, 0.35, 0.06]
-[[materials]]
-name = "brick"
-albedo = [0.45, 0.12, 0.08]
-[[surfaces]]
-name = "floor"
-material = "grass"
-type = "quad"
-corner = [-2.5, -1.2, 0]
-u = [4, 0, 0]
-v = [0, 3.2, 0]
-[[lights]]
-name = "sky"
-kind = "ambient"
-radiance = 0.2
-[[lights]]
-name = "sun"
-kind = "directional"
-rpy_deg = [0, 90, 0]
-irradiance = 3.0
-[[robots]]
-name = "r"
-[[robots.keyframes]]
-time_s = 0
-[[sensors]]
-name = "sick"
-type = "lms200"
-robot = "r"
-position = [0, 0, 0.3]
-rpy_deg = [0, 0, -90]
-[[cameras]]
-name = "omni"
-kind = "omni"
-robot = "r"
-position = [0, 0, 0.931]
-width = 400
-height = 300
-mirror_radius_px = 75
-)" + camera_extra;
-    const char* walls[][3] = {{"east", "[1.5, -1.2, 0]", "[0, 3.2, 0]"},
-                              {"west", "[-2.5, -1.2, 0]", "[0, 3.2, 0]"},
-                              {"north", "[-2.5, 2.0, 0]", "[4, 0, 0]"},
-                              {"south", "[-2.5, -1.2, 0]", "[4, 0, 0]"}};
-    for (const auto& w : walls)
-        s += std::string("[[surfaces]]\nname = \"wall_") + w[0] +
-            "\"\nmaterial = \"brick\"\ntype = \"quad\"\ncorner = " + w[1] + "\nu = " + w[2] + "\nv = [0, 0, 2]\n";
-    return s;
-}
-}  // namespace
-
 TEST(OmnirangeCli, ReadsTheCourtWritesLogsAndReusesItsHistogram)
 {
-    const std::string scene = file("court.toml", court());
+    const std::string scene = file("court.toml", omniCourt());
     const std::string out = file("omni.log"), laser = file("laser.log"), hist = file("hist.txt");
     const CliRun r = cli("omnirange " + scene + " --train 0 --from 0 --to 1 --spp 16 --out " + out + " --laser-out " +
                          laser + " --save-histogram " + hist);
@@ -98,7 +38,7 @@ TEST(OmnirangeCli, ReadsTheCourtWritesLogsAndReusesItsHistogram)
 
 TEST(OmnirangeCli, BadInputGivesOneLineAndNoOutput)
 {
-    const std::string scene = file("court.toml", court());
+    const std::string scene = file("court.toml", omniCourt());
     const std::string out = file("never_omni.log");
     const std::string base = "omnirange " + scene + " --from 0 --to 0 --spp 1 ";
     expectBad(base + "--train 0 --threshold 0 --out " + out, "threshold", out);
@@ -112,14 +52,14 @@ TEST(OmnirangeCli, BadInputGivesOneLineAndNoOutput)
     expectBad(base + "--train 0 --floor-z 0.5 --out " + out, "--floor-z", out);
     // A file the scene reads (a sensor file) is an input: never an output.
     const std::string sens = file("court_sick.toml", "type = \"lms200\"\n");
-    std::string with_file = court();
+    std::string with_file = omniCourt();
     with_file.replace(with_file.find("robot = \"r\"\nposition = [0, 0, 0.3]"), 0, "sensor_file = \"" + sens + "\"\n");
     const std::string scene2 = file("court2.toml", with_file);
     expectBad("omnirange " + scene2 + " --from 0 --to 0 --spp 1 --train 0 --out " + sens, "a file the scene reads",
               sens + ".never");
     EXPECT_EQ(slurp(sens), "type = \"lms200\"\n");
     // A tilted omni camera: the distance formula takes the mirror's axis as vertical.
-    std::string tilted = court();
+    std::string tilted = omniCourt();
     tilted.replace(tilted.find("position = [0, 0, 0.931]"), 24, "position = [0, 0, 0.931]\nrpy_deg = [0, 20, 0]");
     const std::string tilt = file("tilted.toml", tilted);
     expectBad("omnirange " + tilt + " --from 0 --to 0 --spp 1 --train 0 --out " + out, "must look straight down", out);
@@ -127,14 +67,14 @@ TEST(OmnirangeCli, BadInputGivesOneLineAndNoOutput)
     const std::string junk = file("junk_hist.txt", "# smokescan colour histogram v1, bins per channel: 13\n1 2 x 4\n");
     expectBad(base + "--histogram " + junk + " --out " + out, junk + ":2: expected 'r g b count'", out);
     expectBad(base + "--train 0 --out " + scene, "the scene", scene + ".never");
-    const std::string big = file(
-        "big_mirror.toml",
-        court("base_radius_px = 0\n").replace(court().find("mirror_radius_px = 75"), 21, "mirror_radius_px = 400"));
+    const std::string big = file("big_mirror.toml",
+                                 omniCourt("base_radius_px = 0\n")
+                                     .replace(omniCourt().find("mirror_radius_px = 75"), 21, "mirror_radius_px = 400"));
     expectBad("omnirange " + big + " --train 0 --out " + out, "outside the image or the mirror's rim", out);
     const std::string no_omni = file("no_omni.toml", "[[sensors]]\ntype = \"lms200\"\n");
     expectBad("omnirange " + no_omni + " --train 0 --out " + out, "has no omni camera", out);
     // The laser sees no free floor (it looks at the sky): an empty training set.
-    std::string blind = court();
+    std::string blind = omniCourt();
     blind.replace(blind.find("rpy_deg = [0, 0, -90]"), 21, "rpy_deg = [90, 0, -90]");
     const std::string sky = file("blind.toml", blind);
     expectBad("omnirange " + sky + " --from 0 --to 0 --spp 1 --train 0 --out " + out, "no free floor pixels", out);
