@@ -26,7 +26,10 @@ TEST(OmnirangeCli, ReadsTheCourtWritesLogsAndReusesItsHistogram)
     // (R = 75 px: one pixel is 0.1 m at 1.5–2 m and 0.15 m at 2.5 m; the tolerance is 12 %.)
     for (int q = 0; q < 4; ++q)
         EXPECT_NEAR(log.scans[0].range[size_t(90 * q)] / 1000, want[q], 0.12 * want[q]) << "quadrant " << q;
-    EXPECT_EQ(readRecordedLog(laser).scans.size(), 2u);
+    const RecordedLog ll = readRecordedLog(laser);
+    ASSERT_EQ(ll.scans.size(), 2u);
+    ASSERT_EQ(ll.scans[0].range.size(), 361u);  // the LMS200 at 0.5°, as it reports them
+    EXPECT_NEAR(ll.scans[0].range[180] / 1000, 1.5, 0.03);  // straight ahead: the wall
     // The saved histogram reads the same frames the same way.
     const std::string again = file("again.log");
     const CliRun r2 = cli("omnirange " + scene + " --histogram " + hist + " --from 0 --to 1 --spp 16 --out " + again);

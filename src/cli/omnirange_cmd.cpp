@@ -36,13 +36,10 @@ void writeOmniScan(std::ostream& o, const OmniFrame& f)
 
 void writeLaserScan(std::ostream& o, const OmniFrame& f, const LrfSpec& spec)
 {
+    const long long mm_per_unit = std::llround(spec.unit_m / 0.001);  // as `scan` writes logs
     o << std::fixed << std::setprecision(3) << f.time_s;
-    for (size_t i = 0; i < f.laser_range_m.size(); ++i) {
-        const double r = f.laser_range_m[i];
-        o << ' ' << std::setprecision(6) << f.laser_angle_rad[i] << ' '
-          << (std::isfinite(r) ? std::llround(r * 1000)
-                               : std::llround(double(spec.no_return_code) * spec.unit_m * 1000));
-    }
+    for (size_t i = 0; i < f.laser_value.size(); ++i)
+        o << ' ' << std::setprecision(6) << f.laser_angle_rad[i] << ' ' << f.laser_value[i] * mm_per_unit;
     o << '\n';
 }
 

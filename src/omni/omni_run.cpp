@@ -72,9 +72,10 @@ Image OmniRun::render(double t_s, uint64_t k)
     return display;
 }
 
-LaserFreeSpace OmniRun::laserAt(double t_s, uint64_t k) const
+LaserFreeSpace OmniRun::laserAt(double t_s, uint64_t k, std::vector<long long>* values) const
 {
     const Scan s = scanner_->scanAt(t_s, k);
+    if (values) *values = s.value;
     LaserFreeSpace l;
     l.pose = scene_.sensorAt(scanner_->mount(), t_s).pose;
     const LrfSpec& spec = scanner_->spec();
@@ -97,7 +98,7 @@ OmniFrame OmniRun::read(const ColourHistogram& hist, double t_s, uint64_t k, Ima
     OmniFrame f;
     f.time_s = t_s;
     f.omni = omniRange(frame, cameraAt(t_s), hist, rangeAt(t_s));
-    const LaserFreeSpace l = laserAt(t_s, k);
+    const LaserFreeSpace l = laserAt(t_s, k, &f.laser_value);
     f.laser_angle_rad = l.angle_rad;
     f.laser_range_m = l.range_m;
     f.laser_pose = l.pose;

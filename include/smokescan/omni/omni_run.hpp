@@ -39,6 +39,7 @@ struct OmniFrame {
     OmniRangeResult omni;
     std::vector<double> laser_angle_rad;  ///< in the laser's frame
     std::vector<double> laser_range_m;  ///< NaN for an error value
+    std::vector<long long> laser_value;  ///< as the laser reports them (its unit, error values)
     Pose camera_pose, laser_pose;  ///< in the world
 };
 
@@ -63,7 +64,7 @@ public:
 private:
     Image render(double t_s, uint64_t k);
     OmniRangeConfig rangeAt(double t_s) const;
-    LaserFreeSpace laserAt(double t_s, uint64_t k) const;
+    LaserFreeSpace laserAt(double t_s, uint64_t k, std::vector<long long>* values = nullptr) const;
 
     const Scene& scene_;
     const SurfaceSet& surfaces_;
