@@ -362,6 +362,8 @@ TEST(Hardening, AFailedRunLeavesNoneOfItsOutputs)
     const std::string log = file("p.log"), png = file("p.png"), folder = (dir() / "a_folder").string();
     fs::create_directories(folder);
     expectBad("scan bocas --to 1 --out " + log + " --image " + folder, "is a directory", log);
+    // A device that refuses the content (a full disk) fails the run before any file lands.
+    if (fs::exists("/dev/full")) expectBad("scan bocas --to 1 --out " + log + " --tau /dev/full", "/dev/full", log);
     fs::create_directories(folder + ".exr");
     expectBad("render bocas --spp 1 --width 8 --height 6 --out " + png + " --exr " + folder + ".exr", "is a directory",
               png);

@@ -87,7 +87,12 @@ std::string RunFiles::stage(const std::string& path)
 
 void RunFiles::commit()
 {
-    for (auto& f : staged_) f->commit();
+    // Devices and pipes first: a write into one can fail (/dev/full) and cannot be taken back, so
+    // the files are renamed into place only once every device took its content.
+    for (auto& f : staged_)
+        if (f->isDevice()) f->commit();
+    for (auto& f : staged_)
+        if (!f->isDevice()) f->commit();
 }
 
 }  // namespace smokescan

@@ -30,6 +30,8 @@ public:
     /// The temporary's name, for writers that open files by name (OpenVDB, OpenImageIO).
     const std::string& tempPath() const { return tmp_; }
     const std::string& path() const { return path_; }
+    /// True when the target is a character device or FIFO (written into at commit).
+    bool isDevice() const { return device_; }
     /// Checks every write, then moves the content into place.
     /// @throw Error when writing, closing or renaming failed (the target is then untouched).
     void commit();
