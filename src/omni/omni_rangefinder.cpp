@@ -76,7 +76,7 @@ OmniRangeResult omniRange(const Image& frame, const OmniCamera& cam, const Colou
         if (hit >= 0) {
             // The pixel the obstacle's foot crosses mixes floor and obstacle and reads non-free,
             // so the foot lies at the hit's own sample radius (measured on a rendered court:
-            // +0.14 px on average; half a pixel in, −0.36 px).
+            // +0.12 px on average; half a pixel in, −0.36 px).
             rho_hit = rho0 + hit;
             const double d = cam.floorDistance(rho_hit, cfg.height_m);
             if (hit == 0 || d < cfg.min_range_m) {
