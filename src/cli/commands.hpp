@@ -10,6 +10,11 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/sensors/sensor_kind.hpp"
 
+namespace smokescan {
+class RunFiles;
+struct Scene;
+}  // namespace smokescan
+
 namespace smokescan::cli {
 
 using Runner = std::function<int()>;
@@ -52,6 +57,10 @@ CLI::Option* addChoice(CLI::App* c, const std::string& name, E& target, std::vec
         "NAME"));
     return o;
 }
+
+/// @brief Records the scene (`path`, when it is a file) and every file it read (meshes, grids,
+/// sensor files) as inputs of the run, so that no output replaces them.
+void recordSceneInputs(RunFiles& files, const std::string& path, const Scene& scene);
 
 void addScan(CLI::App& app, Runner& run);
 void addVolume(CLI::App& app, Runner& run);

@@ -63,8 +63,7 @@ int runOmnirange(const OmniArgs& a)
 {
     const Scene scene = loadScene(a.scene);
     RunFiles files;
-    files.input(a.scene, "the scene");
-    for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
+    recordSceneInputs(files, a.scene, scene);
     files.input(a.histogram, "--histogram");
     files.output(a.out, "--out");
     files.output(a.laser_out, "--laser-out");
@@ -123,11 +122,9 @@ int runOmnirange(const OmniArgs& a)
         writeDifferenceHistogram(files.stage(a.plot), cmp.differences_m, cmp.outlier_m,
                                  "laser - omnicam per scanline, " + scene.source);
     if (!a.map.empty()) writeOccupancyGrids(files.stage(a.map), kept, OccupancyConfig{});
-    if (!a.fig8.empty()) {
-        const double h =
-            scene.cameraAt(*scene.findCamera(run.cameraName()), times.front()).pose.t.z() - a.cfg.floor_z_m;
-        writePixelDistancePlot(files.stage(a.fig8), run.cameraAt(times.front()), h, a.cfg.range.max_range_m);
-    }
+    if (!a.fig8.empty())
+        writePixelDistancePlot(files.stage(a.fig8), run.cameraAt(times.front()), run.rangeAt(times.front()).height_m,
+                               a.cfg.range.max_range_m);
     files.commit();
     if (cmp.pairs == 0)
         std::printf(

@@ -74,8 +74,7 @@ int runRender(const RenderArgs& a)
     checkFormat(a.birdseye, false);
     const Scene scene = loadScene(a.scene);
     RunFiles files;
-    files.input(a.scene, "the scene");
-    for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
+    recordSceneInputs(files, a.scene, scene);
     for (size_t k = 0; k < times.size(); ++k) {
         files.output(expand(a.out, int(k), times[k]), "--out");
         files.output(expand(a.exr, int(k), times[k]), "--exr");

@@ -106,7 +106,6 @@ std::vector<std::string> logHeader(const Scene& scene, const Scanner& sc, const 
 /// Every file the run reads and writes, checked against each other before any work.
 void recordFiles(RunFiles& files, const ScanArgs& a)
 {
-    files.input(a.scene, "the scene");
     files.input(a.cfg.sensor_file, "--sensor-file");
     files.input(a.calibration, "--calibration");
     files.output(a.out, "--out");
@@ -121,7 +120,7 @@ int runScan(const ScanArgs& a0)
     ScanArgs a = a0;
     const Scene scene = loadScene(a.scene);
     RunFiles files;
-    for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
+    recordSceneInputs(files, a.scene, scene);
     recordFiles(files, a);
     if (!a.image.empty() && !isImageExtension(a.image))
         throw Error(a.image, "unknown image format (png, exr, jpg, tif)");

@@ -5,6 +5,8 @@
 
 #include "commands.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/io/run_files.hpp"
+#include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -80,6 +82,12 @@ SensorType sensorTypeOption(const std::string& option, const std::string& value)
 {
     if (const auto t = parseSensorType(value)) return *t;
     throw Error(option, "unknown sensor type '" + value + "' (urg04lx, lms200)");
+}
+
+void recordSceneInputs(RunFiles& files, const std::string& path, const Scene& scene)
+{
+    files.input(path, "the scene");
+    for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
 }
 
 }  // namespace smokescan::cli

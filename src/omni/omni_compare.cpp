@@ -15,7 +15,7 @@ void OmniComparison::add(const OmniFrame& f)
         const double r = f.laser_range_m[i];
         if (!std::isfinite(r)) continue;
         const double a = f.laser_angle_rad[i];
-        const Vec3 p = f.laser_pose.apply(Vec3(r * std::cos(a), r * std::sin(a), 0));
+        const Vec3 p = scanPlanePoint(f.laser_pose, a, r);
         const Vec3 q = f.camera_pose.R.transpose() * (p - f.camera_pose.t);
         const double bearing = std::atan2(q.y(), q.x()), d = std::hypot(q.x(), q.y());
         double u = bearing / step;

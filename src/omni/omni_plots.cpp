@@ -87,12 +87,11 @@ void writeOccupancyGrids(const std::string& path, const std::vector<OmniFrame>& 
         extend(f.laser_pose.t);
         for (size_t b = 0; b < f.laser_range_m.size(); ++b) {
             const double r = f.laser_range_m[b], a = f.laser_angle_rad[b];
-            if (std::isfinite(r) && r <= cfg.range_m)
-                extend(f.laser_pose.apply(Vec3(r * std::cos(a), r * std::sin(a), 0)));
+            if (std::isfinite(r) && r <= cfg.range_m) extend(scanPlanePoint(f.laser_pose, a, r));
         }
         for (size_t b = 0; b < f.omni.range_m.size(); ++b) {
             const double r = f.omni.range_m[b], a = f.omni.angle_rad[b];
-            extend(f.camera_pose.apply(Vec3(r * std::cos(a), r * std::sin(a), 0)));
+            extend(scanPlanePoint(f.camera_pose, a, r));
         }
     }
     x0 -= 0.5, y0 -= 0.5, x1 += 0.5, y1 += 0.5;
@@ -122,12 +121,11 @@ void writeOccupancyGrids(const std::string& path, const std::vector<OmniFrame>& 
             const double r = f.laser_range_m[b], a = f.laser_angle_rad[b];
             const bool ok = std::isfinite(r) && r <= cfg.range_m;
             const double rr = ok ? r : cfg.range_m;
-            ray(0, f.laser_pose.t, f.laser_pose.apply(Vec3(rr * std::cos(a), rr * std::sin(a), 0)), ok);
+            ray(0, f.laser_pose.t, scanPlanePoint(f.laser_pose, a, rr), ok);
         }
         for (size_t b = 0; b < f.omni.range_m.size(); ++b) {
             const double r = f.omni.range_m[b], a = f.omni.angle_rad[b];
-            const Vec3 end = f.camera_pose.apply(Vec3(r * std::cos(a), r * std::sin(a), 0));
-            ray(1, f.camera_pose.t, end, f.omni.status[b] == OmniRangeStatus::Hit);
+            ray(1, f.camera_pose.t, scanPlanePoint(f.camera_pose, a, r), f.omni.status[b] == OmniRangeStatus::Hit);
         }
     }
     Image img(2 * nx + 10, ny, 3);

@@ -22,34 +22,24 @@ std::optional<CameraKind> parseCameraKind(const std::string& name)
 }
 
 namespace {
-Pose compose(const Pose& outer, const Pose& inner)
+/// A sensor or camera with its pose in the world at t_s: on its robot, when it rides on one.
+template <class T>
+T placed(const std::vector<Robot>& robots, const T& x, double t_s)
 {
-    Pose p;
-    p.R = outer.R * inner.R;
-    p.t = outer.apply(inner.t);
-    return p;
+    T out = x;
+    if (x.robot >= 0) {
+        const Pose r = robots[size_t(x.robot)].at(t_s);
+        out.pose.R = r.R * x.pose.R;
+        out.pose.t = r.apply(x.pose.t);
+        out.robot = -1;
+    }
+    return out;
 }
 }  // namespace
 
-SensorMount Scene::sensorAt(const SensorMount& m, double t_s) const
-{
-    SensorMount out = m;
-    if (m.robot >= 0) {
-        out.pose = compose(robots[size_t(m.robot)].at(t_s), m.pose);
-        out.robot = -1;
-    }
-    return out;
-}
+SensorMount Scene::sensorAt(const SensorMount& m, double t_s) const { return placed(robots, m, t_s); }
 
-Camera Scene::cameraAt(const Camera& c, double t_s) const
-{
-    Camera out = c;
-    if (c.robot >= 0) {
-        out.pose = compose(robots[size_t(c.robot)].at(t_s), c.pose);
-        out.robot = -1;
-    }
-    return out;
-}
+Camera Scene::cameraAt(const Camera& c, double t_s) const { return placed(robots, c, t_s); }
 
 const Camera* Scene::findCamera(const std::string& name) const
 {

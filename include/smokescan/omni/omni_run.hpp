@@ -13,6 +13,7 @@
 /// | floor_z_m     | 0       | m    | the floor's height: the viewpoint's height above it is h        |
 /// | margin_m      | 0.1     | m    | training: floor this much short of the laser's range is free    |
 /// | exposure      | 0       | –    | radiance scale of the frames; ≤ 0: metered once on the first frame, then held |
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,12 @@ struct OmniRunConfig {
     double exposure = 0;
     OmniRangeConfig range;  ///< height_m is set from the camera's pose at each time
 };
+
+/// @brief The point range_m along bearing_rad in a pose's local x–y plane (a scan's point).
+inline Vec3 scanPlanePoint(const Pose& pose, double bearing_rad, double range_m)
+{
+    return pose.apply(Vec3(range_m * std::cos(bearing_rad), range_m * std::sin(bearing_rad), 0));
+}
 
 /// One time's readings: the omnicam's and the laser's.
 struct OmniFrame {
@@ -57,13 +64,14 @@ public:
     OmniFrame read(const ColourHistogram& hist, double t_s, uint64_t k, Image* frame_out = nullptr);
 
     const OmniCamera& cameraAt(double t_s);
+    /// @brief The rangefinder's configuration at t_s: its height_m the viewpoint's above the floor.
+    OmniRangeConfig rangeAt(double t_s) const;
     double exposure() const { return exposure_; }
     const Scanner& laser() const { return *scanner_; }
     const std::string& cameraName() const { return cam_.name; }
 
 private:
     Image render(double t_s, uint64_t k);
-    OmniRangeConfig rangeAt(double t_s) const;
     LaserFreeSpace laserAt(double t_s, uint64_t k, std::vector<long long>* values = nullptr) const;
 
     const Scene& scene_;
