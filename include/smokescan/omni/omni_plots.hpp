@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "smokescan/omni/omni_run.hpp"
+#include "smokescan/omni/range_tally.hpp"
 
 namespace smokescan {
 
@@ -35,5 +36,12 @@ struct OccupancyConfig {
 /// on an obstacle occupied (black), the rest unknown (grey); the robot's path in red.
 /// @throw Error naming the file; for an area over limits::kFramePixels cells.
 void writeOccupancyGrids(const std::string& path, const std::vector<OmniFrame>& frames, const OccupancyConfig& cfg);
+
+/// @brief The smoke drive's figure: for each sensor, the failure rate (top) and the mean |range
+/// error| (bottom) against the smoke column it looked through, one line per sensor over the column
+/// bins holding at least `min_readings` of its readings; written as a PNG.
+/// @throw Error naming the file; for no tallies or tallies with different bins.
+void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>& tallies, const std::string& title,
+                          long long min_readings = 20);
 
 }  // namespace smokescan

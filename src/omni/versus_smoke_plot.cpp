@@ -1,0 +1,94 @@
+#include <algorithm>
+#include <cmath>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/io/image.hpp"
+#include "smokescan/omni/omni_plots.hpp"
+#include "smokescan/plot/canvas.hpp"
+#include "smokescan/plot/format.hpp"
+#include "smokescan/plot/frame.hpp"
+#include "smokescan/plot/palette.hpp"
+
+namespace smokescan {
+namespace {
+
+/// One panel: `value(bin)` per sensor against the column bins first…last, categorical in x.
+template <class Value>
+void panel(Canvas& c, const Frame& f, const std::vector<RangeTally>& tallies, size_t first, size_t last,
+           long long min_readings, Value value, const std::string& ylabel, const char* yfmt)
+{
+    c.line(f.x0, f.y1, f.x1, f.y1, {0, 0, 0});
+    c.line(f.x0, f.y0, f.x0, f.y1, {0, 0, 0});
+    for (int k = 0; k <= 4; ++k) {
+        const double v = f.uy0 + (f.uy1 - f.uy0) * k / 4;
+        c.line(f.x0 - 5, f.Y(v), f.x0, f.Y(v), {0, 0, 0});
+        c.line(f.x0 + 1, f.Y(v), f.x1, f.Y(v), {0.9f, 0.9f, 0.9f});
+        c.text(f.x0 - 52, f.Y(v) + 4, fmt(yfmt, v), 12);
+    }
+    c.text(f.x0, f.y0 - 8, ylabel, 13);
+    const auto& edges = tallies.front().config().column_edges;
+    for (size_t b = first; b <= last + 1; ++b) {
+        const int x = f.X(double(b - first));
+        c.line(x, f.y1, x, f.y1 + 5, {0, 0, 0});
+        c.text(x - 14, f.y1 + 20, b + 1 < edges.size() ? fmt("%g", edges[b]) : std::string("inf"), 12);
+    }
+    for (size_t s = 0; s < tallies.size(); ++s) {
+        const Col col = colourOf(tallies[s].sensor(), s);
+        int px = -1, py = -1;
+        for (size_t b = first; b <= last; ++b) {
+            const RangeTallyBin& bin = tallies[s].bins()[b];
+            if (bin.readings < min_readings) {
+                px = -1;
+                continue;
+            }
+            const int x = f.X(double(b - first) + 0.5), y = f.Y(value(bin));
+            c.box(x - 3, y - 3, x + 3, y + 3, col, true);
+            if (px >= 0) c.line(px, py, x, y, col);
+            px = x, py = y;
+        }
+    }
+}
+
+}  // namespace
+
+void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>& tallies, const std::string& title,
+                          long long min_readings)
+{
+    if (tallies.empty()) throw Error(path, "no sensors to plot");
+    const size_t nb = tallies.front().bins().size();
+    for (const RangeTally& t : tallies)
+        if (t.config().column_edges != tallies.front().config().column_edges)
+            throw Error(path, "the sensors' column bins differ");
+    size_t first = nb, last = 0;
+    double emax = 0.1;
+    for (const RangeTally& t : tallies)
+        for (size_t b = 0; b < nb; ++b)
+            if (t.bins()[b].readings >= min_readings) {
+                first = std::min(first, b), last = std::max(last, b);
+                emax = std::max(emax, t.bins()[b].meanAbsM());
+            }
+    if (first > last) first = 0, last = nb - 1;
+    emax = std::ceil(emax * 10) / 10;
+    const int W = 820, H = 660, span = int(last - first + 1);
+    Canvas c(W, H);
+    c.text(80, 24, title, 15);
+    const Frame top{80, 60, W - 190, 290, 0.0, double(span), 0.0, 100.0};
+    const Frame bottom{80, 370, W - 190, 600, 0.0, double(span), 0.0, emax};
+    panel(
+        c, top, tallies, first, last, min_readings, [](const RangeTallyBin& b) { return 100 * b.failureRate(); },
+        "failed readings [%]", "%.0f");
+    panel(
+        c, bottom, tallies, first, last, min_readings, [](const RangeTallyBin& b) { return b.meanAbsM(); },
+        "mean |range error| [m]", "%.2f");
+    c.text((bottom.x0 + bottom.x1) / 2 - 150, H - 18, "smoke column along the line of sight [density·m]", 13);
+    for (size_t s = 0; s < tallies.size(); ++s) {
+        const int y = 80 + 22 * int(s);
+        c.box(W - 170, y - 8, W - 156, y + 2, colourOf(tallies[s].sensor(), s), true);
+        c.text(W - 148, y + 2, tallies[s].sensor(), 13);
+    }
+    c.text(W - 170, 80 + 22 * int(tallies.size()) + 10, fmt("bins with >= %lld", min_readings), 11);
+    c.text(W - 170, 80 + 22 * int(tallies.size()) + 24, "readings", 11);
+    writeImage(path, c.image());
+}
+
+}  // namespace smokescan

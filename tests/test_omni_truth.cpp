@@ -1,0 +1,177 @@
+// The smoke drive's measures (omni/scanline_truth, omni/range_tally, omni/sensors_versus_smoke):
+// the omnicam's truth per scanline against the court's closed form, the smoke column against a
+// uniform box's length, the reading classes on hand-made cases, and the whole comparison on a
+// rendered court, where it must pair each scanline and beam with its own truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/media/smoke.hpp"
+#include "smokescan/omni/range_tally.hpp"
+#include "smokescan/omni/scanline_truth.hpp"
+#include "smokescan/omni/sensors_versus_smoke.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+#include "omni_court.hpp"
+
+using namespace smokescan;
+
+namespace {
+
+/// The court's nearest wall along world bearing b from the origin (tests/omni_court.hpp).
+double courtWall(double b)
+{
+    const double c = std::cos(b), s = std::sin(b);
+    const double along_x = c > 1e-12 ? 1.5 / c : c < -1e-12 ? -2.5 / c : kInf;
+    const double along_y = s > 1e-12 ? 2.0 / s : s < -1e-12 ? -1.2 / s : kInf;
+    return std::min(along_x, along_y);
+}
+
+std::vector<double> azimuths(int n)
+{
+    std::vector<double> a;
+    for (int i = 0; i < n; ++i) a.push_back(2 * M_PI * i / n);
+    return a;
+}
+
+}  // namespace
+
+TEST(ScanlineTruth, TheCourtsWallsAlongEveryAzimuthOfATurnedRobot)
+{
+    // The robot turned by 30°: a scanline's azimuth is in the camera's frame, the walls in the world.
+    std::string text = test::omniCourt();
+    text.replace(text.find("time_s = 0\n"), 11, "time_s = 0\nyaw_deg = 30\n");
+    const Scene scene = parseScene(text, "court.toml", "");
+    const SurfaceSet surfaces(scene);
+    const Pose cam = scene.cameraAt(scene.cameras[0], 0).pose;
+    const std::vector<double> az = azimuths(360);
+    const ScanlineTruth t = scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, 0.931, az, 3.8);
+    ASSERT_EQ(t.range_m.size(), 360u);
+    for (size_t i = 0; i < az.size(); ++i) {
+        EXPECT_NEAR(t.range_m[i], courtWall(az[i] + M_PI / 6), 1e-6) << "azimuth " << az[i];
+        EXPECT_EQ(t.column[i], 0.0);
+    }
+}
+
+TEST(ScanlineTruth, TheNearestObstacleBelowTheViewpointAndTheSmokeAlongTheLineOfSight)
+{
+    // A cabinet body from 0.5 m to 1.8 m high whose near face stands 0.8 m ahead (+x), on no legs
+    // the probes would see first; a uniform smoke box round the court, density 0.004.
+    const std::string extra = R"(
+[[surfaces]]
+name = "cabinet"
+material = "brick"
+type = "box"
+position = [1.0, 0.0, 1.15]
+size = [0.4, 0.6, 1.3]
+[[smoke]]
+name = "haze"
+type = "box"
+min = [-4.0, -4.0, -1.0]
+max = [4.0, 4.0, 3.0]
+density = 0.004
+voxel = 0.1
+)";
+    const Scene scene = parseScene(test::omniCourt() + extra, "court.toml", "");
+    const SurfaceSet surfaces(scene);
+    const Pose cam = scene.cameraAt(scene.cameras[0], 0).pose;
+    const double h = 0.931;
+    const std::vector<double> az = {0.0, M_PI / 2, M_PI, 0.2};
+    ScanlineTruthConfig cfg;
+    cfg.probe_step_m = 0.05;
+    const ScanlineTruth t = scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, h, az, 2.4, cfg);
+    EXPECT_NEAR(t.range_m[0], 0.8, 1e-6);  // the body, above the laser's plane
+    EXPECT_NEAR(t.range_m[1], 2.0, 1e-6);
+    EXPECT_NEAR(t.range_m[2], 2.5, 1e-6);  // beyond the maximum range: the sight line ends at 2.4 m
+    EXPECT_NEAR(t.range_m[3], 0.8 / std::cos(0.2), 1e-6);
+    for (size_t i = 0; i < az.size(); ++i) {
+        const double d = std::min(t.range_m[i], 2.4);
+        const double want = 0.004 * std::hypot(d, h);  // to float precision: the grid's and the hits'
+        EXPECT_NEAR(t.column[i], want, 1e-6 * want) << "azimuth " << az[i];
+    }
+    // Probes 0.6 m apart (one, at 0.6 m, below the viewpoint) still meet the body.
+    cfg.probe_step_m = 0.6;
+    EXPECT_NEAR(scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, h, {0.0}, 2.4, cfg).range_m[0], 0.8,
+                1e-6);
+    cfg.probe_step_m = 0.0;
+    EXPECT_THROW(scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, h, az, 2.4, cfg), Error);
+    EXPECT_THROW(scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, -1, az, 2.4), Error);
+}
+
+TEST(RangeTally, ClassifiesReadingsAgainstTheTruthAndTheMaximumRange)
+{
+    const double tol = 0.3, max = 4.0;
+    EXPECT_EQ(classifyReading(2.0, 2.2, max, tol), ReadingOutcome::Ok);
+    EXPECT_EQ(classifyReading(1.8, 2.2, max, tol), ReadingOutcome::Short);
+    EXPECT_EQ(classifyReading(2.6, 2.2, max, tol), ReadingOutcome::Long);
+    EXPECT_EQ(classifyReading(NAN, 2.2, max, tol), ReadingOutcome::None);
+    EXPECT_EQ(classifyReading(max, 3.0, max, tol), ReadingOutcome::Long);  // a rangefinder's "nothing" over a wall
+    // The truth beyond the maximum range: nothing, or a reading at the range's end, is right.
+    EXPECT_EQ(classifyReading(NAN, 6.0, max, tol), ReadingOutcome::Ok);
+    EXPECT_EQ(classifyReading(max, kInf, max, tol), ReadingOutcome::Ok);
+    EXPECT_EQ(classifyReading(3.5, 6.0, max, tol), ReadingOutcome::Short);
+
+    RangeTallyConfig cfg;
+    cfg.column_edges = {0, 0.001, 0.01};
+    RangeTally t("laser", max, cfg);
+    t.add(0.0, 2.0, 2.1);  // bin 0: ok, error 0.1
+    t.add(0.001, 2.0, 1.0);  // on an edge: the upper bin; short, error 1.0
+    t.add(0.005, 2.0, NAN);  // bin 1: none, no error counted
+    t.add(5.0, 6.0, NAN);  // beyond the last edge: the last bin; ok, no error counted
+    ASSERT_EQ(t.bins().size(), 2u);
+    EXPECT_EQ(t.bins()[0].readings, 1);
+    EXPECT_EQ(t.bins()[0].ok, 1);
+    EXPECT_NEAR(t.bins()[0].meanAbsM(), 0.1, 1e-15);
+    const RangeTallyBin& b = t.bins()[1];
+    EXPECT_EQ(b.readings, 3);
+    EXPECT_EQ(b.shorter, 1);
+    EXPECT_EQ(b.none, 1);
+    EXPECT_EQ(b.ok, 1);
+    EXPECT_EQ(b.ranged, 1);
+    EXPECT_DOUBLE_EQ(b.meanAbsM(), 1.0);
+    EXPECT_NEAR(b.failureRate(), 2.0 / 3.0, 1e-15);
+    EXPECT_EQ(t.total().readings, 4);
+    EXPECT_NE(t.table().find("0.001-0.01"), std::string::npos);
+
+    cfg.column_edges = {0.001, 0.01};
+    EXPECT_THROW(RangeTally("x", max, cfg), Error);
+    cfg.column_edges = {0, 0.01, 0.01};
+    EXPECT_THROW(RangeTally("x", max, cfg), Error);
+    EXPECT_THROW(RangeTally("x", max, RangeTallyConfig{0.0, {0, 1}}), Error);
+}
+
+TEST(SensorsVersusSmoke, PairsEachScanlineAndBeamWithItsOwnTruthInClearAir)
+{
+    // The asymmetric court with the robot turned by 30°: a scanline or beam compared with another
+    // bearing's truth would fail by metres on most of them.
+    std::string text = test::omniCourt();
+    text.replace(text.find("time_s = 0\n"), 11, "time_s = 0\nyaw_deg = 30\n");
+    const Scene scene = parseScene(text, "court.toml", "");
+    const SurfaceSet surfaces(scene);
+    OmniRunConfig rc;
+    rc.spp = 16;
+    rc.range.height_m = 0.931;
+    OmniRun run(scene, surfaces, rc);
+    ColourHistogram hist;
+    ASSERT_GT(run.train(hist, 0, 0), 2000);
+    SensorsVersusSmoke versus(scene, surfaces, rc.range);
+    versus.add(run.read(hist, 0, 1), run.rangeAt(0).height_m, 1);
+    ASSERT_EQ(versus.tallies().size(), 2u);
+    const RangeTallyBin omni = versus.tallies()[0].total(), sick = versus.tallies()[1].total();
+    EXPECT_EQ(versus.tallies()[0].bins()[0].readings, 360);  // clear air: all in the first bin
+    EXPECT_EQ(omni.readings, 360);
+    EXPECT_GE(omni.ok, 356);
+    // Within a pixel's metric error on average (the one-pixel errors at the walls' distances).
+    const OmniCamera& cam = run.cameraAt(0);
+    double pixel_m = 0;
+    for (double a : azimuths(360)) {
+        const double d = courtWall(a + M_PI / 6);
+        pixel_m += (cam.floorDistance(cam.radius(std::atan2(d, 0.931)) + 1, 0.931) - d) / 360;
+    }
+    EXPECT_LT(omni.meanAbsM(), pixel_m);
+    EXPECT_EQ(sick.readings, 361);
+    EXPECT_EQ(sick.ok, 361);
+    EXPECT_LT(sick.meanAbsM(), 0.02);  // the LMS200's datasheet noise, σ ≈ 15 mm
+    EXPECT_THROW(SensorsVersusSmoke(parseScene("[scene]\n", "empty.toml", ""), surfaces, rc.range), Error);
+}
