@@ -8,6 +8,7 @@
 #include "smokescan/core/random.hpp"
 #include "smokescan/omni/birdseye.hpp"
 #include "smokescan/render/omni_camera.hpp"
+#include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 using namespace smokescan;
@@ -93,6 +94,32 @@ TEST(OmniCamera, TheRimAndTheBaseSeeNothing)
     EXPECT_TRUE(cam.generateRay(512, 384 - 270, r));  // inside the rim (274 px)
     EXPECT_FALSE(cam.generateRay(512, 384 - 280, r));
     EXPECT_FALSE(cam.generateRay(0, 0, r));
+}
+
+TEST(OmniCamera, AutoExposureMetersTheMirrorDiscOnly)
+{
+    // Radiance 0.5 wherever the camera sees (the disc less the base), 0 in the black frame round
+    // it: metered over the disc, the mean is 0.5 and the scale 0.18 / 0.5; metered over the whole
+    // frame, the black would push it up by the frame's area over the disc's.
+    OmniIntrinsics k;
+    k.base_radius = 40;
+    const OmniCamera cam(Pose{}, k);
+    Image rad(k.width, k.height, 3);
+    Ray r;
+    long long seen = 0;
+    for (int y = 0; y < rad.height; ++y)
+        for (int x = 0; x < rad.width; ++x)
+            if (cam.generateRay(x + 0.5, y + 0.5, r)) {
+                ++seen;
+                for (int c = 0; c < 3; ++c) rad.at(x, y, c) = 0.5f;
+            }
+    double used = 0;
+    toDisplay(rad, 0.0, &used, &cam);
+    EXPECT_NEAR(used, 0.18 / 0.5, 1e-12);
+    toDisplay(rad, 0.0, &used);
+    EXPECT_NEAR(used, 0.18 / 0.5 * double(rad.width) * rad.height / double(seen), 1e-9);
+    toDisplay(rad, 2.0, &used, &cam);  // a given exposure is kept
+    EXPECT_EQ(used, 2.0);
 }
 
 TEST(OmniCamera, SceneFilesMakeOmniCamerasAndRefuseBadMirrors)

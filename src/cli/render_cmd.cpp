@@ -91,22 +91,23 @@ int runRender(const RenderArgs& a)
         cfg.width = std::max(0, a.width);
         cfg.height = std::max(0, a.height);
         const RenderResult r = render(scene, surfaces, cfg);
+        // An omni camera meters over its mirror disc (the frame around it is black).
+        Camera c = scene_cam ? scene.cameraAt(*scene_cam, times[k]) : Camera{};
+        if (a.width > 0) c.width = a.width;
+        if (a.height > 0) c.height = a.height;
+        const auto omni = scene_cam && scene_cam->kind == CameraKind::Omni ? makeCamera(c) : nullptr;
         double used = 0;
-        const Image frame = toDisplay(r.radiance, exposure, &used);
+        const Image frame = toDisplay(r.radiance, exposure, &used, omni.get());
         const std::string out = expand(a.out, int(k), times[k]);
         writeImage(files.stage(out), frame);
         if (!a.exr.empty()) writeImage(files.stage(expand(a.exr, int(k), times[k])), r.radiance);
         if (!a.ids.empty()) writeImage(files.stage(expand(a.ids, int(k), times[k])), r.ids);
         if (!a.birdseye.empty()) {
-            Camera c = scene.cameraAt(*scene_cam, times[k]);
-            if (a.width > 0) c.width = a.width;
-            if (a.height > 0) c.height = a.height;
-            const auto model = makeCamera(c);
             BirdseyeConfig bc = a.bird;
             bc.height_m = c.pose.t.z() - a.floor_z;
             if (!(bc.height_m > 0)) throw Error("--floor-z", "the camera is not above the floor");
             writeImage(files.stage(expand(a.birdseye, int(k), times[k])),
-                       birdseye(frame, dynamic_cast<const OmniCamera&>(*model), bc));
+                       birdseye(frame, dynamic_cast<const OmniCamera&>(*omni), bc));
         }
         std::printf("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
                     r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);

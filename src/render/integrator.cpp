@@ -449,15 +449,20 @@ double srgbEncode(double v)
     return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
 }
 
-Image toDisplay(const Image& rad, double exposure, double* used)
+Image toDisplay(const Image& rad, double exposure, double* used, const CameraModel* metered_by)
 {
     double scale = exposure;
     if (!(scale > 0)) {
         double sum = 0;
+        long long n = 0;
+        Ray unused;
         for (int y = 0; y < rad.height; ++y)
-            for (int x = 0; x < rad.width; ++x)
+            for (int x = 0; x < rad.width; ++x) {
+                if (metered_by && !metered_by->generateRay(x + 0.5, y + 0.5, unused)) continue;
                 sum += 0.2126 * rad.at(x, y, 0) + 0.7152 * rad.at(x, y, 1) + 0.0722 * rad.at(x, y, 2);
-        const double mean = sum / std::max(1, rad.width * rad.height);
+                ++n;
+            }
+        const double mean = sum / double(std::max(1LL, n));
         scale = mean > 0 ? 0.18 / mean : 1.0;
     }
     if (used) *used = scale;

@@ -64,7 +64,10 @@ RenderResult render(const Scene& scene, const SurfaceSet& surfaces, const Camera
 /// @param exposure the scale applied to radiance; <= 0 chooses it automatically by average
 /// metering (the frame's mean luminance maps to 18 % grey), as a camera's auto exposure would.
 /// @param used receives the scale used (optional).
-Image toDisplay(const Image& radiance, double exposure, double* used = nullptr);
+/// @param metered_by when given, metering averages only the pixels whose centre this camera sees
+/// through (an omni camera's mirror disc, not the black frame around it and the robot's base).
+Image toDisplay(const Image& radiance, double exposure, double* used = nullptr,
+                const CameraModel* metered_by = nullptr);
 
 /// sRGB transfer function (linear [0,1] → encoded [0,1]).
 double srgbEncode(double linear);
