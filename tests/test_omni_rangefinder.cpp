@@ -97,6 +97,11 @@ TEST(OmniHistogram, SavesLoadsAndRefusesBadFiles)
     const ColourHistogram back = ColourHistogram::load((dir / "h.txt").string());
     EXPECT_EQ(back.total(), 3u);
     EXPECT_DOUBLE_EQ(back.share(0.2f, 0.5f, 0.1f), 2.0 / 3.0);
+    EXPECT_EQ(back.exposure(), 0.0);  // unknown stays unknown
+    h.setExposure(1.0 / 3.0);  // the frames' exposure travels with the counts, exactly
+    h.save((dir / "h.txt").string());
+    EXPECT_EQ(ColourHistogram::load((dir / "h.txt").string()).exposure(), 1.0 / 3.0);
+    EXPECT_THROW(h.setExposure(-1), Error);
     auto refused = [&](const std::string& text, const std::string& needle) {
         std::ofstream((dir / "bad.txt").string()) << text;
         try {
@@ -115,6 +120,8 @@ TEST(OmniHistogram, SavesLoadsAndRefusesBadFiles)
     refused(head + "1 2 3 0\n", "positive integer");
     refused(head + "1 2 3\n", "expected 'r g b count'");
     refused(head, "no counts");
+    refused(head + "# exposure -2\n1 2 3 5\n", "exposure must be a positive number");
+    refused(head + "# exposure 1 2\n1 2 3 5\n", "exposure must be a positive number");
     fs::remove_all(dir);
 }
 

@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/media/smoke.hpp"
+#include "smokescan/omni/omni_compare.hpp"
 #include "smokescan/omni/range_tally.hpp"
 #include "smokescan/omni/scanline_truth.hpp"
 #include "smokescan/omni/sensors_versus_smoke.hpp"
@@ -174,4 +176,56 @@ TEST(SensorsVersusSmoke, PairsEachScanlineAndBeamWithItsOwnTruthInClearAir)
     EXPECT_EQ(sick.ok, 361);
     EXPECT_LT(sick.meanAbsM(), 0.02);  // the LMS200's datasheet noise, σ ≈ 15 mm
     EXPECT_THROW(SensorsVersusSmoke(parseScene("[scene]\n", "empty.toml", ""), surfaces, rc.range), Error);
+}
+
+TEST(OmniTraining, LeavesOutTheScanlinesThatDisagreeWithTheLaser)
+{
+    // The court stretched to a wall 3 m ahead, and a narrow yellow table top (0.45–0.5 m high,
+    // legless) 0.3–0.6 m ahead: the laser at 0.3 m sees under it to the wall, so it calls the floor
+    // behind the table free, where the camera sees the table's top. Trained with those pixels, the
+    // top's yellow enters the histogram (a share below Θ = 0.05: a wider top, over Θ, reads as
+    // floor, the trial sees through it, and nothing is left out — the rule's limit); the trial
+    // reading stops at the table, over 1.25 m short of the laser's, so the paper's outlier
+    // rejection leaves those scanlines out.
+    std::string text = test::omniCourt();
+    for (const char* from : {"u = [4, 0, 0]"})
+        for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + 1))
+            text.replace(at, std::strlen(from), "u = [5.5, 0, 0]");
+    text.replace(text.find("corner = [1.5, -1.2, 0]"), 23, "corner = [3.0, -1.2, 0]");
+    text += R"(
+[[materials]]
+name = "yellow"
+albedo = [0.8, 0.7, 0.05]
+[[surfaces]]
+name = "table_top"
+material = "yellow"
+type = "box"
+position = [0.45, 0.0, 0.475]
+size = [0.3, 0.12, 0.05]
+)";
+    const Scene scene = parseScene(text, "table_court.toml", "");
+    const SurfaceSet surfaces(scene);
+    OmniRunConfig rc;
+    rc.spp = 16;
+    const auto yellowShare = [&](double outlier_m, long long* counted) {
+        rc.outlier_m = outlier_m;
+        OmniRun run(scene, surfaces, rc);
+        ColourHistogram hist;
+        *counted = run.train(hist, 0, 0);
+        // The table top's colour, read where the camera sees its middle.
+        Image frame;
+        run.read(hist, 0, 0, &frame);
+        const Vec2 px = run.cameraAt(0).project(Vec3(0.45, 0.0, 0.5));
+        const int x = int(px.x()), y = int(px.y());
+        return hist.share(frame.at(x, y, 0), frame.at(x, y, 1), frame.at(x, y, 2));
+    };
+    long long all = 0, kept = 0;
+    const double with_table = yellowShare(100.0, &all), rejected = yellowShare(1.25, &kept);
+    std::printf("yellow's share: %.4f trained on all %lld pixels, %.4f on the %lld kept\n", with_table, all, rejected,
+                kept);
+    EXPECT_GT(with_table, 0.01);  // the top's pixels were counted as floor
+    EXPECT_LT(rejected, 0.1 * with_table);
+    EXPECT_LT(kept, all);
+    EXPECT_GT(kept, all / 2);  // only the table's sector is left out
+    EXPECT_THROW(yellowShare(0.0, &kept), Error);
 }

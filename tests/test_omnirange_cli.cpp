@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "cli_run.hpp"
 #include "omni_court.hpp"
@@ -37,6 +38,34 @@ TEST(OmnirangeCli, ReadsTheCourtWritesLogsAndReusesItsHistogram)
     const RecordedLog log2 = readRecordedLog(again);
     ASSERT_EQ(log2.scans.size(), 2u);
     for (size_t k = 0; k < 2; ++k) EXPECT_EQ(log2.scans[k].range, log.scans[k].range) << "scan " << k;
+}
+
+TEST(OmnirangeCli, VersusSmokeComparesEverySensorWithTheTruthByColumn)
+{
+    // The court filled with uniform smoke of density 0.0005: the omnicam's lines of sight (1.5–3.6
+    // m long) and the Sick's beams (1.2–3.2 m) cross 0.0006–0.0018 density·m, so every reading
+    // of both lands in the 0.0003–0.001 and 0.001–0.003 bins and none in the clear ones.
+    const std::string scene = file("smoky_court.toml", omniCourt() + R"(
+[[smoke]]
+name = "haze"
+type = "box"
+min = [-4.0, -4.0, -1.0]
+max = [4.0, 4.0, 3.0]
+density = 0.0005
+voxel = 0.1
+)");
+    const std::string out = file("smoky.log"), fig = file("versus.png");
+    const CliRun r =
+        cli("omnirange " + scene + " --train 0 --from 0 --to 0 --spp 4 --out " + out + " --versus-smoke " + fig);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(fig));
+    for (const char* want : {"omnicam (max range 3.8 m", "sick (max range 8.2 m", "  0.0003-0.001 ", "  0.001-0.003 "})
+        EXPECT_NE(r.out.find(want), std::string::npos) << want << "\n" << r.out;
+    EXPECT_EQ(r.out.find("  0-0.0001 "), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("  0.0001-0.0003 "), std::string::npos) << r.out;
+    expectBad("omnirange " + scene + " --train 0 --from 0 --to 0 --spp 1 --out " + file("never2.log") +
+                  " --versus-smoke " + file("versus.bmp"),
+              "unknown image format", file("never2.log"));
 }
 
 TEST(OmnirangeCli, BadInputGivesOneLineAndNoOutput)

@@ -15,13 +15,14 @@
 #include "smokescan/omni/omni_compare.hpp"
 #include "smokescan/omni/omni_plots.hpp"
 #include "smokescan/omni/omni_run.hpp"
+#include "smokescan/omni/sensors_versus_smoke.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
 namespace {
 
 struct OmniArgs {
-    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map, fig8;
+    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map, fig8, versus_smoke;
     double from = NAN, to = NAN, rate_hz = 1;
     OmniRunConfig cfg;
 };
@@ -71,7 +72,8 @@ int runOmnirange(const OmniArgs& a)
     files.output(a.plot, "--plot");
     files.output(a.map, "--map");
     files.output(a.fig8, "--fig8");
-    for (const std::string* p : {&a.plot, &a.map, &a.fig8})
+    files.output(a.versus_smoke, "--versus-smoke");
+    for (const std::string* p : {&a.plot, &a.map, &a.fig8, &a.versus_smoke})
         if (!p->empty() && !isImageExtension(*p)) throw Error(*p, "unknown image format (png, jpg, tif)");
     if (a.train.empty() == a.histogram.empty()) throw Error("--train", "give either --train TIMES or --histogram FILE");
     const std::vector<double> train = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
@@ -83,8 +85,11 @@ int runOmnirange(const OmniArgs& a)
             throw Error("--train",
                         "time " + std::to_string(t) + " s lies outside the scene's " + std::to_string(scene.t_start_s) +
                             "…" + std::to_string(scene.t_end_s) + " s");
-    OmniRun run(scene, surfaces, a.cfg);
     ColourHistogram hist = a.histogram.empty() ? ColourHistogram(13) : ColourHistogram::load(a.histogram);
+    // A saved histogram's colours hold at the exposure it learned them at.
+    OmniRunConfig rc = a.cfg;
+    if (!(rc.exposure > 0) && hist.exposure() > 0) rc.exposure = hist.exposure();
+    OmniRun run(scene, surfaces, rc);
     long long trained = 0;
     for (size_t k = 0; k < train.size(); ++k) trained += run.train(hist, train[k], uint64_t(k));
     if (hist.total() == 0) throw Error("--train", "no free floor pixels to train on (the laser saw no free floor)");
@@ -102,8 +107,15 @@ int runOmnirange(const OmniArgs& a)
                         << "# format: time_s then pairs of (angle_rad, range_mm); error codes: "
                         << run.laser().spec().errorValueSummary() << "\n";
     }
+    std::unique_ptr<SensorsVersusSmoke> versus;
+    if (!a.versus_smoke.empty()) {
+        VersusSmokeConfig vc;
+        vc.seed = a.cfg.seed;
+        versus = std::make_unique<SensorsVersusSmoke>(scene, surfaces, a.cfg.range, vc);
+    }
     const Progress progress("omnirange", "frames");
     OmniComparison cmp;
+    cmp.outlier_m = a.cfg.outlier_m;
     std::vector<OmniFrame> kept;  // for --map
     for (size_t k = 0; k < times.size(); ++k) {
         // Keys apart from the training frames': a run with the histogram saved from this one
@@ -112,6 +124,7 @@ int runOmnirange(const OmniArgs& a)
         writeOmniScan(log.stream(), f);
         if (laser) writeLaserScan(laser->stream(), f, run.laser().spec());
         cmp.add(f);
+        if (versus) versus->add(f, run.rangeAt(times[k]).height_m, (uint64_t(1) << 32) + k);
         if (!a.map.empty()) kept.push_back(f);
         progress.update((long long)k + 1, (long long)times.size());
     }
@@ -125,7 +138,14 @@ int runOmnirange(const OmniArgs& a)
     if (!a.fig8.empty())
         writePixelDistancePlot(files.stage(a.fig8), run.cameraAt(times.front()), run.rangeAt(times.front()).height_m,
                                a.cfg.range.max_range_m);
+    if (versus)
+        writeVersusSmokePlot(files.stage(a.versus_smoke), versus->tallies(),
+                             "each sensor against the truth, by the smoke it looks through: " + scene.source);
     files.commit();
+    if (versus) {
+        std::printf("against the truth, by the smoke column along each line of sight:\n");
+        for (const RangeTally& t : versus->tallies()) std::printf("%s", t.table().c_str());
+    }
     if (cmp.pairs == 0)
         std::printf(
             "omnicam against the laser: no scanline to compare (the omnicam read no hit where the laser "
@@ -136,8 +156,8 @@ int runOmnirange(const OmniArgs& a)
             "omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
             "(laser - omnicam) %+.4f m; %lld outliers over %.2f m left out\n",
             cmp.pairs, cmp.meanAbsM(), cmp.meanPercent(), cmp.meanSignedM(), cmp.outliers, cmp.outlier_m);
-    std::printf("wrote %s (%zu scans)%s%s\n", a.out.c_str(), times.size(), a.laser_out.empty() ? "" : ", ",
-                a.laser_out.c_str());
+    std::printf("wrote %s (%zu scans, exposure %.4g)%s%s\n", a.out.c_str(), times.size(), run.exposure(),
+                a.laser_out.empty() ? "" : ", ", a.laser_out.c_str());
     return 0;
 }
 
@@ -161,6 +181,9 @@ void addOmnirange(CLI::App& app, Runner& run)
     c->add_option(
         "--map", a->map,
         "Also draw occupancy grids from the laser's and the omnicam's scans with the true poses (Fig. 10; PNG)");
+    c->add_option("--versus-smoke", a->versus_smoke,
+                  "Also compare the omnicam and every laser of the scene with the truth: failure rate and range "
+                  "error against the smoke column (PNG; tables printed)");
     c->add_option("--camera", a->cfg.camera, "Omni camera of the scene (default: the first)");
     c->add_option("--laser", a->cfg.laser, "Sensor that trains it (default: the scene's first)");
     c->add_option("--from", a->from, "First frame time [s] (default: scene start)")->check(finite());
@@ -177,8 +200,12 @@ void addOmnirange(CLI::App& app, Runner& run)
     c->add_option("--scanlines", a->cfg.range.scanlines, "Scanlines")->capture_default_str();
     c->add_option("--min-range", a->cfg.range.min_range_m, "Minimum range [m]")->capture_default_str();
     c->add_option("--max-range", a->cfg.range.max_range_m, "Maximum range [m]")->capture_default_str();
+    c->add_option("--outlier", a->cfg.outlier_m,
+                  "Scanlines this far from the laser [m] are left out of training and of the comparison")
+        ->capture_default_str();
     c->add_option("--floor-z", a->cfg.floor_z_m, "Floor height [m]")->capture_default_str()->check(finite());
-    c->add_option("--exposure", a->cfg.exposure, "Radiance scale of the frames (<= 0: metered once, then held)")
+    c->add_option("--exposure", a->cfg.exposure,
+                  "Radiance scale of the frames (<= 0: a saved histogram's, else metered once, then held)")
         ->capture_default_str()
         ->check(finite());
     c->callback([&run, a] { run = [a] { return runOmnirange(*a); }; });

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <iomanip>
 #include <sstream>
 
 #include "smokescan/core/error.hpp"
@@ -11,7 +13,8 @@
 namespace smokescan {
 namespace {
 constexpr const char* kHeader = "# smokescan colour histogram v1, bins per channel:";
-}
+constexpr const char* kExposure = "# exposure ";
+}  // namespace
 
 ColourHistogram::ColourHistogram(int bins_per_channel) : bins_(bins_per_channel)
 {
@@ -42,11 +45,18 @@ uint64_t ColourHistogram::count(int r, int g, int b) const
     return counts_[index(r, g, b)];
 }
 
+void ColourHistogram::setExposure(double scale)
+{
+    if (!(scale >= 0) || !std::isfinite(scale)) throw Error("exposure", "must be positive and finite");
+    exposure_ = scale;
+}
+
 void ColourHistogram::save(const std::string& path) const
 {
     AtomicFile f(path);
     std::ostream& o = f.stream();
     o << kHeader << " " << bins_ << "\n";
+    if (exposure_ > 0) o << kExposure << std::setprecision(17) << exposure_ << "\n";
     for (int r = 0; r < bins_; ++r)
         for (int g = 0; g < bins_; ++g)
             for (int b = 0; b < bins_; ++b)
@@ -73,6 +83,14 @@ ColourHistogram ColourHistogram::load(const std::string& path)
     ColourHistogram h(bins);
     while (std::getline(in, line)) {
         ++lineno;
+        if (line.compare(0, std::strlen(kExposure), kExposure) == 0) {
+            std::istringstream es(line.substr(std::strlen(kExposure)));
+            double x = 0;
+            if (!(es >> x) || (es >> rest) || !(x > 0) || !std::isfinite(x))
+                throw Error(where(), "exposure must be a positive number");
+            h.exposure_ = x;
+            continue;
+        }
         if (line.empty() || line[0] == '#') continue;
         std::istringstream ls(line);
         long long r, g, b, c;

@@ -4,10 +4,10 @@
 
 namespace smokescan {
 
-void OmniComparison::add(const OmniFrame& f)
+std::vector<double> laserPerScanline(const OmniFrame& f)
 {
     const size_t n = f.omni.range_m.size();
-    if (n == 0) return;
+    if (n == 0) return {};
     // The laser's points seen from the camera's axis: the nearest point in bearing per scanline.
     std::vector<double> laser(n, NAN), gap(n, INFINITY);
     const double step = 2 * M_PI / double(n);
@@ -27,6 +27,14 @@ void OmniComparison::add(const OmniFrame& f)
             laser[k] = d;
         }
     }
+    return laser;
+}
+
+void OmniComparison::add(const OmniFrame& f)
+{
+    const size_t n = f.omni.range_m.size();
+    if (n == 0) return;
+    const std::vector<double> laser = laserPerScanline(f);
     for (size_t k = 0; k < n; ++k) {
         if (f.omni.status[k] != OmniRangeStatus::Hit || !std::isfinite(laser[k])) continue;
         const double diff = laser[k] - f.omni.range_m[k];

@@ -96,11 +96,14 @@ OmniRangeResult omniRange(const Image& frame, const OmniCamera& cam, const Colou
 }
 
 long long trainFreeSpace(ColourHistogram& hist, const Image& frame, const OmniCamera& cam, const LaserFreeSpace& laser,
-                         const OmniRangeConfig& cfg, double margin_m)
+                         const OmniRangeConfig& cfg, double margin_m, const std::vector<bool>* skip_scanline)
 {
     checkFrame(frame, cam);
     const size_t nb = laser.angle_rad.size();
     if (nb < 2 || laser.range_m.size() != nb) throw Error("laser scan", "needs at least two beams, one range each");
+    if (skip_scanline && skip_scanline->size() != size_t(cfg.scanlines))
+        throw Error("skip_scanline", "needs one entry per scanline");
+    const double step = 2 * M_PI / cfg.scanlines;
     const double half_step = 0.5 * (laser.angle_rad.back() - laser.angle_rad.front()) / double(nb - 1);
     const Vec3 o = cam.pose().t;
     long long counted = 0;
@@ -110,6 +113,11 @@ long long trainFreeSpace(ColourHistogram& hist, const Image& frame, const OmniCa
             if (!cam.generateRay(x + 0.5, y + 0.5, ray) || !(ray.d.z() < -1e-9)) continue;
             const Vec3 p = ray.at(cfg.height_m / -ray.d.z());  // on the floor
             if (std::hypot(p.x() - o.x(), p.y() - o.y()) > cfg.max_range_m) continue;
+            if (skip_scanline) {
+                const Vec3 c = cam.pose().R.transpose() * (p - o);
+                const long long s = std::llround(std::atan2(c.y(), c.x()) / step);
+                if ((*skip_scanline)[size_t(((s % cfg.scanlines) + cfg.scanlines) % cfg.scanlines)]) continue;
+            }
             const Vec3 q = laser.pose.R.transpose() * (p - laser.pose.t);
             const double a = std::atan2(q.y(), q.x()), dist = std::hypot(q.x(), q.y());
             // The nearest beam in bearing, the scan's two ends neighbours across ±π (a 360° laser).

@@ -4,6 +4,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
+#include "smokescan/omni/omni_compare.hpp"
 #include "smokescan/render/renderer.hpp"
 
 namespace smokescan {
@@ -27,6 +28,7 @@ OmniRun::OmniRun(const Scene& scene, const SurfaceSet& surfaces, const OmniRunCo
         throw Error(cam_.name, "frame over " + std::to_string(limits::kFramePixels) + " pixels");
     if (!(cfg.margin_m >= 0) || !std::isfinite(cfg.margin_m)) throw Error("margin_m", "must be finite and >= 0");
     if (!std::isfinite(cfg.floor_z_m)) throw Error("floor_z_m", "must be finite");
+    if (!(cfg.outlier_m > 0 && cfg.outlier_m <= 100)) throw Error("--outlier", "must lie in (0, 100] m");
     ScanConfig sc;
     sc.sensor = cfg.laser;
     sc.seed = cfg.seed;
@@ -90,7 +92,28 @@ LaserFreeSpace OmniRun::laserAt(double t_s, uint64_t k, std::vector<long long>* 
 long long OmniRun::train(ColourHistogram& hist, double t_s, uint64_t k)
 {
     const Image frame = render(t_s, k);
-    return trainFreeSpace(hist, frame, cameraAt(t_s), laserAt(t_s, k), rangeAt(t_s), cfg_.margin_m);
+    hist.setExposure(exposure_);
+    const OmniCamera& cam = cameraAt(t_s);
+    const OmniRangeConfig rc = rangeAt(t_s);
+    const LaserFreeSpace laser = laserAt(t_s, k);
+    // The paper's outlier rejection: a trial histogram with this frame's counts reads the frame;
+    // scanlines whose reading lies over outlier_m from the laser's (e.g. where the laser saw free
+    // floor under an overhang the camera sees from above) are left out of the counts.
+    ColourHistogram trial = hist;
+    trainFreeSpace(trial, frame, cam, laser, rc, cfg_.margin_m);
+    if (trial.total() == 0) return 0;
+    OmniFrame f;
+    f.omni = omniRange(frame, cam, trial, rc);
+    f.laser_angle_rad = laser.angle_rad;
+    f.laser_range_m = laser.range_m;
+    f.laser_pose = laser.pose;
+    f.camera_pose = cam.pose();
+    const std::vector<double> l = laserPerScanline(f);
+    std::vector<bool> skip(f.omni.range_m.size(), false);
+    for (size_t s = 0; s < skip.size(); ++s)
+        skip[s] = f.omni.status[s] == OmniRangeStatus::Hit && std::isfinite(l[s]) &&
+            std::abs(l[s] - f.omni.range_m[s]) > cfg_.outlier_m;
+    return trainFreeSpace(hist, frame, cam, laser, rc, cfg_.margin_m, &skip);
 }
 
 OmniFrame OmniRun::read(const ColourHistogram& hist, double t_s, uint64_t k, Image* frame_out)

@@ -80,7 +80,7 @@ void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>
     panel(
         c, bottom, tallies, first, last, min_readings, [](const RangeTallyBin& b) { return b.meanAbsM(); },
         "mean |range error| [m]", "%.2f");
-    c.text((bottom.x0 + bottom.x1) / 2 - 150, H - 18, "smoke column along the line of sight [density·m]", 13);
+    c.text((bottom.x0 + bottom.x1) / 2 - 150, H - 18, "smoke column along the line of sight [density.m]", 13);
     for (size_t s = 0; s < tallies.size(); ++s) {
         const int y = 80 + 22 * int(s);
         c.box(W - 170, y - 8, W - 156, y + 2, colourOf(tallies[s].sensor(), s), true);

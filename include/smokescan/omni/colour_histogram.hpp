@@ -10,7 +10,8 @@
 /// | threshold        | –       | –    | Θ ∈ (0, 1]: 0.05 in the maze, 0.075 in the factory   |
 ///
 /// Values are display-encoded (8-bit sRGB as a camera delivers, mapped to [0, 1]); channel value v
-/// falls in bin min(⌊v·bins⌋, bins − 1).
+/// falls in bin min(⌊v·bins⌋, bins − 1). The colours mean something only at the exposure of the
+/// frames they were counted in: the histogram keeps it (0: unknown) and its file records it.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,11 +34,17 @@ public:
     uint64_t total() const { return total_; }
     uint64_t count(int bin_r, int bin_g, int bin_b) const;
 
-    /// @brief Writes the histogram as text (atomically): a header line, then one line per
-    /// non-empty bin "r g b count". @throw Error naming the file.
+    /// The radiance scale of the frames it was trained on; 0 = unknown.
+    double exposure() const { return exposure_; }
+    /// @throw Error for a scale that is not positive and finite (0 = unknown is allowed).
+    void setExposure(double scale);
+
+    /// @brief Writes the histogram as text (atomically): a header line, "# exposure x" when
+    /// known, then one line per non-empty bin "r g b count". @throw Error naming the file.
     void save(const std::string& path) const;
     /// @brief Reads what save wrote. @throw Error naming the file and line: a bad header, a bin
-    /// outside the histogram, a repeated bin, a count that is not a positive integer, no counts.
+    /// outside the histogram, a repeated bin, a count that is not a positive integer, no counts,
+    /// an exposure that is not a positive number.
     static ColourHistogram load(const std::string& path);
 
 private:
@@ -47,6 +54,7 @@ private:
     int bins_;
     std::vector<uint64_t> counts_;
     uint64_t total_ = 0;
+    double exposure_ = 0;
 };
 
 }  // namespace smokescan

@@ -14,6 +14,10 @@
 
 namespace smokescan {
 
+/// @brief The laser's range seen from the camera's axis on each of the frame's scanlines: the
+/// horizontal distance of the valid laser point nearest the scanline in bearing (NaN for none).
+std::vector<double> laserPerScanline(const OmniFrame& f);
+
 /// Running sums over compared scanlines.
 struct OmniComparison {
     double outlier_m = 1.25;

@@ -65,9 +65,12 @@ struct LaserFreeSpace {
 /// @brief Training: counts into `hist` the colours of the frame's floor pixels that the laser
 /// saw free — floor points (on the plane height_m below the viewpoint) nearer than the laser's
 /// range at their bearing by more than margin_m and within max_range_m of the viewpoint.
+/// @param skip_scanline when given (cfg.scanlines entries), pixels whose bearing from the
+/// camera's axis lies nearest a scanline marked true are left out (the outliers, below)
 /// @return the number of pixels counted
-/// @throw Error for a frame of another size or an empty scan.
+/// @throw Error for a frame of another size, an empty scan or a skip list of another length.
 long long trainFreeSpace(ColourHistogram& hist, const Image& frame, const OmniCamera& cam, const LaserFreeSpace& laser,
-                         const OmniRangeConfig& cfg, double margin_m = 0.1);
+                         const OmniRangeConfig& cfg, double margin_m = 0.1,
+                         const std::vector<bool>* skip_scanline = nullptr);
 
 }  // namespace smokescan

@@ -12,7 +12,8 @@
 /// | seed          | 1       | –    | the frames' and the laser's noise                               |
 /// | floor_z_m     | 0       | m    | the floor's height: the viewpoint's height above it is h        |
 /// | margin_m      | 0.1     | m    | training: floor this much short of the laser's range is free    |
-/// | exposure      | 0       | –    | radiance scale of the frames; ≤ 0: metered once on the first frame, then held |
+/// | outlier_m     | 1.25    | m    | training: scanlines a trial histogram reads this far from the laser are left out (the paper's); (0, 100] |
+/// | exposure      | 0       | –    | radiance scale of the frames; ≤ 0: metered once on the first frame, then held (a run reading with a saved histogram takes the histogram's) |
 #include <cmath>
 #include <string>
 #include <vector>
@@ -30,6 +31,7 @@ struct OmniRunConfig {
     uint64_t seed = 1;
     double floor_z_m = 0;
     double margin_m = 0.1;
+    double outlier_m = 1.25;
     double exposure = 0;
     OmniRangeConfig range;  ///< height_m is set from the camera's pose at each time
 };
@@ -58,7 +60,8 @@ public:
     OmniRun(const Scene& scene, const SurfaceSet& surfaces, const OmniRunConfig& cfg);
 
     /// @brief Renders the frame and scans with the laser at t_s (k keys the noise), trains
-    /// `hist` from them; returns the pixels counted.
+    /// `hist` from them (leaving out the outlier scanlines) and records the frames' exposure in
+    /// it; returns the pixels counted.
     long long train(ColourHistogram& hist, double t_s, uint64_t k);
     /// @brief Renders the frame and scans with the laser at t_s; the omnicam's ranges.
     OmniFrame read(const ColourHistogram& hist, double t_s, uint64_t k, Image* frame_out = nullptr);
