@@ -55,16 +55,15 @@ density = 0.0005
 voxel = 0.1
 )");
     const std::string out = file("smoky.log"), fig = file("versus.png");
-    const CliRun r =
-        cli("omnirange " + scene + " --train 0 --from 0 --to 0 --spp 4 --out " + out + " --versus-smoke " + fig);
+    const CliRun r = cli("omnirange " + scene + " --train 0 --from 0 --to 0 --spp 4 --out " + out + " --truth " + fig);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(std::filesystem::exists(fig));
     for (const char* want : {"omnicam (max range 3.8 m", "sick (max range 8.2 m", "  0.0003-0.001 ", "  0.001-0.003 "})
         EXPECT_NE(r.out.find(want), std::string::npos) << want << "\n" << r.out;
     EXPECT_EQ(r.out.find("  0-0.0001 "), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("  0.0001-0.0003 "), std::string::npos) << r.out;
-    expectBad("omnirange " + scene + " --train 0 --from 0 --to 0 --spp 1 --out " + file("never2.log") +
-                  " --versus-smoke " + file("versus.bmp"),
+    expectBad("omnirange " + scene + " --train 0 --from 0 --to 0 --spp 1 --out " + file("never2.log") + " --truth " +
+                  file("versus.bmp"),
               "unknown image format", file("never2.log"));
 }
 

@@ -22,7 +22,7 @@ namespace smokescan::cli {
 namespace {
 
 struct OmniArgs {
-    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map, fig8, versus_smoke;
+    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map, fig8, truth;
     double from = NAN, to = NAN, rate_hz = 1;
     OmniRunConfig cfg;
 };
@@ -72,8 +72,8 @@ int runOmnirange(const OmniArgs& a)
     files.output(a.plot, "--plot");
     files.output(a.map, "--map");
     files.output(a.fig8, "--fig8");
-    files.output(a.versus_smoke, "--versus-smoke");
-    for (const std::string* p : {&a.plot, &a.map, &a.fig8, &a.versus_smoke})
+    files.output(a.truth, "--truth");
+    for (const std::string* p : {&a.plot, &a.map, &a.fig8, &a.truth})
         if (!p->empty() && !isImageExtension(*p)) throw Error(*p, "unknown image format (png, jpg, tif)");
     if (a.train.empty() == a.histogram.empty()) throw Error("--train", "give either --train TIMES or --histogram FILE");
     const std::vector<double> train = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
@@ -108,7 +108,7 @@ int runOmnirange(const OmniArgs& a)
                         << run.laser().spec().errorValueSummary() << "\n";
     }
     std::unique_ptr<SensorsVersusSmoke> versus;
-    if (!a.versus_smoke.empty()) {
+    if (!a.truth.empty()) {
         VersusSmokeConfig vc;
         vc.seed = a.cfg.seed;
         versus = std::make_unique<SensorsVersusSmoke>(scene, surfaces, a.cfg.range, vc);
@@ -139,7 +139,7 @@ int runOmnirange(const OmniArgs& a)
         writePixelDistancePlot(files.stage(a.fig8), run.cameraAt(times.front()), run.rangeAt(times.front()).height_m,
                                a.cfg.range.max_range_m);
     if (versus)
-        writeVersusSmokePlot(files.stage(a.versus_smoke), versus->tallies(),
+        writeVersusSmokePlot(files.stage(a.truth), versus->tallies(),
                              "each sensor against the truth, by the smoke it looks through: " + scene.source);
     files.commit();
     if (versus) {
@@ -181,7 +181,7 @@ void addOmnirange(CLI::App& app, Runner& run)
     c->add_option(
         "--map", a->map,
         "Also draw occupancy grids from the laser's and the omnicam's scans with the true poses (Fig. 10; PNG)");
-    c->add_option("--versus-smoke", a->versus_smoke,
+    c->add_option("--truth", a->truth,
                   "Also compare the omnicam and every laser of the scene with the truth: failure rate and range "
                   "error against the smoke column (PNG; tables printed)");
     c->add_option("--camera", a->cfg.camera, "Omni camera of the scene (default: the first)");

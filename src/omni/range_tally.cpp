@@ -79,12 +79,13 @@ std::string RangeTally::table() const
 {
     const auto line = [](const std::string& label, const RangeTallyBin& b) {
         const double n = double(std::max(1LL, b.readings));
-        return fmt("  %-18s %7lld  %5.1f %%  (short %5.1f, long %5.1f, none %5.1f)  %.3f m\n", label.c_str(),
-                   b.readings, 100 * b.failureRate(), 100 * double(b.shorter) / n, 100 * double(b.longer) / n,
-                   100 * double(b.none) / n, b.meanAbsM());
+        return fmt("  %-18s %7lld  %5.1f %%  (short %5.1f, long %5.1f, none %5.1f)  %7lld  ", label.c_str(), b.readings,
+                   100 * b.failureRate(), 100 * double(b.shorter) / n, 100 * double(b.longer) / n,
+                   100 * double(b.none) / n, b.ranged) +
+            (b.ranged ? fmt("%.3f m\n", b.meanAbsM()) : std::string("-\n"));
     };
     std::string s = sensor_ + fmt(" (max range %.1f m, ok within %.2f m):\n", max_range_m_, cfg_.tolerance_m) +
-        "  column [density·m]  readings  failed   by kind [%]                          mean |error|\n";
+        "  column [density.m]  readings  failed   by kind [%]                          ranges  mean |error|\n";
     const auto& e = cfg_.column_edges;
     for (size_t i = 0; i < bins_.size(); ++i)
         if (bins_[i].readings > 0)

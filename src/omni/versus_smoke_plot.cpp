@@ -12,10 +12,11 @@
 namespace smokescan {
 namespace {
 
-/// One panel: `value(bin)` per sensor against the column bins first…last, categorical in x.
-template <class Value>
+/// One panel: `value(bin)` per sensor against the column bins first…last, categorical in x, where
+/// `count(bin)` (the readings the value averages) is at least min_readings.
+template <class Value, class Count>
 void panel(Canvas& c, const Frame& f, const std::vector<RangeTally>& tallies, size_t first, size_t last,
-           long long min_readings, Value value, const std::string& ylabel, const char* yfmt)
+           long long min_readings, Value value, Count count, const std::string& ylabel, const char* yfmt)
 {
     c.line(f.x0, f.y1, f.x1, f.y1, {0, 0, 0});
     c.line(f.x0, f.y0, f.x0, f.y1, {0, 0, 0});
@@ -37,7 +38,7 @@ void panel(Canvas& c, const Frame& f, const std::vector<RangeTally>& tallies, si
         int px = -1, py = -1;
         for (size_t b = first; b <= last; ++b) {
             const RangeTallyBin& bin = tallies[s].bins()[b];
-            if (bin.readings < min_readings) {
+            if (count(bin) < min_readings) {
                 px = -1;
                 continue;
             }
@@ -65,7 +66,7 @@ void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>
         for (size_t b = 0; b < nb; ++b)
             if (t.bins()[b].readings >= min_readings) {
                 first = std::min(first, b), last = std::max(last, b);
-                emax = std::max(emax, t.bins()[b].meanAbsM());
+                if (t.bins()[b].ranged >= min_readings) emax = std::max(emax, t.bins()[b].meanAbsM());
             }
     if (first > last) first = 0, last = nb - 1;
     emax = std::ceil(emax * 10) / 10;
@@ -74,12 +75,14 @@ void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>
     c.text(80, 24, title, 15);
     const Frame top{80, 60, W - 190, 290, 0.0, double(span), 0.0, 100.0};
     const Frame bottom{80, 370, W - 190, 600, 0.0, double(span), 0.0, emax};
+    const auto readings = [](const RangeTallyBin& b) { return b.readings; };
+    const auto ranged = [](const RangeTallyBin& b) { return b.ranged; };
     panel(
         c, top, tallies, first, last, min_readings, [](const RangeTallyBin& b) { return 100 * b.failureRate(); },
-        "failed readings [%]", "%.0f");
+        readings, "failed readings [%]", "%.0f");
     panel(
-        c, bottom, tallies, first, last, min_readings, [](const RangeTallyBin& b) { return b.meanAbsM(); },
-        "mean |range error| [m]", "%.2f");
+        c, bottom, tallies, first, last, min_readings, [](const RangeTallyBin& b) { return b.meanAbsM(); }, ranged,
+        "mean |range error| of the ranges read [m]", "%.2f");
     c.text((bottom.x0 + bottom.x1) / 2 - 150, H - 18, "smoke column along the line of sight [density.m]", 13);
     for (size_t s = 0; s < tallies.size(); ++s) {
         const int y = 80 + 22 * int(s);
@@ -87,7 +90,7 @@ void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>
         c.text(W - 148, y + 2, tallies[s].sensor(), 13);
     }
     c.text(W - 170, 80 + 22 * int(tallies.size()) + 10, fmt("bins with >= %lld", min_readings), 11);
-    c.text(W - 170, 80 + 22 * int(tallies.size()) + 24, "readings", 11);
+    c.text(W - 170, 80 + 22 * int(tallies.size()) + 24, "readings (errors: ranges)", 11);
     writeImage(path, c.image());
 }
 

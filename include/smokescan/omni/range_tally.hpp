@@ -58,7 +58,8 @@ public:
     /// All bins summed.
     RangeTallyBin total() const;
     /// @brief A table: one line per non-empty bin (column range, readings, failure rate by kind,
-    /// mean |error|), then the total.
+    /// the ranges read where the truth is in range and their mean |error|, "-" for none), then
+    /// the total.
     std::string table() const;
 
 private:
