@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the omnicam paper's two built-in scenes, scenes/maze.toml and scenes/factory.toml, in the
-spirit of the paper's USARSim worlds (docs/omnicam.md). Run from the repository root."""
+spirit of the paper's USARSim worlds (docs/omnicam.md), and scenes/factory_smoke.toml, the same drive
+through the factory filling with smoke. Run from the repository root."""
 
 HEADER = "# Written by scripts/make_omni_scenes.py; edit the script, not this file.\n"
 
@@ -121,7 +122,7 @@ v = [0, 16, 0]
     return s + RIG + SUN
 
 
-def factory():
+def factory(smoke=False):
     s = HEADER + '''# The omnicam paper's factory: wide corridors around a partition, few turns, distinct objects — a
 # cabinet on legs that the laser (0.3 m up) sees through and the camera sees, a tank, machines; lamps
 # overhead; the robot drives a loop round the partition.
@@ -188,9 +189,55 @@ v = [0, 10, 0]
     s += '[[surfaces]]\nname = "tank"\nmaterial = "tank_steel"\ntype = "cylinder"\nposition = [-5.2, 3.2, 0.0]\nradius = 0.5\nheight = 2.0\n\n'
     s += robot([(0, -4.0, 2.0, 0), (16, 4.0, 2.0, 0), (19, 4.0, 2.0, -90), (24, 4.0, -2.0, -90), (27, 4.0, -2.0, 180),
                 (43, -4.0, -2.0, 180), (46, -4.0, -2.0, 90), (48, -4.0, 0.0, 90)])
-    return s + RIG + ROOF
+    if not smoke:
+        return s + RIG + ROOF
+    return s + RIG.replace('rpy_deg = [0, 0, -90]\n', 'rpy_deg = [0, 0, -90]\nmodel = "physical"\n') + ROOF + SMOKE
+
+
+# The smoke drive (experiments/omnicam_smoke): the same hall, robot and path, filling with a thin
+# haze (the smoke machine of the smoke paper's Bocas scene, well mixed) and a denser plume from
+# beside the machine drifting west along the south corridor. A URG-04LX rides above the Sick; both
+# lasers use the physical return model, so each fails as its receiver does.
+SMOKE = '''[[sensors]]
+name = "urg"
+type = "urg04lx"
+robot = "p2dx"
+position = [0, 0, 0.4]
+rpy_deg = [0, 0, 0]
+model = "physical"
+
+[[smoke]]
+name = "haze"
+type = "box"
+min = [-6.1, -4.1, 0.0]
+max = [6.1, 4.1, 2.5]
+voxel = 0.25
+medium = "theatrical_fog"
+timeline = { kind = "machine", on = [[4.0, 48.0]], fill_per_s = 0.00001, dissolve_s = 600.0 }
+
+[[smoke]]
+name = "fire"
+type = "plume"
+source = [2.6, -2.6, 0.4]
+rate_per_s = 3.0
+lifetime_s = 20.0
+rise_m_s = 0.0
+wind_m_s = [-0.15, 0.05, 0.0]
+spread_m_s = 0.08
+radius_m = 0.3
+growth_m_s = 0.02
+peak_density = 0.01
+start_s = 6.0
+stop_s = 40.0
+voxel = 0.2
+medium = { name = "plume_smoke", lidar_ratio_sr = 40.0 }
+seed = 7
+'''
 
 
 if __name__ == "__main__":
     open("scenes/maze.toml", "w").write(maze())
     open("scenes/factory.toml", "w").write(factory())
+    open("scenes/factory_smoke.toml", "w").write(factory(smoke=True).replace(
+        'name = "factory"\ndescription = "factory hall with wide corridors (the omnicam paper\'s factory), a robot driving a loop"',
+        'name = "factory_smoke"\ndescription = "the factory drive, the hall filling with smoke (haze and a plume)"'))

@@ -161,6 +161,7 @@ TEST(SceneErrors, OneLineWithFileAndLine)
         loadScene("bocass");
         FAIL();
     } catch (const Error& e) {
-        EXPECT_EQ(std::string(e.what()), "bocass: no such scene file (built-in scenes: bocas, factory, maze, plume)");
+        EXPECT_EQ(std::string(e.what()),
+                  "bocass: no such scene file (built-in scenes: bocas, factory, factory_smoke, maze, plume)");
     }
 }
