@@ -1,5 +1,8 @@
 #pragma once
 // The omnicam tests' court scene (tests/test_omni_rangefinder.cpp, tests/test_omnirange_cli.cpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 
 namespace smokescan::test {
@@ -65,6 +68,17 @@ mirror_radius_px = 75
         s += std::string("[[surfaces]]\nname = \"wall_") + w[0] +
             "\"\nmaterial = \"brick\"\ntype = \"quad\"\ncorner = " + w[1] + "\nu = " + w[2] + "\nv = [0, 0, 2]\n";
     return s;
+}
+
+/// The court's nearest wall along world bearing b [rad] from (x0, y0) [m]: walls at x = 1.5 and
+/// −2.5, y = 2.0 and −1.2.
+inline double courtWall(double b, double x0 = 0, double y0 = 0)
+{
+    const double inf = std::numeric_limits<double>::infinity();
+    const double c = std::cos(b), s = std::sin(b);
+    const double along_x = c > 1e-12 ? (1.5 - x0) / c : c < -1e-12 ? (-2.5 - x0) / c : inf;
+    const double along_y = s > 1e-12 ? (2.0 - y0) / s : s < -1e-12 ? (-1.2 - y0) / s : inf;
+    return std::min(along_x, along_y);
 }
 
 }  // namespace smokescan::test

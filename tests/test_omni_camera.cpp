@@ -98,28 +98,40 @@ TEST(OmniCamera, TheRimAndTheBaseSeeNothing)
 
 TEST(OmniCamera, AutoExposureMetersTheMirrorDiscOnly)
 {
-    // Radiance 0.5 wherever the camera sees (the disc less the base), 0 in the black frame round
-    // it: metered over the disc, the mean is 0.5 and the scale 0.18 / 0.5; metered over the whole
-    // frame, the black would push it up by the frame's area over the disc's.
+    // Where the camera sees: radiance 0.5, but black on the disc's right half (x > centre); where
+    // it sees nothing (the frame round the disc, the base): bright 5.0. Metered over what the
+    // camera sees, the mean is 0.5 × the left half's share of the seen pixels; a meter over
+    // non-black pixels, or over the whole frame, gives other scales.
     OmniIntrinsics k;
     k.base_radius = 40;
     const OmniCamera cam(Pose{}, k);
     Image rad(k.width, k.height, 3);
     Ray r;
-    long long seen = 0;
+    long long seen = 0, lit = 0;
     for (int y = 0; y < rad.height; ++y)
-        for (int x = 0; x < rad.width; ++x)
-            if (cam.generateRay(x + 0.5, y + 0.5, r)) {
-                ++seen;
-                for (int c = 0; c < 3; ++c) rad.at(x, y, c) = 0.5f;
-            }
+        for (int x = 0; x < rad.width; ++x) {
+            const bool sees = cam.generateRay(x + 0.5, y + 0.5, r);
+            const float v = !sees ? 5.0f : x + 0.5 > k.cx ? 0.0f : 0.5f;
+            seen += sees;
+            lit += sees && v > 0;
+            for (int c = 0; c < 3; ++c) rad.at(x, y, c) = v;
+        }
+    ASSERT_GT(lit, seen / 3);
+    ASSERT_LT(lit, 2 * seen / 3);
     double used = 0;
     toDisplay(rad, 0.0, &used, &cam);
-    EXPECT_NEAR(used, 0.18 / 0.5, 1e-12);
-    toDisplay(rad, 0.0, &used);
-    EXPECT_NEAR(used, 0.18 / 0.5 * double(rad.width) * rad.height / double(seen), 1e-9);
+    EXPECT_NEAR(used, 0.18 / (0.5 * double(lit) / double(seen)), 1e-9);
+    const double frame_mean =
+        (0.5 * double(lit) + 5.0 * (double(rad.width) * rad.height - double(seen))) / (double(rad.width) * rad.height);
+    toDisplay(rad, 0.0, &used);  // the whole frame, as a pinhole camera meters
+    EXPECT_NEAR(used, 0.18 / frame_mean, 1e-9);
     toDisplay(rad, 2.0, &used, &cam);  // a given exposure is kept
     EXPECT_EQ(used, 2.0);
+    // A frame the mirror's disc misses entirely cannot be metered (it is not metered as black).
+    OmniIntrinsics off = k;
+    off.cx = 5000;
+    const OmniCamera far(Pose{}, off);
+    EXPECT_THROW(toDisplay(rad, 0.0, &used, &far), Error);
 }
 
 TEST(OmniCamera, SceneFilesMakeOmniCamerasAndRefuseBadMirrors)
@@ -147,6 +159,8 @@ TEST(OmniCamera, SceneFilesMakeOmniCamerasAndRefuseBadMirrors)
     refused("max_incidence_deg = 175\n", "max_incidence_deg");
     refused("base_radius_px = 400\n", "hides the whole mirror");
     refused("kind = \"fisheye\"\n", "pinhole or omni");
+    refused("cx_px = -200\n", "cx_px");  // not taken for "unset" (the centre)
+    refused("cy_px = 1e9\n", "cy_px");
 }
 
 TEST(OmniCamera, TheBirdseyeViewPutsEachFloorPointWhereItLies)

@@ -120,8 +120,10 @@ TEST(OmniHistogram, SavesLoadsAndRefusesBadFiles)
     refused(head + "1 2 3 0\n", "positive integer");
     refused(head + "1 2 3\n", "expected 'r g b count'");
     refused(head, "no counts");
-    refused(head + "# exposure -2\n1 2 3 5\n", "exposure must be a positive number");
-    refused(head + "# exposure 1 2\n1 2 3 5\n", "exposure must be a positive number");
+    refused(head + "# exposure -2\n1 2 3 5\n", "exposure must be a number in [1e-6, 1e6]");
+    refused(head + "# exposure 1 2\n1 2 3 5\n", "exposure must be a number in [1e-6, 1e6]");
+    refused(head + "# exposure 5e-324\n1 2 3 5\n", "bad.txt:2: exposure must be a number in [1e-6, 1e6]");
+    refused(head + "# exposure 2\n1 2 3 5\n# exposure 3\n", "bad.txt:4: exposure given twice");
     fs::remove_all(dir);
 }
 
@@ -165,13 +167,7 @@ TEST(OmniRangefinder, ReadsTheWallsOfARenderedRoomWithinAPixel)
     double err_px = 0;
     for (size_t i = 0; i < r.range_m.size(); ++i) {
         const double phi = r.angle_rad[i];
-        const double c = std::cos(phi), sn = std::sin(phi);
-        const double truth = std::min(c > 1e-12        ? 1.5 / c
-                                          : c < -1e-12 ? -2.5 / c
-                                                       : kInf,
-                                      sn > 1e-12        ? 2.0 / sn
-                                          : sn < -1e-12 ? -1.2 / sn
-                                                        : kInf);
+        const double truth = test::courtWall(phi);
         const double rho = cam.radius(std::atan2(truth, cfg.height_m));
         const double pixel_m = cam.floorDistance(rho + 1, cfg.height_m) - truth;
         ASSERT_EQ(r.status[i], OmniRangeStatus::Hit) << "azimuth " << phi;

@@ -18,17 +18,9 @@
 #include "omni_court.hpp"
 
 using namespace smokescan;
+using test::courtWall;
 
 namespace {
-
-/// The court's nearest wall along world bearing b from the origin (tests/omni_court.hpp).
-double courtWall(double b)
-{
-    const double c = std::cos(b), s = std::sin(b);
-    const double along_x = c > 1e-12 ? 1.5 / c : c < -1e-12 ? -2.5 / c : kInf;
-    const double along_y = s > 1e-12 ? 2.0 / s : s < -1e-12 ? -1.2 / s : kInf;
-    return std::min(along_x, along_y);
-}
 
 std::vector<double> azimuths(int n)
 {
@@ -59,7 +51,9 @@ TEST(ScanlineTruth, TheCourtsWallsAlongEveryAzimuthOfATurnedRobot)
 TEST(ScanlineTruth, TheNearestObstacleBelowTheViewpointAndTheSmokeAlongTheLineOfSight)
 {
     // A cabinet body from 0.5 m to 1.8 m high whose near face stands 0.8 m ahead (+x), on no legs
-    // the probes would see first; a uniform smoke box round the court, density 0.004.
+    // the probes would see first; a kerb 0.12 m high 0.95 m to the left; a beam above the
+    // viewpoint (1.0–1.2 m) 0.95 m behind, which a robot that tall passes under; a uniform smoke
+    // box round the court, density 0.004.
     const std::string extra = R"(
 [[surfaces]]
 name = "cabinet"
@@ -67,6 +61,18 @@ material = "brick"
 type = "box"
 position = [1.0, 0.0, 1.15]
 size = [0.4, 0.6, 1.3]
+[[surfaces]]
+name = "kerb"
+material = "brick"
+type = "box"
+position = [0.0, 1.0, 0.06]
+size = [0.6, 0.1, 0.12]
+[[surfaces]]
+name = "overhead"
+material = "brick"
+type = "box"
+position = [-1.0, 0.0, 1.1]
+size = [0.1, 0.6, 0.2]
 [[smoke]]
 name = "haze"
 type = "box"
@@ -84,14 +90,19 @@ voxel = 0.1
     cfg.probe_step_m = 0.05;
     const ScanlineTruth t = scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, h, az, 2.4, cfg);
     EXPECT_NEAR(t.range_m[0], 0.8, 1e-6);  // the body, above the laser's plane
-    EXPECT_NEAR(t.range_m[1], 2.0, 1e-6);
-    EXPECT_NEAR(t.range_m[2], 2.5, 1e-6);  // beyond the maximum range: the sight line ends at 2.4 m
+    EXPECT_NEAR(t.range_m[1], 0.95, 1e-6);  // the kerb, below it
+    EXPECT_NEAR(t.range_m[2], 2.5,
+                1e-6);  // not the beam overhead; beyond the maximum range: the sight line ends at 2.4 m
     EXPECT_NEAR(t.range_m[3], 0.8 / std::cos(0.2), 1e-6);
     for (size_t i = 0; i < az.size(); ++i) {
         const double d = std::min(t.range_m[i], 2.4);
         const double want = 0.004 * std::hypot(d, h);  // to float precision: the grid's and the hits'
         EXPECT_NEAR(t.column[i], want, 1e-6 * want) << "azimuth " << az[i];
     }
+    // The probes start from the floor the height puts 0.1 m up: the kerb is then below them.
+    EXPECT_NEAR(
+        scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, h - 0.1, {M_PI / 2}, 2.4, cfg).range_m[0], 2.0,
+        1e-6);
     // Probes 0.6 m apart (one, at 0.6 m, below the viewpoint) still meet the body.
     cfg.probe_step_m = 0.6;
     EXPECT_NEAR(scanlineTruth(surfaces, SmokeField::at(scene.volumes, 0), cam, h, {0.0}, 2.4, cfg).range_m[0], 0.8,
@@ -135,6 +146,14 @@ TEST(RangeTally, ClassifiesReadingsAgainstTheTruthAndTheMaximumRange)
     EXPECT_NEAR(b.failureRate(), 2.0 / 3.0, 1e-15);
     EXPECT_EQ(t.total().readings, 4);
     EXPECT_NE(t.table().find("0.001-0.01"), std::string::npos);
+    t.add(0.0, 6.0, 3.9);  // a range read where the truth lies beyond the maximum: ok, no error counted
+    EXPECT_EQ(t.bins()[0].ok, 2);
+    EXPECT_EQ(t.bins()[0].ranged, 1);
+    EXPECT_EQ(classifyReading(1.7, 2.0, max, tol), ReadingOutcome::Ok);  // exactly at truth ± tolerance
+    EXPECT_EQ(classifyReading(2.3, 2.0, max, tol), ReadingOutcome::Ok);
+    RangeTally empty("laser", max, cfg);
+    empty.add(0.005, 2.0, NAN);  // a bin of error values only: its error is "-", not 0
+    EXPECT_NE(empty.table().find("0  -\n"), std::string::npos) << empty.table();
 
     cfg.column_edges = {0.001, 0.01};
     EXPECT_THROW(RangeTally("x", max, cfg), Error);
@@ -145,10 +164,12 @@ TEST(RangeTally, ClassifiesReadingsAgainstTheTruthAndTheMaximumRange)
 
 TEST(SensorsVersusSmoke, PairsEachScanlineAndBeamWithItsOwnTruthInClearAir)
 {
-    // The asymmetric court with the robot turned by 30°: a scanline or beam compared with another
-    // bearing's truth would fail by metres on most of them.
+    // The asymmetric court with the robot turned by 30° and the camera off its axis (0.2 m ahead,
+    // 0.1 m left of the laser): a scanline or beam compared with another bearing's truth, or a
+    // scanline's truth taken from the laser's axis, would fail on most of them.
     std::string text = test::omniCourt();
     text.replace(text.find("time_s = 0\n"), 11, "time_s = 0\nyaw_deg = 30\n");
+    text.replace(text.find("position = [0, 0, 0.931]"), 24, "position = [0.2, 0.1, 0.931]");
     const Scene scene = parseScene(text, "court.toml", "");
     const SurfaceSet surfaces(scene);
     OmniRunConfig rc;
@@ -166,15 +187,20 @@ TEST(SensorsVersusSmoke, PairsEachScanlineAndBeamWithItsOwnTruthInClearAir)
     EXPECT_GE(omni.ok, 356);
     // Within a pixel's metric error on average (the one-pixel errors at the walls' distances).
     const OmniCamera& cam = run.cameraAt(0);
+    const Vec3 eye = cam.pose().t;
+    ASSERT_GT(std::hypot(eye.x(), eye.y()), 0.2);
     double pixel_m = 0;
     for (double a : azimuths(360)) {
-        const double d = courtWall(a + M_PI / 6);
+        const double d = courtWall(a + M_PI / 6, eye.x(), eye.y());
         pixel_m += (cam.floorDistance(cam.radius(std::atan2(d, 0.931)) + 1, 0.931) - d) / 360;
     }
     EXPECT_LT(omni.meanAbsM(), pixel_m);
     EXPECT_EQ(sick.readings, 361);
     EXPECT_EQ(sick.ok, 361);
-    EXPECT_LT(sick.meanAbsM(), 0.02);  // the LMS200's datasheet noise, σ ≈ 15 mm
+    // The LMS200's datasheet noise (σ 5 mm up to 1 m, 0.5 % beyond) rounded to mm: a truth taken
+    // from the reading itself would give 0.
+    EXPECT_LT(sick.meanAbsM(), 0.02);
+    EXPECT_GT(sick.meanAbsM(), 0.002);
     EXPECT_THROW(SensorsVersusSmoke(parseScene("[scene]\n", "empty.toml", ""), surfaces, rc.range), Error);
 }
 
@@ -187,11 +213,19 @@ TEST(OmniTraining, LeavesOutTheScanlinesThatDisagreeWithTheLaser)
     // floor, the trial sees through it, and nothing is left out — the rule's limit); the trial
     // reading stops at the table, over 1.25 m short of the laser's, so the paper's outlier
     // rejection leaves those scanlines out.
+    // The robot is turned by 30° and the table lies 40° to its left, so that a skipped sector
+    // turned or mirrored would miss the table's pixels.
     std::string text = test::omniCourt();
-    for (const char* from : {"u = [4, 0, 0]"})
-        for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + 1))
-            text.replace(at, std::strlen(from), "u = [5.5, 0, 0]");
-    text.replace(text.find("corner = [1.5, -1.2, 0]"), 23, "corner = [3.0, -1.2, 0]");
+    const auto replaceAll = [&](const std::string& from, const std::string& to) {
+        for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+            text.replace(at, from.size(), to);
+    };
+    replaceAll("u = [4, 0, 0]", "u = [5.5, 0, 0]");
+    replaceAll("u = [0, 3.2, 0]", "u = [0, 4.7, 0]");
+    replaceAll("v = [0, 3.2, 0]", "v = [0, 4.7, 0]");
+    replaceAll("corner = [1.5, -1.2, 0]", "corner = [3.0, -1.2, 0]");
+    replaceAll("corner = [-2.5, 2.0, 0]", "corner = [-2.5, 3.5, 0]");
+    text.replace(text.find("time_s = 0\n"), 11, "time_s = 0\nyaw_deg = 30\n");
     text += R"(
 [[materials]]
 name = "yellow"
@@ -200,7 +234,8 @@ albedo = [0.8, 0.7, 0.05]
 name = "table_top"
 material = "yellow"
 type = "box"
-position = [0.45, 0.0, 0.475]
+position = [0.154, 0.423, 0.475]
+rpy_deg = [0, 0, 70]
 size = [0.3, 0.12, 0.05]
 )";
     const Scene scene = parseScene(text, "table_court.toml", "");
@@ -215,7 +250,7 @@ size = [0.3, 0.12, 0.05]
         // The table top's colour, read where the camera sees its middle.
         Image frame;
         run.read(hist, 0, 0, &frame);
-        const Vec2 px = run.cameraAt(0).project(Vec3(0.45, 0.0, 0.5));
+        const Vec2 px = run.cameraAt(0).project(Vec3(0.154, 0.423, 0.5));
         const int x = int(px.x()), y = int(px.y());
         return hist.share(frame.at(x, y, 0), frame.at(x, y, 1), frame.at(x, y, 2));
     };

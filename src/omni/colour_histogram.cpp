@@ -47,7 +47,8 @@ uint64_t ColourHistogram::count(int r, int g, int b) const
 
 void ColourHistogram::setExposure(double scale)
 {
-    if (!(scale >= 0) || !std::isfinite(scale)) throw Error("exposure", "must be positive and finite");
+    if (!(scale == 0 || (scale >= 1e-6 && scale <= 1e6)))
+        throw Error("exposure", "must lie in [1e-6, 1e6] (0: unknown)");
     exposure_ = scale;
 }
 
@@ -86,8 +87,9 @@ ColourHistogram ColourHistogram::load(const std::string& path)
         if (line.compare(0, std::strlen(kExposure), kExposure) == 0) {
             std::istringstream es(line.substr(std::strlen(kExposure)));
             double x = 0;
-            if (!(es >> x) || (es >> rest) || !(x > 0) || !std::isfinite(x))
-                throw Error(where(), "exposure must be a positive number");
+            if (!(es >> x) || (es >> rest) || !(x >= 1e-6 && x <= 1e6))
+                throw Error(where(), "exposure must be a number in [1e-6, 1e6]");
+            if (h.exposure_ > 0) throw Error(where(), "exposure given twice");
             h.exposure_ = x;
             continue;
         }

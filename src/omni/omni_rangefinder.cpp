@@ -42,7 +42,7 @@ void checkOmniRangeConfig(const OmniRangeConfig& cfg, const OmniCamera& cam)
     const double rho = radiusAtRange(cam, cfg.height_m, cfg.max_range_m) + cfg.filter.n_behind + 1;
     const double rim = cam.radius(k.max_incidence_deg * M_PI / 180);
     char where[160];
-    std::snprintf(where, sizeof where, "the floor at %.3g m (image radius %.4g px with N pixels behind it)",
+    std::snprintf(where, sizeof where, "the floor at %.3g m (image radius %.4g px with --n-behind pixels behind it)",
                   cfg.max_range_m, rho);
     if (rho > rim || rho > k.cx || rho > k.cy || rho > k.width - k.cx || rho > k.height - k.cy)
         throw Error("omni camera",

@@ -28,14 +28,15 @@ OmniRun::OmniRun(const Scene& scene, const SurfaceSet& surfaces, const OmniRunCo
         throw Error(cam_.name, "frame over " + std::to_string(limits::kFramePixels) + " pixels");
     if (!(cfg.margin_m >= 0) || !std::isfinite(cfg.margin_m)) throw Error("margin_m", "must be finite and >= 0");
     if (!std::isfinite(cfg.floor_z_m)) throw Error("floor_z_m", "must be finite");
-    if (!(cfg.outlier_m > 0 && cfg.outlier_m <= 100)) throw Error("--outlier", "must lie in (0, 100] m");
+    if (!(cfg.outlier_m >= 0.01 && cfg.outlier_m <= 100)) throw Error("--outlier", "must lie in [0.01, 100] m");
     ScanConfig sc;
     sc.sensor = cfg.laser;
     sc.seed = cfg.seed;
     sc.from_s = sc.to_s = 0;
     sc.rate_hz = 1;
     scanner_ = std::make_unique<Scanner>(scene, surfaces, sc);
-    if (!(std::abs(cfg.exposure) <= 1e6)) throw Error("--exposure", "must lie in [-1e6, 1e6] (<= 0: metered)");
+    if (!(std::abs(cfg.exposure) <= 1e6) || (cfg.exposure > 0 && cfg.exposure < 1e-6))
+        throw Error("--exposure", "must lie in [1e-6, 1e6] (<= 0: metered)");
     // The distance formula takes the mirror's axis as vertical.
     const Pose cp = scene.cameraAt(cam_, scene.t_start_s).pose;
     if (!((cp.R * Vec3(0, 0, -1)).z() < -std::cos(M_PI / 180)))
@@ -57,6 +58,9 @@ OmniRangeConfig OmniRun::rangeAt(double t_s) const
     r.height_m = scene_.cameraAt(cam_, t_s).pose.t.z() - cfg_.floor_z_m;
     if (!(r.height_m > 0))
         throw Error(cam_.name, "the omni camera is not above the floor at t = " + std::to_string(t_s) + " s");
+    if (r.height_m > 100)
+        throw Error("--floor-z",
+                    "puts the floor over 100 m below the omni camera at t = " + std::to_string(t_s) + " s");
     return r;
 }
 
@@ -110,9 +114,13 @@ long long OmniRun::train(ColourHistogram& hist, double t_s, uint64_t k)
     f.camera_pose = cam.pose();
     const std::vector<double> l = laserPerScanline(f);
     std::vector<bool> skip(f.omni.range_m.size(), false);
-    for (size_t s = 0; s < skip.size(); ++s)
-        skip[s] = f.omni.status[s] == OmniRangeStatus::Hit && std::isfinite(l[s]) &&
-            std::abs(l[s] - f.omni.range_m[s]) > cfg_.outlier_m;
+    for (size_t s = 0; s < skip.size(); ++s) {
+        // A reading at the minimum range is one too; one at the maximum is "at least that far",
+        // comparable only with a laser range short of it.
+        const bool comparable =
+            std::isfinite(l[s]) && (f.omni.status[s] != OmniRangeStatus::MaxRange || l[s] < rc.max_range_m);
+        skip[s] = comparable && std::abs(l[s] - f.omni.range_m[s]) > cfg_.outlier_m;
+    }
     return trainFreeSpace(hist, frame, cam, laser, rc, cfg_.margin_m, &skip);
 }
 

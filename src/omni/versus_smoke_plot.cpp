@@ -56,6 +56,7 @@ void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>
                           long long min_readings)
 {
     if (tallies.empty()) throw Error(path, "no sensors to plot");
+    if (min_readings < 1) throw Error(path, "a bin needs at least one reading to be drawn");
     const size_t nb = tallies.front().bins().size();
     for (const RangeTally& t : tallies)
         if (t.config().column_edges != tallies.front().config().column_edges)

@@ -462,6 +462,10 @@ Image toDisplay(const Image& rad, double exposure, double* used, const CameraMod
                 sum += 0.2126 * rad.at(x, y, 0) + 0.7152 * rad.at(x, y, 1) + 0.0722 * rad.at(x, y, 2);
                 ++n;
             }
+        if (metered_by && n == 0)
+            throw Error("--exposure",
+                        "cannot meter: no pixel of the frame sees through the camera (its mirror's disc lies outside "
+                        "the frame); give a scale");
         const double mean = sum / double(std::max(1LL, n));
         scale = mean > 0 ? 0.18 / mean : 1.0;
     }

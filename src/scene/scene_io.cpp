@@ -210,6 +210,10 @@ Camera readCamera(TomlTable t, const std::vector<Robot>& robots)
     c.fy_px = t.nonneg("fy_px", 0.0);
     c.cx_px = t.num("cx_px", -1.0);
     c.cy_px = t.num("cy_px", -1.0);
+    if (t.has("cx_px") && !(c.cx_px >= 0 && c.cx_px <= limits::kFrameSide))
+        t.error("cx_px", "must lie in 0…" + std::to_string(limits::kFrameSide) + " px");
+    if (t.has("cy_px") && !(c.cy_px >= 0 && c.cy_px <= limits::kFrameSide))
+        t.error("cy_px", "must lie in 0…" + std::to_string(limits::kFrameSide) + " px");
     const std::string kind = t.str("kind", "pinhole");
     const auto k = parseCameraKind(kind);
     if (!k) t.error("kind", "must be pinhole or omni, got '" + kind + "'");

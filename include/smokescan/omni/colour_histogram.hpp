@@ -36,7 +36,7 @@ public:
 
     /// The radiance scale of the frames it was trained on; 0 = unknown.
     double exposure() const { return exposure_; }
-    /// @throw Error for a scale that is not positive and finite (0 = unknown is allowed).
+    /// @throw Error for a scale outside [1e-6, 1e6] (0 = unknown is allowed).
     void setExposure(double scale);
 
     /// @brief Writes the histogram as text (atomically): a header line, "# exposure x" when
@@ -44,7 +44,7 @@ public:
     void save(const std::string& path) const;
     /// @brief Reads what save wrote. @throw Error naming the file and line: a bad header, a bin
     /// outside the histogram, a repeated bin, a count that is not a positive integer, no counts,
-    /// an exposure that is not a positive number.
+    /// an exposure outside [1e-6, 1e6] or given twice.
     static ColourHistogram load(const std::string& path);
 
 private:
