@@ -169,7 +169,7 @@ void addOmnirange(CLI::App& app, Runner& run)
     auto* c = app.add_subcommand(
         "omnirange", "The omnidirectional camera as a colour-based rangefinder beside a laser (docs/omnicam.md)");
     c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml) with an omni camera")->required();
-    c->add_option("--out", a->out, "The omnicam's ranges as a laser log (360 scanlines)")->required();
+    c->add_option("--out", a->out, "The omnicam's ranges as a laser log (one range per scanline)")->required();
     c->add_option("--train", a->train, "Times [s] at which the laser's scan trains the colour histogram (comma list)");
     c->add_option("--histogram", a->histogram, "A trained colour histogram to use instead of --train");
     c->add_option("--save-histogram", a->save_histogram, "Also write the trained colour histogram");

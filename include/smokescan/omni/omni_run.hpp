@@ -12,7 +12,7 @@
 /// | seed          | 1       | –    | the frames' and the laser's noise                               |
 /// | floor_z_m     | 0       | m    | the floor's height: the viewpoint's height above it is h        |
 /// | margin_m      | 0.1     | m    | training: floor this much short of the laser's range is free    |
-/// | outlier_m     | 1.25    | m    | training: scanlines a trial histogram reads this far from the laser are left out (the paper's); (0, 100] |
+/// | outlier_m     | 1.25    | m    | training: scanlines a trial histogram reads this far from the laser are left out (the paper's); [0.01, 100] |
 /// | exposure      | 0       | –    | radiance scale of the frames; ≤ 0: metered once on the first frame, then held (a run reading with a saved histogram takes the histogram's) |
 #include <cmath>
 #include <string>
