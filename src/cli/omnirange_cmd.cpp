@@ -17,6 +17,7 @@
 #include "smokescan/omni/omni_run.hpp"
 #include "smokescan/omni/sensors_versus_smoke.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensors/laser_log.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -35,13 +36,14 @@ void writeOmniScan(std::ostream& o, const OmniFrame& f)
     o << '\n';
 }
 
+/// The laser's scan at the frame's time, as `scan` writes logs (error values kept).
 void writeLaserScan(std::ostream& o, const OmniFrame& f, const LrfSpec& spec)
 {
-    const long long mm_per_unit = std::llround(spec.unit_m / 0.001);  // as `scan` writes logs
-    o << std::fixed << std::setprecision(3) << f.time_s;
-    for (size_t i = 0; i < f.laser_value.size(); ++i)
-        o << ' ' << std::setprecision(6) << f.laser_angle_rad[i] << ' ' << f.laser_value[i] * mm_per_unit;
-    o << '\n';
+    Scan s;
+    s.time_s = f.time_s;
+    s.angle_rad = f.laser_angle_rad;
+    s.value = f.laser_value;
+    writeLaserLogScan(o, s, spec);
 }
 
 std::vector<double> scanTimes(const OmniArgs& a, const Scene& scene)

@@ -88,7 +88,7 @@ LaserFreeSpace OmniRun::laserAt(double t_s, uint64_t k, std::vector<long long>* 
     const LrfSpec& spec = scanner_->spec();
     for (size_t i = 0; i < s.value.size(); ++i) {
         l.angle_rad.push_back(s.angle_rad[i]);
-        l.range_m.push_back(spec.isErrorValue(s.value[i]) ? NAN : double(s.value[i]) * spec.unit_m);
+        l.range_m.push_back(spec.rangeOf(s.value[i]));
     }
     return l;
 }

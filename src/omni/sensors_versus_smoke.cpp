@@ -35,8 +35,8 @@ void SensorsVersusSmoke::add(const OmniFrame& f, double height_m, uint64_t k)
         const LrfSpec& spec = laser.spec();
         for (size_t i = 0; i < s.beams.size(); ++i) {
             const BeamResult& b = s.beams[i];
-            const double reading = spec.isErrorValue(s.value[i]) ? NAN : double(s.value[i]) * spec.unit_m;
-            tallies_[j + 1].add(b.smoke.column_regional + b.smoke.column_local, b.hit.hit ? b.hit.t_m : kInf, reading);
+            tallies_[j + 1].add(b.smoke.column_regional + b.smoke.column_local, b.hit.endOr(kInf),
+                                spec.rangeOf(s.value[i]));
         }
     }
 }

@@ -47,6 +47,8 @@ struct LrfSpec {
     bool isErrorValue(long long value) const;
     /// True when a logged range [m] is one of the error values (a log gives them in its own unit).
     bool isErrorRange(double range_m) const { return isErrorValue(std::llround(range_m / unit_m)); }
+    /// A reported value as a range [m]; NaN for an error value.
+    double rangeOf(long long value) const { return isErrorValue(value) ? NAN : double(value) * unit_m; }
     /// Which values are error codes, in words (log headers).
     std::string errorValueSummary() const;
 };
