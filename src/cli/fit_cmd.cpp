@@ -12,7 +12,9 @@
 #include "smokescan/fit/covariates.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/fit/fit_report.hpp"
+#include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/fit/plume_fit.hpp"
+#include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/plot/format.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -29,6 +31,8 @@ struct FitArgs {
     double offset = 0;
     bool fixed_offset = false, lenient = false, covariates_all = false;
     SensorFitConfig cfg;
+    OmniFitConfig omni;
+    bool omni_options = false;  ///< --max-range, --floor-z or --tolerance given (the omnicam's)
 };
 
 /// OUT with its extension replaced: sensor.toml → sensor_report.json.
@@ -36,6 +40,78 @@ std::string beside(const std::string& out, const std::string& suffix)
 {
     fs::path p(out);
     return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+/// --reference must name one of the groups.
+void checkReference(const std::string& reference, const std::vector<BeamGroup>& groups)
+{
+    if (reference.empty()) return;
+    std::string names;
+    bool known = false;
+    for (const auto& g : groups) {
+        names += (names.empty() ? "" : ", ") + g.name;
+        known |= g.name == reference;
+    }
+    if (!known) throw Error("--reference", "no group '" + reference + "' (groups: " + names + ")");
+}
+
+/// The report, the aligned streams and the figures (all but the report only when the fit
+/// succeeded), and the summary; throws when no threshold was fitted (the report stays).
+void writeFitOutputs(const FitArgs& a, RunFiles& files, const SensorFitResult& r, const FitSources& sources,
+                     const UrgNoiseFloorResult* phys)
+{
+    writeFitReportJson(files.stage(a.report), r, a.cfg, sources, phys);
+    const bool failed = !r.ok() || (phys && !phys->ok);
+    if (failed) files.commit();
+    if (!failed && !a.aligned.empty()) writeAlignedCsv(files.stage(a.aligned), r);
+    if (!failed && !r.aligned.empty()) {
+        writeFitTimePlot(files.stage(a.plots + "_fig5.png"), r, std::max(0, r.reference));
+        writeFitSaturationPlot(files.stage(a.plots + "_fig9.png"), r, a.cfg);
+    }
+    std::fputs(fitSummaryText(r, sources.skipped.size()).c_str(), stdout);
+    if (!r.ok())
+        throw Error(a.laser,
+                    "no threshold could be fitted: " +
+                        (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
+}
+
+/// The omnicam's log: its failures against the scene's truth, fitted as a laser's errors are.
+int runFitOmni(const FitArgs& a, const FitInputsConfig& ic, RunFiles& files)
+{
+    OmniFitInputs o = loadOmniFitInputs(ic, a.omni);
+    checkReference(a.cfg.reference, o.in.groups);
+    SensorFitConfig cfg = a.cfg;
+    for (const auto& v : o.in.scene->volumes)
+        if (v.role == SmokeRole::Regional) {
+            cfg.sigma_t_per_density = v.medium.sigmaT(550.0);  // the camera sees visible light: green's
+            break;
+        }
+    std::printf(
+        "omnicam '%s', viewpoint %.3f m above the floor: %lld of %lld readings more than %.2f m off the "
+        "truth (%lld short, %lld long)\n",
+        o.camera.c_str(), o.height_m, o.shorter + o.longer, o.readings, a.omni.tolerance_m, o.shorter, o.longer);
+    const SensorFitResult r =
+        fitSensor(o.in.log, o.in.saturation, o.in.groups, o.spec, &o.in.calibration, cfg, o.failed);
+    FitArgs shown = a;
+    shown.cfg = cfg;
+    writeFitOutputs(shown, files, r, o.in.sources, nullptr);
+    const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
+    AtomicFile f(files.stage(a.out));
+    f.stream() << fmt("# fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s' (half its readings "
+                      "more than %.2f m off the truth), P = %.5f +/- %.5f density.m along the camera's line of "
+                      "sight (report: %s)\n",
+                      a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
+                      a.omni.tolerance_m, ref.penetration_power.value, ref.penetration_power.se, a.report.c_str())
+               << "# the omnicam's onset: `smokescan scan` simulates lasers and refuses this file\n"
+               << "type = \"omnicam\"\ncamera = \"" << o.camera << "\"\n\n[paper]\n"
+               << fmt("penetration_power = %.9g\n", ref.penetration_power.value)
+               << fmt("\n[extensions]\nclock_offset_s = %.9g\n", r.offset.offset_s.value);
+    f.commit();
+    files.commit();
+    std::printf("wrote %s (the omnicam's onset, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s\n", a.out.c_str(),
+                ref.group.c_str(), a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ",
+                a.aligned.c_str());
+    return 0;
 }
 
 int runFit(const FitArgs& a0)
@@ -73,20 +149,20 @@ int runFit(const FitArgs& a0)
                        a.surfaces_file,
                        a.surfaces,
                        {parseRangeUnit(a.unit), a.lenient}};
+    a.cfg.offset_s = a.offset;
+    a.cfg.estimate_offset = !a.fixed_offset;
+    if (a.sensor_type == "omnicam") {
+        if (model == SensorModel::Physical)
+            throw Error("--model physical", "fits a laser's receiver; the omnicam is fitted with the paper model");
+        if (!a.covariates.empty()) throw Error("--covariates", "are a laser's beams; the omnicam has none");
+        return runFitOmni(a, ic, files);
+    }
+    if (a.omni_options)
+        throw Error("fit", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
     FitInputs in = loadFitInputs(ic);
     if (std::isfinite(in.sigma_t_per_density)) a.cfg.sigma_t_per_density = in.sigma_t_per_density;
     const LrfSpec spec = specFor(in.mount.config);
-    if (!a.cfg.reference.empty()) {
-        std::string names;
-        bool known = false;
-        for (const auto& g : in.groups) {
-            names += (names.empty() ? "" : ", ") + g.name;
-            known |= g.name == a.cfg.reference;
-        }
-        if (!known) throw Error("--reference", "no group '" + a.cfg.reference + "' (groups: " + names + ")");
-    }
-    a.cfg.offset_s = a.offset;
-    a.cfg.estimate_offset = !a.fixed_offset;
+    checkReference(a.cfg.reference, in.groups);
     if (model == SensorModel::Physical && spec.type != SensorType::Urg04lx)
         throw Error("--model physical",
                     std::string("fits the URG-04LX noise floor only; for a ") + sensorTypeName(spec.type) +
@@ -97,22 +173,10 @@ int runFit(const FitArgs& a0)
         phys = std::make_unique<UrgNoiseFloorResult>(
             fitUrgNoiseFloor(*in.scene, *in.surfaces, in.mount, r, size_t(r.reference), in.calibration));
     // A failed fit writes its report alone (it holds the diagnosis); a fitted one writes everything.
-    writeFitReportJson(files.stage(a.report), r, a.cfg, in.sources, phys.get());
-    const bool failed = !r.ok() || (phys && !phys->ok);
-    if (failed) files.commit();
-    if (!failed && !a.aligned.empty()) writeAlignedCsv(files.stage(a.aligned), r);
-    if (!failed && !a.covariates.empty())
+    if (r.ok() && !(phys && !phys->ok) && !a.covariates.empty())
         writeCovariates(files.stage(a.covariates), in.log, r, *in.scene, *in.surfaces, in.mount, spec,
                         a.covariates_all);
-    if (!failed && !r.aligned.empty()) {
-        writeFitTimePlot(files.stage(a.plots + "_fig5.png"), r, std::max(0, r.reference));
-        writeFitSaturationPlot(files.stage(a.plots + "_fig9.png"), r, a.cfg);
-    }
-    std::fputs(fitSummaryText(r, in.sources.skipped.size()).c_str(), stdout);
-    if (!r.ok())
-        throw Error(a.laser,
-                    "no threshold could be fitted: " +
-                        (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
+    writeFitOutputs(a, files, r, in.sources, phys.get());
     const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
     SensorConfig fitted = in.mount.config;
     fitted.model = model;
@@ -226,7 +290,18 @@ void addFit(CLI::App& app, Runner& run)
         ->capture_default_str();
     c->add_option("--surface", a->surfaces, "A beam group: NAME=A0:A1[,A2:A3][@RANGE_M], degrees (repeatable)");
     c->add_option("--surfaces", a->surfaces_file, "Beam groups file: lines NAME A0_DEG A1_DEG [RANGE_M]");
-    c->add_option("--sensor-type", a->sensor_type, "urg04lx or lms200 (without --scene)")->capture_default_str();
+    c->add_option("--sensor-type", a->sensor_type,
+                  "urg04lx or lms200 (without --scene), or omnicam: the omnirange log, its failures against the "
+                  "--scene's truth (--sensor then names the omni camera)")
+        ->capture_default_str();
+    const auto omniOption = [&](const char* name, double& v, const char* help) {
+        c->add_option(name, v, help)->capture_default_str()->check(finite())->each([a](const std::string&) {
+            a->omni_options = true;
+        });
+    };
+    omniOption("--max-range", a->omni.max_range_m, "omnicam: the rangefinder's maximum range [m]");
+    omniOption("--floor-z", a->omni.floor_z_m, "omnicam: the floor's height [m]");
+    omniOption("--tolerance", a->omni.tolerance_m, "omnicam: a reading further than this from its truth failed [m]");
     c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
     c->add_flag("--lenient", a->lenient, "Skip bad lines (counted and listed in the report) instead of failing");
     c->add_option("--calibration", a->calibration, "Density-saturation calibration JSON, or a built-in name")

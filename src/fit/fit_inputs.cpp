@@ -63,7 +63,7 @@ SaturationSeries patchSeries(const SaturationSeries& s0, const std::string& patc
     return s;
 }
 
-FitInputs loadFitInputs(const FitInputsConfig& cfg)
+FitInputs loadFitData(const FitInputsConfig& cfg)
 {
     FitInputs in;
     in.log = readRecordedLog(cfg.laser, cfg.read);
@@ -77,6 +77,14 @@ FitInputs loadFitInputs(const FitInputsConfig& cfg)
         in.scene = std::make_unique<Scene>(loadScene(cfg.scene));
         in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
     }
+    in.sources.skipped = in.log.skipped;
+    in.sources.skipped.insert(in.sources.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
+    return in;
+}
+
+FitInputs loadFitInputs(const FitInputsConfig& cfg)
+{
+    FitInputs in = loadFitData(cfg);
     in.mount = chooseSensor(cfg, in.scene.get());
     const LrfSpec spec = specFor(in.mount.config);
     const size_t beams = in.log.scans.front().range.size();
@@ -92,8 +100,6 @@ FitInputs loadFitInputs(const FitInputsConfig& cfg)
                 in.sigma_t_per_density = v.medium.sigmaT(specFor(in.mount.config).wavelength_nm);
                 break;
             }
-    in.sources.skipped = in.log.skipped;
-    in.sources.skipped.insert(in.sources.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
     return in;
 }
 

@@ -127,8 +127,14 @@ namespace {
 class SensorFit {
 public:
     SensorFit(const RecordedLog& log, const std::vector<BeamGroup>& groups, const LrfSpec& spec,
-              const CurveFitResult* calibration, const SensorFitConfig& cfg)
-        : log_(log), groups_(groups), spec_(spec), calibration_(calibration), cfg_(cfg), K_(log.scans.size())
+              const CurveFitResult* calibration, const SensorFitConfig& cfg, const FailureMask& failed)
+        : log_(log),
+          groups_(groups),
+          spec_(spec),
+          failed_(failed),
+          calibration_(calibration),
+          cfg_(cfg),
+          K_(log.scans.size())
     {
         res_.groups = groups;
     }
@@ -153,6 +159,7 @@ private:
     const RecordedLog& log_;
     const std::vector<BeamGroup>& groups_;
     const LrfSpec& spec_;
+    const FailureMask& failed_;
     const CurveFitResult* calibration_;
     const SensorFitConfig& cfg_;
     const size_t K_;
@@ -196,12 +203,13 @@ private:
             for (size_t i = 0; i < a0.size(); ++i)
                 if (groups_[g].contains(a0[i])) gd_[g].beams.push_back(int(i));
         for (auto& d : gd_)
-            for (const auto& s : log_.scans) {
+            for (size_t k = 0; k < K_; ++k) {
+                const LaserLogScan& s = log_.scans[k];
                 int e = 0;
                 std::vector<double> r;
                 for (int i : d.beams) {
                     const double m = s.range[size_t(i)] * log_.unit_m;
-                    const bool err = spec_.isErrorRange(m);
+                    const bool err = failed_.empty() ? spec_.isErrorRange(m) : bool(failed_[k][size_t(i)]);
                     e += err;
                     r.push_back(err ? NAN : m);
                 }
@@ -531,13 +539,19 @@ private:
 }  // namespace
 
 SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, const std::vector<BeamGroup>& groups,
-                          const LrfSpec& spec, const CurveFitResult* calibration, const SensorFitConfig& cfg)
+                          const LrfSpec& spec, const CurveFitResult* calibration, const SensorFitConfig& cfg,
+                          const FailureMask& failed)
 {
     if (!(cfg.offset_window_s >= 0) || !(cfg.offset_step_s > 0))
         throw Error("--offset-window", "window must be >= 0 and step > 0");
     if (groups.empty()) throw Error("fit", "no beam groups: give --scene or --surface/--surfaces");
     if (!(cfg.smooth_s >= 0)) throw Error("--smooth", "must be >= 0");
-    return SensorFit(log, groups, spec, calibration, cfg).run(raw);
+    if (!failed.empty()) {
+        bool shaped = failed.size() == log.scans.size();
+        for (size_t k = 0; shaped && k < failed.size(); ++k) shaped = failed[k].size() == log.scans[k].range.size();
+        if (!shaped) throw Error(log.path, "the failure mask does not have the log's scans and beams");
+    }
+    return SensorFit(log, groups, spec, calibration, cfg, failed).run(raw);
 }
 
 }  // namespace smokescan

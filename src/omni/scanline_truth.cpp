@@ -30,11 +30,16 @@ ScanlineTruth scanlineTruth(const SurfaceSet& surfaces, const SmokeField& smoke,
         if (!(dir.norm() > 1e-9)) throw Error("camera_pose", "the omni camera must look straight down");
         dir.normalize();
         double nearest = kInf;
+        int surface = -1;
         for (double z = floor_z + cfg.probe_step_m; z < eye.z(); z += cfg.probe_step_m) {
             const SurfaceHit h = surfaces.closest(Ray{Vec3(eye.x(), eye.y(), z), dir}, std::min(nearest, cfg.reach_m));
-            if (h.hit) nearest = std::min(nearest, h.t_m);
+            if (h.hit && h.t_m < nearest) {
+                nearest = h.t_m;
+                surface = h.surface;
+            }
         }
         out.range_m.push_back(nearest);
+        out.surface.push_back(surface);
         // The line of sight to the floor at the obstacle's foot.
         const Vec3 foot = Vec3(eye.x(), eye.y(), floor_z) + std::min(nearest, max_range_m) * dir;
         const Vec3 sight = foot - eye;

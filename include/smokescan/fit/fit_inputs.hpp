@@ -58,6 +58,10 @@ struct FitInputs {
 /// left out). @throw Error naming the file when there is no such patch or it has no values.
 SaturationSeries patchSeries(const SaturationSeries& s, const std::string& patch);
 
+/// @brief Reads the files alone: the log, the saturation, the calibration and the scene (no sensor,
+/// no groups). @throw Error naming the file at fault.
+FitInputs loadFitData(const FitInputsConfig& cfg);
+
 /// @brief Reads and assembles the inputs. @throw Error naming the file or option at fault.
 FitInputs loadFitInputs(const FitInputsConfig& cfg);
 

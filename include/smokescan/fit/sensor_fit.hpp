@@ -132,12 +132,19 @@ struct SensorFitResult {
     bool ok() const { return reference >= 0; }
 };
 
+/// Which readings failed, [scan][beam], for a sensor that has no error values: the omnicam, whose
+/// failure is a reading off its truth (fit/omni_fit.hpp). Empty: the spec's error values decide.
+using FailureMask = std::vector<std::vector<bool>>;
+
 /// @brief Fits the sensor. Never throws for degenerate data: it diagnoses instead (no smoke event,
 /// all errors, a run that never recovers, spans that do not overlap).
 /// @param calibration the density ↔ saturation curve (null: P and τ are not computed)
-/// @throw Error for a bad configuration.
+/// @param failed which readings failed (empty: the error values of `spec`); a failed reading is
+/// an error of its group and stays out of the range fit
+/// @throw Error for a bad configuration, or a mask whose shape is not the log's.
 SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& sat, const std::vector<BeamGroup>& groups,
-                          const LrfSpec& spec, const CurveFitResult* calibration, const SensorFitConfig& cfg = {});
+                          const LrfSpec& spec, const CurveFitResult* calibration, const SensorFitConfig& cfg = {},
+                          const FailureMask& failed = {});
 
 /// @brief Saturation at time t by linear interpolation; NaN outside the series' span.
 double saturationAt(const SaturationSeries& s, double t_s);

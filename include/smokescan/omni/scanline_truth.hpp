@@ -36,6 +36,7 @@ struct ScanlineTruthConfig {
 struct ScanlineTruth {
     std::vector<double> range_m;  ///< horizontal distance to the nearest obstacle; +inf for none
     std::vector<double> column;  ///< smoke column along the line of sight [density·m]
+    std::vector<int> surface;  ///< the nearest obstacle's scene surface index; −1 for none
 };
 
 /// @brief The truth at each azimuth.
