@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include "cli_run.hpp"
 #include "omni_fit_run.hpp"
@@ -11,6 +12,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/fit/omni_fit.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;
@@ -18,33 +20,63 @@ using namespace smokescan::test;
 namespace {
 
 /// The planted run's files, and the fit's inputs for them.
-FitInputsConfig plantedFiles(unsigned seed, const std::string& tag)
+FitInputsConfig plantedFiles(const PlantedOmniRun& run, const std::string& tag, const std::string& scene)
 {
-    const PlantedOmniRun run = plantOmniRun(seed);
     FitInputsConfig c;
     c.laser = file("planted_" + tag + ".log", run.log_text);
     c.saturation = file("planted_" + tag + ".csv", run.saturation_text);
-    c.scene = file("court_fit.toml", omniCourt());
+    c.scene = file("court_" + tag + ".toml", scene);
     c.prefix = "wall_";
     return c;
+}
+
+FitInputsConfig plantedFiles(unsigned seed, const std::string& tag)
+{
+    return plantedFiles(plantOmniRun(seed), tag, omniCourt());
+}
+
+/// The Error's message, or "" when none is thrown.
+template <class F>
+std::string errorOf(F&& f)
+{
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
 }
 
 }  // namespace
 
 TEST(OmniFit, ClassifiesEachReadingAgainstItsTruthAndGroupsTheWallsByTheirLinesOfSight)
 {
-    const OmniFitInputs o = loadOmniFitInputs(plantedFiles(1, "classify"), OmniFitConfig{});
+    const PlantedOmniRun run = plantOmniRun(1);
+    const OmniFitInputs o = loadOmniFitInputs(plantedFiles(run, "classify", omniCourt()), OmniFitConfig{});
     EXPECT_EQ(o.camera, "omni");
     EXPECT_NEAR(o.height_m, 0.931, 1e-9);
     ASSERT_EQ(o.failed.size(), 301u);
-    // Per wall, the interior scanlines (both neighbours on the same wall) by the court's closed form.
+    // Every reading's class is the planted one: east failures short, west failures long, the rest ok.
+    ASSERT_EQ(o.outcome.size(), run.outcome.size());
+    long long same = 0;
+    for (size_t j = 0; j < run.outcome.size(); ++j) {
+        same += o.outcome[j] == run.outcome[j];
+        EXPECT_EQ(bool(o.failed[j / 360][j % 360]), run.outcome[j] != ReadingOutcome::Ok);
+    }
+    EXPECT_EQ(same, (long long)run.outcome.size());
+    EXPECT_GT(o.shorter, 1000);
+    EXPECT_GT(o.longer, 1000);
+    EXPECT_EQ(o.readings, 301 * 360);
+    // Per wall, the scanlines whose ring neighbours see the same wall, by the court's closed form.
     std::map<std::string, std::vector<double>> sight;
-    for (int i = 1; i < 359; ++i) {
-        const double b = i * M_PI / 180;
+    std::map<std::string, size_t> count;
+    for (int i = 0; i < 360; ++i) {
+        const double b = omniBearing(i);
         const std::string w = courtWallName(b);
-        if (courtWallName(b - M_PI / 180) == w && courtWallName(b + M_PI / 180) == w)
+        if (courtWallName(omniBearing((i + 359) % 360)) == w && courtWallName(omniBearing((i + 1) % 360)) == w)
             sight[w].push_back(std::hypot(courtWall(b), 0.931));
         EXPECT_NEAR(o.truth_m[size_t(i)], courtWall(b), 2e-3) << "scanline " << i;
+        EXPECT_NEAR(o.sight_m[size_t(i)], std::hypot(courtWall(b), 0.931), 2e-3) << "scanline " << i;
     }
     ASSERT_EQ(o.in.groups.size(), 4u);
     for (const BeamGroup& g : o.in.groups) {
@@ -52,27 +84,12 @@ TEST(OmniFit, ClassifiesEachReadingAgainstItsTruthAndGroupsTheWallsByTheirLinesO
         EXPECT_EQ(g.intervals_rad.size(), sight[g.name].size()) << g.name;
         EXPECT_NEAR(g.range_m, median(sight[g.name]), 2e-3) << g.name;
     }
-    // Clear air (S = 0.35 at t = 0): no scanline fails; at t = 150 s (S = 0.05) every east and
-    // west one does, short and long, and no north or south one.
-    int clear = 0, east = 0, west = 0, other = 0;
-    for (int i = 0; i < 360; ++i) {
-        clear += o.failed[0][size_t(i)];
-        const std::string w = courtWallName(i * M_PI / 180);
-        (w == "wall_east" ? east : w == "wall_west" ? west : other) += o.failed[150][size_t(i)];
-    }
-    EXPECT_EQ(clear, 0);
-    EXPECT_EQ(other, 0);
-    EXPECT_GT(east, 60);
-    EXPECT_GT(west, 40);
-    EXPECT_GT(o.shorter, 0);
-    EXPECT_GT(o.longer, 0);
-    EXPECT_EQ(o.readings, 301 * 360);
 }
 
-TEST(OmniFit, RecoversEachWallsPlantedOnsetAndItsPenetrationPowerAlongTheLineOfSight)
+TEST(OmniFit, RecoversEachWallsPlantedThresholdWithErrorsThatAreNotUnderstated)
 {
-    const CurveFitResult calib = readCalibrationJson("bocas");
     int within = 0, fits = 0;
+    double z2 = 0;
     for (unsigned seed = 1; seed <= 5; ++seed) {
         const OmniFitInputs o = loadOmniFitInputs(plantedFiles(seed, "recover"), OmniFitConfig{});
         const SensorFitResult r =
@@ -89,15 +106,45 @@ TEST(OmniFit, RecoversEachWallsPlantedOnsetAndItsPenetrationPowerAlongTheLineOfS
             }
             ASSERT_TRUE(th.fitted) << th.group << " " << th.diagnosis;
             ++fits;
-            within += std::abs(th.S_star.value - planted.at(th.group)) < 2 * th.S_star.se;
-            EXPECT_LT(std::abs(th.S_star.value - planted.at(th.group)), 4 * th.S_star.se + 1e-3) << th.group;
-            // P is the density at S* times the line of sight to the wall's foot, not the horizontal distance.
-            EXPECT_NEAR(th.penetration_power.value, calib.curve.invert(th.S_star.value) * o.in.groups[g].range_m, 1e-9);
-            EXPECT_GT(o.in.groups[g].range_m, 1.5);
+            const double z = (th.S_star.value - planted.at(th.group)) / th.S_star.se;
+            z2 += z * z;
+            within += std::abs(z) < 2;
+            EXPECT_LT(std::abs(z), 4) << th.group;
         }
     }
-    // Ten fits: at 2 SE about 95 % land within; 7 or more (binomial tail under 0.2 %).
-    EXPECT_GE(within, 7) << "of " << fits;
+    ASSERT_EQ(fits, 10);
+    // Errors not understated: most fits within 2 SE, and the pulls' RMS under 1.5. (They are
+    // overstated: RMS 0.53 over 24 fits, the fit's conservative floor on S*'s error, which
+    // docs/fitting.md lists as open; a test for unit pulls would fail today.)
+    EXPECT_GE(within, 7);
+    EXPECT_LT(std::sqrt(z2 / fits), 1.5);
+}
+
+TEST(OmniFit, FindsEachWallsOnsetAsOneColumnAlongTheLineOfSight)
+{
+    // The diagnosis' plant fails a scanline where the column along its line of sight, ρ·√(d² + h²),
+    // exceeds P (north wall P·e^−0.7), whatever the saturation: the fit assumes a threshold in S
+    // per wall, not that column. Across seeds each wall's P comes back within 3 SE + 8 % (a wall
+    // seen over a spread of distances shifts the probit's centre by a few %); with the horizontal
+    // distance in place of the line of sight it would be 15–30 % low.
+    const CurveFitResult calib = readCalibrationJson("bocas");
+    const double P = 0.003;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        const PlantedOmniRun run = plantOmniDiagnosisRun(seed, P, [&](double rho) { return calib.curve(rho); });
+        const OmniFitInputs o = loadOmniFitInputs(plantedFiles(run, "column", smokyCourt()), OmniFitConfig{});
+        const SensorFitResult r =
+            fitSensor(o.in.log, o.in.saturation, o.in.groups, o.spec, &o.in.calibration, SensorFitConfig{}, o.failed);
+        ASSERT_TRUE(r.ok()) << "seed " << seed;
+        for (const ThresholdFit& th : r.thresholds) {
+            // The west wall's smudged scanlines (the plant's 170°–190°) fail in clear air too, which
+            // a threshold without a floor cannot take: the diagnosis names that, not the fit.
+            if (th.group == "wall_west") continue;
+            ASSERT_TRUE(th.fitted) << th.group << " " << th.diagnosis;
+            const double want = th.group == "wall_north" ? P * std::exp(-0.7) : P;
+            EXPECT_NEAR(th.penetration_power.value, want, 3 * th.penetration_power.se + 0.08 * want)
+                << th.group << " seed " << seed;
+        }
+    }
 }
 
 TEST(OmniFit, RefusesMovingCamerasRangedGroupsAndFailureMasksOfAnotherShape)
@@ -107,50 +154,91 @@ TEST(OmniFit, RefusesMovingCamerasRangedGroupsAndFailureMasksOfAnotherShape)
     moving.replace(moving.find("time_s = 0\n"), 11,
                    "time_s = 0\n[[robots.keyframes]]\ntime_s = 2\nposition = [0.5, 0, 0]\n");
     c.scene = file("court_moving.toml", moving);
-    EXPECT_THROW(
-        {
-            try {
-                loadOmniFitInputs(c, OmniFitConfig{});
-            } catch (const Error& e) {
-                EXPECT_NE(std::string(e.what()).find("moving camera"), std::string::npos) << e.what();
-                throw;
-            }
-        },
-        Error);
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, OmniFitConfig{}); }).find("moving camera"), std::string::npos);
     c = plantedFiles(1, "refuse");
     c.surfaces = {"east=-10:10@1.5"};
-    EXPECT_THROW(loadOmniFitInputs(c, OmniFitConfig{}), Error);
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, OmniFitConfig{}); }).find("gives a range"), std::string::npos);
     c.surfaces = {"east=-10:10"};
     const OmniFitInputs o = loadOmniFitInputs(c, OmniFitConfig{});
     ASSERT_EQ(o.in.groups.size(), 1u);
     EXPECT_NEAR(o.in.groups[0].range_m, std::hypot(1.5, 0.931), 0.01);
     FailureMask wrong = o.failed;
     wrong.pop_back();
-    EXPECT_THROW(fitSensor(o.in.log, o.in.saturation, o.in.groups, o.spec, &o.in.calibration, {}, wrong), Error);
+    EXPECT_NE(errorOf([&] {
+                  fitSensor(o.in.log, o.in.saturation, o.in.groups, o.spec, &o.in.calibration, {}, wrong);
+              }).find("failure mask"),
+              std::string::npos);
     OmniFitConfig bad;
     bad.tolerance_m = 0;
-    EXPECT_THROW(loadOmniFitInputs(c, bad), Error);
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, bad); }).find("--tolerance"), std::string::npos);
     bad = OmniFitConfig{};
     bad.floor_z_m = 1.0;  // above the camera
-    EXPECT_THROW(loadOmniFitInputs(c, bad), Error);
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, bad); }).find("--floor-z"), std::string::npos);
     bad = OmniFitConfig{};
-    bad.max_range_m = 0.5;  // most readings beyond it: the wrong unit or range
-    EXPECT_THROW(loadOmniFitInputs(c, bad), Error);
+    bad.max_range_m = 1.0;  // most readings beyond it: the wrong unit or range
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, bad); }).find("--unit"), std::string::npos);
+    bad.max_range_m = 0.5;  // the tolerance takes half of it
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, bad); }).find("below half the maximum range"), std::string::npos);
+    bad = OmniFitConfig{};
+    bad.floor_z_m = -0.5;  // 1.431 m below the camera, where the court's floor is 0.931 m down
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, bad); }).find("straight below it is 0.931 m down"), std::string::npos);
+    FitInputsConfig tiny = c;
+    tiny.read.unit_m = 1e-5;  // millimetres read as hundredths of one
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(tiny, OmniFitConfig{}); }).find("below 2 cm"), std::string::npos);
+    // A laser's layout (half the circle), and the omnicam's log on a robot turned by 90°.
+    std::string half;
+    std::istringstream lines(plantOmniRun(1).log_text);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream f(line);
+        std::string t, a, r;
+        f >> t;
+        half += t;
+        for (int i = 0; f >> a >> r; ++i)
+            if (i < 180) half += " " + a + " " + r;
+        half += "\n";
+    }
+    FitInputsConfig laser = c;
+    laser.laser = file("half.log", half);
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(laser, OmniFitConfig{}); }).find("evenly spaced all round"),
+              std::string::npos);
+    std::string turned = omniCourt();
+    turned.replace(turned.find("time_s = 0\n"), 11, "time_s = 0\nyaw_deg = 90\n");
+    FitInputsConfig other = c;
+    other.scene = file("court_turned.toml", turned);
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(other, OmniFitConfig{}); }).find("even in its best scan"),
+              std::string::npos);
+    bad = OmniFitConfig{};
+    bad.camera = "nope";
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, bad); }).find("no omni camera 'nope'"), std::string::npos);
 }
 
-TEST(OmniFitCli, WritesTheOmnicamsOnsetWhichScanRefuses)
+TEST(OmniFitCli, WritesTheReferenceWallsOnsetWhichDiagnoseReadsAndScanRefuses)
 {
-    const FitInputsConfig c = plantedFiles(2, "cli");
+    const CurveFitResult calib = readCalibrationJson("bocas");
+    const double P = 0.003;
+    const PlantedOmniRun run = plantOmniDiagnosisRun(4, P, [&](double rho) { return calib.curve(rho); });
+    const FitInputsConfig c = plantedFiles(run, "cli", smokyCourt());
     const std::string out = file("omni_fit.toml"), report = file("omni_fit_report.json");
     const std::string args = "fit --laser " + c.laser + " --saturation " + c.saturation + " --scene " + c.scene +
-        " --sensor-type omnicam --target-prefix wall_ --out " + out;
+        " --sensor-type omnicam --sensor omni --target-prefix wall_ --out " + out;
     const CliRun r = cli(args);
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(r.out.find("omnicam 'omni', viewpoint 0.931 m above the floor"), std::string::npos) << r.out;
-    const std::string toml = slurp(out);
-    EXPECT_NE(toml.find("type = \"omnicam\""), std::string::npos) << toml;
-    EXPECT_NE(toml.find("penetration_power = "), std::string::npos) << toml;
     EXPECT_TRUE(std::filesystem::exists(report));
+    // The file holds the reference wall's (most scanlines: the south wall) onset: P, not e^−0.7·P.
+    const OmniSensorFile f = readOmniSensorFile(out);
+    EXPECT_EQ(f.camera, "omni");
+    EXPECT_NEAR(f.penetration_power, P, 0.08 * P);
+    EXPECT_LT(std::abs(f.extensions.clock_offset_s), 1.0);
+    EXPECT_NE(r.out.find("from 'wall_south'"), std::string::npos) << r.out;
+    // The chain: a diagnosis from that onset names what the plant put in.
+    const std::string diag = (dir() / "omni_fit_diag").string();
+    std::filesystem::remove_all(diag);
+    const CliRun d = cli("diagnose --laser " + c.laser + " --saturation " + c.saturation + " --scene " + c.scene +
+                         " --camera target_camera --sensor-type omnicam --sensor-file " + out + " --out " + diag);
+    ASSERT_EQ(d.status, 0) << d.err << d.out;
+    for (const char* cause : {"smoke_obstacle_return", "surface_threshold on wall_north", "sector_dropout"})
+        EXPECT_NE(d.out.find(cause), std::string::npos) << cause << "\n" << d.out;
     expectBad("scan " + c.scene + " --sensor-file " + out + " --out " + file("never.log"), "omnicam",
               file("never.log"));
     const std::string no = file("never.toml");
@@ -158,9 +246,16 @@ TEST(OmniFitCli, WritesTheOmnicamsOnsetWhichScanRefuses)
                   " --sensor-type omnicam --surface e=0:10 --out " + no,
               "needs --scene", no);
     expectBad(args.substr(0, args.find(" --out")) + " --tolerance 0 --out " + no, "--tolerance", no);
+    // A log of clear air alone: a few misreadings, never half a wall's, are no onset.
+    std::string clear;
+    std::istringstream lines(run.log_text);
+    std::getline(lines, clear);
+    for (std::string line; clear.size() < 20 * line.size() + 1 && std::getline(lines, line);) clear += "\n" + line;
+    const std::string clear_log = file("clear.log", clear + "\n");
+    expectBad("fit --laser " + clear_log + " --saturation " + c.saturation + " --scene " + c.scene +
+                  " --sensor-type omnicam --target-prefix wall_ --out " + no,
+              "no onset", no);
     expectBad("fit --laser " + c.laser + " --saturation " + c.saturation +
-                  " --sensor-type urg04lx --surface e=0:10 "
-                  "--tolerance 0.5 --out " +
-                  no,
+                  " --sensor-type urg04lx --surface e=0:10 --tolerance 0.5 --out " + no,
               "omnicam", no);
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/sensors/sensor_kind.hpp"
 
 namespace smokescan {
@@ -32,6 +33,9 @@ CLI::Validator intRange(long long lo, long long hi);
 SensorModel sensorModelOption(const std::string& option, const std::string& value);
 /// The sensor type an option names ("urg04lx", "lms200"); Error(option, ...) otherwise.
 SensorType sensorTypeOption(const std::string& option, const std::string& value);
+/// @brief The omnicam's options of `fit` and `diagnose` (--max-range, --floor-z, --tolerance)
+/// into `omni`; `given` turns true when any of them is on the command line.
+void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, bool& given);
 
 /// @brief An option whose value is one of a few names, stored as the enum it names; any other
 /// value is a parse error listing the names ("--link: 'x' is not one of probit, logistic").

@@ -9,8 +9,10 @@
 #include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/diagnose/diagnosis_report.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
+#include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/run_files.hpp"
+#include "smokescan/plot/format.hpp"
 #include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan::cli {
@@ -22,32 +24,14 @@ struct DiagnoseArgs {
     bool lenient = false;
     ReplayConfig replay;
     DiagnosisConfig diag;
+    OmniFitConfig omni;
+    bool omni_options = false;  ///< --max-range, --floor-z or --tolerance given (the omnicam's)
 };
 
-int runDiagnose(const DiagnoseArgs& a0)
+/// The diagnosis with a bar per round on a terminal.
+DiagnosisResult diagnoseWithProgress(const Replay& replay, DiagnosisConfig dc)
 {
-    DiagnoseArgs a = a0;
-    RunFiles files;
-    files.input(a.in.laser, "--laser");
-    files.input(a.in.saturation, "--saturation");
-    files.input(a.in.scene, "--scene");
-    files.input(a.in.calibration, "--calibration");
-    files.input(a.sensor_file, "--sensor-file");
-    files.outputFolder(a.out, "--out");
-    if (a.in.saturation.empty() && !a.in.patch.empty()) throw Error("--patch", "needs --saturation");
-    a.in.read = {parseRangeUnit(a.unit), a.lenient};
-    a.in.prefix = a.replay.target_prefix;
-    // The folder is checked (and staged) before the work: a taken --out fails at once.
-    AtomicFolder out(a.out, "the diagnosis folder", "--out");
-    const FitInputs in = loadFitInputs(a.in);
-    SensorConfig config = in.mount.config;
-    if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);
-    if (!a.model.empty()) config.model = sensorModelOption("--model", a.model);
-    // The clock offset a sensor file learned is the default of --offset.
-    if (std::isnan(a.replay.offset_s)) a.replay.offset_s = config.extensions.clock_offset_s;
-    const Replay replay = replayRun(in, config, a.replay);
-    DiagnosisConfig dc = a.diag;
-    std::unique_ptr<Progress> bar;  // one bar a round, on a terminal
+    std::unique_ptr<Progress> bar;
     int bar_round = 0;
     dc.progress = [&](int round, int done, int total) {
         if (round != bar_round) {
@@ -56,13 +40,12 @@ int runDiagnose(const DiagnoseArgs& a0)
         }
         bar->update(done, total);
     };
-    const DiagnosisResult r = diagnose(replay, dc);
-    SensorConfig extended = config;
-    extended.extensions = sensorExtensions(replay, r.model);
-    writeSensorFile(out.path("sensor.toml"), extended,
-                    "the " + std::string(sensorModelName(config.model)) + " model of " + a.in.scene +
-                        "'s sensor with what `smokescan diagnose` learned from " + a.in.laser +
-                        " (verdict: " + r.verdict + ")");
+    return diagnose(replay, dc);
+}
+
+/// diagnosis.json and report.md into the folder; the verdict and figures printed once it is committed.
+void finishDiagnosis(const DiagnoseArgs& a, AtomicFolder& out, const Replay& replay, const DiagnosisResult& r)
+{
     const DiagnosisSources src{a.in.laser,    a.in.saturation,   a.in.scene,      a.in.calibration,
                                a.sensor_file, a.replay.offset_s, a.replay.block_s};
     writeDiagnosisJson(out.path("diagnosis.json"), r, src);
@@ -81,6 +64,79 @@ int runDiagnose(const DiagnoseArgs& a0)
                 e.invented_error_rate);
     std::printf("wrote %s/diagnosis.json, %s/report.md and %s/sensor.toml\n", a.out.c_str(), a.out.c_str(),
                 a.out.c_str());
+}
+
+/// The omnicam's log against its truth, from the onset its sensor file holds.
+int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out)
+{
+    if (a.sensor_file.empty())
+        throw Error("--sensor-type omnicam",
+                    "needs --sensor-file: the omnicam's onset, as `smokescan fit --sensor-type omnicam` writes it");
+    if (!a.model.empty()) throw Error("--model", "is a laser's; the omnicam is replayed with the paper model");
+    const OmniSensorFile file = readOmniSensorFile(a.sensor_file);
+    if (!a.in.sensor.empty() && !file.camera.empty() && a.in.sensor != file.camera)
+        throw Error("--sensor",
+                    "names '" + a.in.sensor + "', but " + a.sensor_file + " is the onset of '" + file.camera + "'");
+    // The readings are classed as the onset was fitted: the file's tolerance, range and floor.
+    OmniFitConfig omni;
+    omni.tolerance_m = file.tolerance_m;
+    omni.max_range_m = file.max_range_m;
+    omni.floor_z_m = file.floor_z_m;
+    if (a.omni_options &&
+        (a.omni.tolerance_m != omni.tolerance_m || a.omni.max_range_m != omni.max_range_m ||
+         a.omni.floor_z_m != omni.floor_z_m))
+        throw Error(a.sensor_file,
+                    fmt("was fitted with --tolerance %g --max-range %g --floor-z %g; the options given differ",
+                        omni.tolerance_m, omni.max_range_m, omni.floor_z_m));
+    omni.camera = a.in.sensor.empty() ? file.camera : a.in.sensor;
+    omni.groups = false;
+    const OmniFitInputs o = loadOmniFitInputs(a.in, omni);
+    if (std::isnan(a.replay.offset_s)) a.replay.offset_s = file.extensions.clock_offset_s;
+    const Replay replay = replayOmniRun(o, file, a.replay);
+    const DiagnosisResult r = diagnoseWithProgress(replay, a.diag);
+    OmniSensorFile extended = file;
+    extended.camera = o.camera;
+    extended.extensions = sensorExtensions(replay, r.model);
+    writeOmniSensorFile(out.path("sensor.toml"), extended,
+                        "the omnicam's onset from " + a.sensor_file + " with what `smokescan diagnose` learned from " +
+                            a.in.laser + " (verdict: " + r.verdict + ")");
+    finishDiagnosis(a, out, replay, r);
+    return 0;
+}
+
+int runDiagnose(const DiagnoseArgs& a0)
+{
+    DiagnoseArgs a = a0;
+    RunFiles files;
+    files.input(a.in.laser, "--laser");
+    files.input(a.in.saturation, "--saturation");
+    files.input(a.in.scene, "--scene");
+    files.input(a.in.calibration, "--calibration");
+    files.input(a.sensor_file, "--sensor-file");
+    files.outputFolder(a.out, "--out");
+    if (a.in.saturation.empty() && !a.in.patch.empty()) throw Error("--patch", "needs --saturation");
+    a.in.read = {parseRangeUnit(a.unit), a.lenient};
+    a.in.prefix = a.replay.target_prefix;
+    // The folder is checked (and staged) before the work: a taken --out fails at once.
+    AtomicFolder out(a.out, "the diagnosis folder", "--out");
+    if (a.in.sensor_type == "omnicam") return runDiagnoseOmni(a, out);
+    if (a.omni_options)
+        throw Error("diagnose", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
+    const FitInputs in = loadFitInputs(a.in);
+    SensorConfig config = in.mount.config;
+    if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);
+    if (!a.model.empty()) config.model = sensorModelOption("--model", a.model);
+    // The clock offset a sensor file learned is the default of --offset.
+    if (std::isnan(a.replay.offset_s)) a.replay.offset_s = config.extensions.clock_offset_s;
+    const Replay replay = replayRun(in, config, a.replay);
+    const DiagnosisResult r = diagnoseWithProgress(replay, a.diag);
+    SensorConfig extended = config;
+    extended.extensions = sensorExtensions(replay, r.model);
+    writeSensorFile(out.path("sensor.toml"), extended,
+                    "the " + std::string(sensorModelName(config.model)) + " model of " + a.in.scene +
+                        "'s sensor with what `smokescan diagnose` learned from " + a.in.laser +
+                        " (verdict: " + r.verdict + ")");
+    finishDiagnosis(a, out, replay, r);
     return 0;
 }
 
@@ -99,7 +155,11 @@ void addDiagnose(CLI::App& app, Runner& run)
     c->add_option("--scene", a->in.scene, "Scene the run was recorded in (built-in name or file)")->required();
     c->add_option("--out", a->out, "Folder to write (new): diagnosis.json, report.md, sensor.toml")->required();
     c->add_option("--sensor", a->in.sensor, "Sensor in the scene (default: the first of --sensor-type)");
-    c->add_option("--sensor-type", a->in.sensor_type, "urg04lx or lms200")->capture_default_str();
+    c->add_option("--sensor-type", a->in.sensor_type,
+                  "urg04lx or lms200, or omnicam: the omnirange log against the scene's truth, from the onset of "
+                  "--sensor-file (--sensor then names the omni camera)")
+        ->capture_default_str();
+    addOmniClassOptions(c, a->omni, a->omni_options);
     c->add_option("--sensor-file", a->sensor_file, "Sensor file whose model is diagnosed (default: the scene's)");
     c->add_option("--model", a->model,
                   "Sensor model: paper or physical (the urg04lx's, with --saturation; default: the scene's or the "

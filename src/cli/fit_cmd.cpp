@@ -14,7 +14,6 @@
 #include "smokescan/fit/fit_report.hpp"
 #include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/fit/plume_fit.hpp"
-#include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/plot/format.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -75,10 +74,53 @@ void writeFitOutputs(const FitArgs& a, RunFiles& files, const SensorFitResult& r
                         (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
 }
 
+/// An omnicam's onset must be in the log: a wall counts only where its failures cross half its
+/// readings (a few clear-air misreadings are not an onset) and S* and P are finite, S* within the
+/// saturation the log saw. The others lose their fit (with the reason); the reference is the
+/// named or largest one left.
+void requireOnsets(SensorFitResult& r, const std::string& reference)
+{
+    double s_lo = kInf, s_hi = -kInf;
+    for (const AlignedScan& a : r.aligned)
+        if (std::isfinite(a.saturation)) s_lo = std::min(s_lo, a.saturation), s_hi = std::max(s_hi, a.saturation);
+    r.reference = -1;
+    for (size_t g = 0; g < r.thresholds.size(); ++g) {
+        ThresholdFit& th = r.thresholds[g];
+        if (!th.fitted) continue;
+        bool above = false, below = false;
+        for (const AlignedScan& a : r.aligned)
+            if (a.beams[g] > 0 && std::isfinite(a.saturation)) {
+                above |= 2 * a.errors[g] > a.beams[g];
+                below |= 2 * a.errors[g] < a.beams[g];
+            }
+        std::string why;
+        if (!above || !below)
+            why = above ? "it failed on more than half its readings in every scan"
+                        : "it never failed on more than half its readings in a scan";
+        else if (!std::isfinite(th.S_star.value) || !std::isfinite(th.penetration_power.value) ||
+                 !(th.penetration_power.value > 0) || th.S_star.value < s_lo || th.S_star.value > s_hi)
+            why = fmt("S* = %.4g lies outside the saturation the log saw (%.4g to %.4g)", th.S_star.value, s_lo, s_hi);
+        if (!why.empty()) {
+            th.fitted = false;
+            th.diagnosis += (th.diagnosis.empty() ? "" : "; ") + ("no onset: " + why);
+            continue;
+        }
+        const bool named = th.group == reference;
+        if (named || (reference.empty() && (r.reference < 0 || th.beams > r.thresholds[size_t(r.reference)].beams)))
+            r.reference = int(g);
+    }
+    if (r.reference < 0)
+        r.diagnoses.insert(r.diagnoses.begin(),
+                           "no wall's readings crossed from mostly right to mostly wrong as the smoke "
+                           "changed: no onset in this log");
+}
+
 /// The omnicam's log: its failures against the scene's truth, fitted as a laser's errors are.
 int runFitOmni(const FitArgs& a, const FitInputsConfig& ic, RunFiles& files)
 {
-    OmniFitInputs o = loadOmniFitInputs(ic, a.omni);
+    OmniFitConfig omni = a.omni;
+    omni.camera = a.sensor;  // --sensor names the omni camera
+    OmniFitInputs o = loadOmniFitInputs(ic, omni);
     checkReference(a.cfg.reference, o.in.groups);
     SensorFitConfig cfg = a.cfg;
     for (const auto& v : o.in.scene->volumes)
@@ -90,23 +132,26 @@ int runFitOmni(const FitArgs& a, const FitInputsConfig& ic, RunFiles& files)
         "omnicam '%s', viewpoint %.3f m above the floor: %lld of %lld readings more than %.2f m off the "
         "truth (%lld short, %lld long)\n",
         o.camera.c_str(), o.height_m, o.shorter + o.longer, o.readings, a.omni.tolerance_m, o.shorter, o.longer);
-    const SensorFitResult r =
-        fitSensor(o.in.log, o.in.saturation, o.in.groups, o.spec, &o.in.calibration, cfg, o.failed);
+    SensorFitResult r = fitSensor(o.in.log, o.in.saturation, o.in.groups, o.spec, &o.in.calibration, cfg, o.failed);
+    requireOnsets(r, cfg.reference);
     FitArgs shown = a;
     shown.cfg = cfg;
     writeFitOutputs(shown, files, r, o.in.sources, nullptr);
     const ThresholdFit& ref = r.thresholds[size_t(r.reference)];
-    AtomicFile f(files.stage(a.out));
-    f.stream() << fmt("# fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s' (half its readings "
-                      "more than %.2f m off the truth), P = %.5f +/- %.5f density.m along the camera's line of "
-                      "sight (report: %s)\n",
-                      a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
-                      a.omni.tolerance_m, ref.penetration_power.value, ref.penetration_power.se, a.report.c_str())
-               << "# the omnicam's onset: `smokescan scan` simulates lasers and refuses this file\n"
-               << "type = \"omnicam\"\ncamera = \"" << o.camera << "\"\n\n[paper]\n"
-               << fmt("penetration_power = %.9g\n", ref.penetration_power.value)
-               << fmt("\n[extensions]\nclock_offset_s = %.9g\n", r.offset.offset_s.value);
-    f.commit();
+    OmniSensorFile fitted;
+    fitted.camera = o.camera;
+    fitted.penetration_power = ref.penetration_power.value;
+    fitted.extensions.clock_offset_s = r.offset.offset_s.value;
+    fitted.tolerance_m = omni.tolerance_m;
+    fitted.max_range_m = omni.max_range_m;
+    fitted.floor_z_m = omni.floor_z_m;
+    writeOmniSensorFile(
+        files.stage(a.out), fitted,
+        fmt("fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s' (half its readings "
+            "more than %.2f m off the truth),\nP = %.5f +/- %.5f density.m along the camera's line "
+            "of sight (report: %s)",
+            a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
+            a.omni.tolerance_m, ref.penetration_power.value, ref.penetration_power.se, a.report.c_str()));
     files.commit();
     std::printf("wrote %s (the omnicam's onset, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s\n", a.out.c_str(),
                 ref.group.c_str(), a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ",
@@ -154,7 +199,8 @@ int runFit(const FitArgs& a0)
     if (a.sensor_type == "omnicam") {
         if (model == SensorModel::Physical)
             throw Error("--model physical", "fits a laser's receiver; the omnicam is fitted with the paper model");
-        if (!a.covariates.empty()) throw Error("--covariates", "are a laser's beams; the omnicam has none");
+        if (!a.covariates.empty() || a.covariates_all)
+            throw Error("--covariates", "are a laser's beams; the omnicam has none");
         return runFitOmni(a, ic, files);
     }
     if (a.omni_options)
@@ -294,14 +340,7 @@ void addFit(CLI::App& app, Runner& run)
                   "urg04lx or lms200 (without --scene), or omnicam: the omnirange log, its failures against the "
                   "--scene's truth (--sensor then names the omni camera)")
         ->capture_default_str();
-    const auto omniOption = [&](const char* name, double& v, const char* help) {
-        c->add_option(name, v, help)->capture_default_str()->check(finite())->each([a](const std::string&) {
-            a->omni_options = true;
-        });
-    };
-    omniOption("--max-range", a->omni.max_range_m, "omnicam: the rangefinder's maximum range [m]");
-    omniOption("--floor-z", a->omni.floor_z_m, "omnicam: the floor's height [m]");
-    omniOption("--tolerance", a->omni.tolerance_m, "omnicam: a reading further than this from its truth failed [m]");
+    addOmniClassOptions(c, a->omni, a->omni_options);
     c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
     c->add_flag("--lenient", a->lenient, "Skip bad lines (counted and listed in the report) instead of failing");
     c->add_option("--calibration", a->calibration, "Density-saturation calibration JSON, or a built-in name")

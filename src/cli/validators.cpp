@@ -90,4 +90,16 @@ void recordSceneInputs(RunFiles& files, const std::string& path, const Scene& sc
     for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
 }
 
+void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, bool& given)
+{
+    const auto option = [&](const char* name, double& v, const char* help) {
+        c->add_option(name, v, help)->capture_default_str()->check(finite())->each([&given](const std::string&) {
+            given = true;
+        });
+    };
+    option("--max-range", omni.max_range_m, "omnicam: the rangefinder's maximum range [m]");
+    option("--floor-z", omni.floor_z_m, "omnicam: the floor's height [m]");
+    option("--tolerance", omni.tolerance_m, "omnicam: a reading further than this from its truth failed [m]");
+}
+
 }  // namespace smokescan::cli

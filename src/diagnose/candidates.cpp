@@ -14,8 +14,12 @@ J sigmoid(const J& z) { return J(1.0) / (J(1.0) + exp(-z)); }
 double sectorDropout(const Extensions& m, double angle)
 {
     double keep = 1;
-    for (const auto& s : m.sectors)
-        if (angle >= s.from_rad && angle <= s.to_rad) keep *= 1 - s.dropout;
+    // On the circle: a sector of the omnicam's may be given anywhere round it (300…360° or
+    // −60…0°); a laser's sectors lie within its field, where this is the plain interval.
+    for (const auto& s : m.sectors) {
+        const double from_start = angle - s.from_rad - 2 * M_PI * std::floor((angle - s.from_rad) / (2 * M_PI));
+        if (from_start <= s.to_rad - s.from_rad + 1e-12) keep *= 1 - s.dropout;
+    }
     return 1 - keep;
 }
 
@@ -133,7 +137,7 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
     if (!r.isPhysical()) {
         x.ps = x.column > T(0.0) ? T(0.5) * erfc(-(log(x.column) - x.lnP) / x.width / T(M_SQRT2)) : T(0.0);
         x.mu0 = T(beam.range_m);
-        x.sd0 = T(r.spec.rangeSigma(beam.range_m));
+        x.sd0 = T(beam.sigma_m > 0 ? beam.sigma_m : r.spec.rangeSigma(beam.range_m));
         return;
     }
     const Replay::PhysicalTable& t = r.physical;

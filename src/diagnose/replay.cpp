@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 
 #include <tbb/parallel_for.h>
@@ -9,9 +10,11 @@
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
+#include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/plot/format.hpp"
 #include "smokescan/sensors/beam_model.hpp"
+#include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan {
 namespace {
@@ -167,9 +170,8 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
     });
 }
 
-}  // namespace
-
-Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
+/// The checks every replay makes before any work.
+void checkReplay(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
 {
     if (!in.scene) throw Error("diagnose", "needs --scene (the geometry the run is replayed in)");
     if (!(cfg.block_s >= 0.1)) throw Error("--block", "must be at least 0.1 s");
@@ -181,27 +183,18 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
                     "is a Monte Carlo estimate, too slow per beam and scale)");
     if (config.model == SensorModel::Physical && in.saturation.time_s.empty())
         throw Error("--model", "the physical model is replayed from a saturation series only (give --saturation)");
-    Replay r;
-    r.spec = specFor(config);
-    r.config = config;
-    r.offset_s = cfg.offset_s;
+}
+
+/// A log's reading as the replay keeps it: scan k, beam b, the value in metres → a range [m], or
+/// NaN for the sensor's "no return".
+using RecordedValue = std::function<float(size_t k, size_t b, double m)>;
+
+/// The replay's smoke and scans, once its beams (r.beams, their rays) are known.
+Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, const ReplayConfig& cfg,
+                   const RecordedValue& recorded)
+{
     const Scene& scene = *in.scene;
-    checkBeams(in.log, r.spec, in.mount.name);
-    for (const auto& s : scene.surfaces) r.surface_names.push_back(s.name);
-    r.prior = replayExtensions(r, config.extensions);
     const std::vector<SmokeVolume> regional = regionalVolumes(scene);
-    // Beams: what each one hits.
-    std::vector<Ray> rays;
-    for (int i = 0; i < r.spec.n_beams; ++i) {
-        rays.push_back(in.mount.beamRay(r.spec.angle(i)));
-        const SurfaceHit h = in.surfaces->closest(rays.back(), r.spec.range_max_m);
-        ReplayBeam b;
-        b.surface = h.surface;
-        b.range_m = h.endOr(r.spec.range_max_m);
-        b.angle_rad = r.spec.angle(i);
-        b.incidence_rad = h.hit ? std::acos(std::min(1.0, std::abs(rays.back().d.dot(h.normal)))) : 0.0;
-        r.beams.push_back(b);
-    }
     BeamQuery q;
     q.wavelength_nm = r.spec.wavelength_nm;
     r.from_saturation = !in.saturation.time_s.empty();
@@ -211,7 +204,7 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
         const auto [ref, rho_ref] = referenceState(scene, regional, camera, cfg.time_step_s);
         r.density_ref = rho_ref;
         for (size_t b = 0; b < r.beams.size(); ++b)
-            r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional;
+            r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional;
         densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
         if (r.isPhysical()) physicalTables(r, scene, *in.surfaces, ref, rays);
         const double c0 = r.density_time_s.front(), c1 = r.density_time_s.back();
@@ -246,10 +239,8 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
         sc.time_s = s.time_s;
         sc.block = int(std::floor((s.time_s - t0) / cfg.block_s));
         std::vector<float> rec(s.range.size());
-        for (size_t b = 0; b < s.range.size(); ++b) {
-            const double m = s.range[b] * in.log.unit_m;
-            rec[b] = r.spec.isErrorRange(m) ? NAN : float(m);
-        }
+        const size_t k = size_t(&s - in.log.scans.data());
+        for (size_t b = 0; b < s.range.size(); ++b) rec[b] = recorded(k, b, s.range[b] * in.log.unit_m);
         r.range_m.push_back(std::move(rec));
         if (r.from_saturation) {
             sc.density = r.densityAt(s.time_s);
@@ -272,7 +263,7 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
             std::vector<float> col(rays.size());
             double now_sum = 0;
             for (size_t b = 0; b < rays.size(); ++b) {
-                col[b] = float(now.trace(rays[b], 0.0, r.beams[b].range_m, q).column_regional);
+                col[b] = float(now.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional);
                 now_sum += col[b];
             }
             sc.density = now_sum / double(rays.size());
@@ -284,6 +275,76 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
     if (r.scans.empty()) throw Error(in.log.path, "has no scan the camera's saturation covers");
     checkRanges(r, in.log.path);
     return r;
+}
+
+}  // namespace
+
+Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
+{
+    checkReplay(in, config, cfg);
+    Replay r;
+    r.spec = specFor(config);
+    r.config = config;
+    r.offset_s = cfg.offset_s;
+    checkBeams(in.log, r.spec, in.mount.name);
+    for (const auto& s : in.scene->surfaces) r.surface_names.push_back(s.name);
+    r.prior = replayExtensions(r, config.extensions);
+    // Beams: what each one hits.
+    std::vector<Ray> rays;
+    for (int i = 0; i < r.spec.n_beams; ++i) {
+        rays.push_back(in.mount.beamRay(r.spec.angle(i)));
+        const SurfaceHit h = in.surfaces->closest(rays.back(), r.spec.range_max_m);
+        ReplayBeam b;
+        b.surface = h.surface;
+        b.range_m = b.sight_m = h.endOr(r.spec.range_max_m);
+        b.angle_rad = r.spec.angle(i);
+        b.incidence_rad = h.hit ? std::acos(std::min(1.0, std::abs(rays.back().d.dot(h.normal)))) : 0.0;
+        r.beams.push_back(b);
+    }
+    const LrfSpec spec = r.spec;
+    return replayScans(in, std::move(r), rays, cfg,
+                       [&spec](size_t, size_t, double m) { return spec.isErrorRange(m) ? NAN : float(m); });
+}
+
+Replay replayOmniRun(const OmniFitInputs& o, const OmniSensorFile& file, const ReplayConfig& cfg)
+{
+    SensorConfig config;  // the paper model at the omnicam's onset; no laser of its own
+    config.model = SensorModel::Paper;
+    config.paper.penetration_power = file.penetration_power;
+    config.extensions = file.extensions;
+    config.sensor_file = file.path;
+    checkReplay(o.in, config, cfg);
+    Replay r;
+    r.spec = o.spec;
+    r.config = config;
+    r.offset_s = cfg.offset_s;
+    const Scene& scene = *o.in.scene;
+    for (const auto& s : scene.surfaces) r.surface_names.push_back(s.name);
+    r.prior = replayExtensions(r, config.extensions);
+    const Pose eye = scene.cameraAt(*scene.findCamera(o.camera), o.in.log.scans.front().time_s).pose;
+    const std::vector<double>& angle = o.in.log.scans.front().angle_rad;
+    std::vector<Ray> rays;
+    double unwrapped = angle.front();  // bearings on from the first: a sector may span ±180°
+    for (size_t i = 0; i < angle.size(); ++i) {
+        if (i > 0) unwrapped += std::remainder(angle[i] - angle[i - 1], 2 * M_PI);
+        ReplayBeam b;
+        const bool seen = o.truth_m[i] < r.spec.range_max_m;
+        b.surface = seen ? o.surface[i] : -1;  // beyond the maximum range: left out, as a laser's no return
+        b.range_m = std::min(o.truth_m[i], r.spec.range_max_m);
+        b.angle_rad = unwrapped;
+        b.sight_m = o.sight_m[i];
+        b.sigma_m = o.pixel_m[i];
+        // The line of sight from the viewpoint to the obstacle's foot.
+        Vec3 dir = eye.rotate(Vec3(std::cos(angle[i]), std::sin(angle[i]), 0));
+        dir.z() = 0;
+        const Vec3 foot = Vec3(eye.t.x(), eye.t.y(), eye.t.z() - o.height_m) + b.range_m * dir.normalized();
+        rays.push_back(Ray{eye.t, (foot - eye.t).normalized()});
+        r.beams.push_back(b);
+    }
+    const size_t n = angle.size();
+    return replayScans(o.in, std::move(r), rays, cfg, [&o, n](size_t k, size_t b, double m) {
+        return o.outcome[k * n + b] == ReadingOutcome::Long ? NAN : float(m);
+    });
 }
 
 Extensions replayExtensions(const Replay& r, const ModelExtensions& e)

@@ -15,7 +15,9 @@ SensorMount chooseSensor(const FitInputsConfig& cfg, const Scene* scene)
     SensorMount mount;
     mount.name = cfg.sensor_type;
     const auto type = parseSensorType(cfg.sensor_type);
-    if (!type) throw Error("--sensor-type", "unknown sensor type '" + cfg.sensor_type + "' (urg04lx, lms200)");
+    if (!type)
+        throw Error("--sensor-type",
+                    "unknown sensor type '" + cfg.sensor_type + "' (urg04lx, lms200; omnicam for an omnirange log)");
     mount.config = SensorConfig::defaults(*type);
     if (!scene) return mount;
     const int si = cfg.sensor.empty() ? scene->findSensor(cfg.sensor_type) : scene->findSensor(cfg.sensor);

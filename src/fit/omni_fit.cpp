@@ -6,7 +6,6 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/media/smoke.hpp"
-#include "smokescan/omni/range_tally.hpp"
 #include "smokescan/omni/scanline_truth.hpp"
 #include "smokescan/plot/format.hpp"
 
@@ -43,22 +42,87 @@ void checkConfig(const OmniFitConfig& c)
     if (!std::isfinite(c.floor_z_m) || std::abs(c.floor_z_m) > 1e4) throw Error("--floor-z", "must be within ±10 km");
     if (!(c.max_range_m >= 0.01 && c.max_range_m <= 1000)) throw Error("--max-range", "must be in [0.01, 1000] m");
     if (!(c.tolerance_m >= 0.001 && c.tolerance_m <= 100)) throw Error("--tolerance", "must be in [0.001, 100] m");
+    if (!(c.tolerance_m < 0.5 * c.max_range_m))
+        throw Error("--tolerance", fmt("must be below half the maximum range (%g m)", c.max_range_m));
 }
 
-/// Most readings beyond the maximum range: the log's unit is not the one given.
+/// The omnirange layout: scanlines evenly spaced all round (a laser's log is not).
+void checkLayout(const RecordedLog& log)
+{
+    const std::vector<double>& a = log.scans.front().angle_rad;
+    const size_t n = a.size();
+    const double step = n > 1 ? std::remainder(a[1] - a[0], 2 * M_PI) : 0.0;
+    bool even = n >= 8 && std::abs(step) > 0;
+    for (size_t i = 1; even && i < n; ++i) even = std::abs(std::remainder(a[i] - a[i - 1], 2 * M_PI) - step) < 1e-3;
+    if (!even || std::abs(double(n) * std::abs(step) - 2 * M_PI) > 0.5 * std::abs(step))
+        throw Error(log.path,
+                    fmt("has %zu bearings that are not evenly spaced all round, as omnirange writes them "
+                        "(a laser's log? give its --sensor-type)",
+                        n));
+}
+
+/// Most readings beyond the maximum range, or below 2 cm: the log's unit is not the one given.
 void checkUnit(const RecordedLog& log, double max_range_m)
 {
-    long long n = 0, beyond = 0;
+    long long n = 0, beyond = 0, tiny = 0;
     for (const LaserLogScan& s : log.scans)
         for (double v : s.range) {
             ++n;
             beyond += v * log.unit_m > 1.05 * max_range_m;
+            tiny += v * log.unit_m < 0.02;
         }
-    if (beyond > n / 5)
+    if (beyond > n / 5 || tiny > n / 5)
         throw Error(log.path,
-                    fmt("reads beyond the omnicam's %.1f m in %lld of its %lld readings: is --unit (or "
-                        "--max-range) right?",
-                        max_range_m, beyond, n));
+                    fmt("reads %s in %lld of its %lld readings: is --unit (or --max-range) right?",
+                        beyond > n / 5 ? fmt("beyond the omnicam's %.1f m", max_range_m).c_str() : "below 2 cm",
+                        std::max(beyond, tiny), n));
+}
+
+/// The floor the height puts below the camera must be the scene's, where the scene has one there.
+void checkFloor(const SurfaceSet& surfaces, const Pose& eye, double height_m, const std::string& camera)
+{
+    if (height_m > 100)
+        throw Error("--floor-z", fmt("puts the floor %.0f m below the omni camera (at most 100)", height_m));
+    const SurfaceHit h = surfaces.closest(Ray{eye.t, Vec3(0, 0, -1)}, 2 * height_m + 1);
+    if (h.hit && std::abs(h.t_m - height_m) > 0.05)
+        throw Error("--floor-z",
+                    fmt("puts the floor %.3f m below the omni camera '%s', but the scene's surface "
+                        "straight below it is %.3f m down",
+                        height_m, camera.c_str(), h.t_m));
+}
+
+/// Even its best scan reads wrong on most scanlines: not this scene's, camera's or floor's log.
+void checkAgreement(const OmniFitInputs& o, const std::string& path, double tolerance_m)
+{
+    double best = 1;
+    for (const auto& f : o.failed) {
+        size_t bad = 0;
+        for (bool b : f) bad += b;
+        best = std::min(best, double(bad) / double(std::max<size_t>(1, f.size())));
+    }
+    if (best > 0.5)
+        throw Error(path,
+                    fmt("reads more than %g m off the truth on %.0f %% of its scanlines even in its best scan: "
+                        "is it the omnicam's log of this scene, camera ('%s') and floor?",
+                        tolerance_m, 100 * best, o.camera.c_str()));
+}
+
+/// A bearing interval on the log's circle (−π, π]: shifted there, and split where it crosses ±π.
+void addWrapped(std::vector<std::pair<double, double>>& out, double a0, double a1)
+{
+    if (a1 - a0 >= 2 * M_PI) {
+        out.emplace_back(-M_PI, M_PI);
+        return;
+    }
+    const double shift = a0 - std::remainder(a0, 2 * M_PI);
+    a0 -= shift;
+    a1 -= shift;
+    if (a1 <= M_PI) {
+        out.emplace_back(a0, a1);
+        return;
+    }
+    out.emplace_back(a0, M_PI);
+    out.emplace_back(-M_PI, a1 - 2 * M_PI);
 }
 
 /// Groups from the truth: per surface named prefix*, the scanlines within the maximum range whose
@@ -69,11 +133,16 @@ std::vector<BeamGroup> truthGroups(const Scene& scene, const OmniFitInputs& o, c
     std::vector<BeamGroup> out;
     std::map<int, size_t> index;
     const size_t n = angle.size();
+    // Scanlines all round (omnirange's): the first and the last are neighbours.
+    const double step = n > 1 ? std::abs(std::remainder(angle[1] - angle[0], 2 * M_PI)) : 0.0;
+    const bool ring = n > 2 && std::abs(double(n) * step - 2 * M_PI) < 0.5 * step;
     for (size_t i = 0; i < n; ++i) {
         const int s = o.surface[i];
         if (s < 0 || !(o.truth_m[i] < max_range_m - tolerance_m)) continue;
         if (scene.surfaces[size_t(s)].name.rfind(prefix, 0) != 0) continue;
-        if (i == 0 || i + 1 == n || o.surface[i - 1] != s || o.surface[i + 1] != s) continue;
+        const bool first = i == 0, last = i + 1 == n;
+        if (!ring && (first || last)) continue;
+        if (o.surface[first ? n - 1 : i - 1] != s || o.surface[last ? 0 : i + 1] != s) continue;
         auto [it, added] = index.emplace(s, out.size());
         if (added) {
             const Surface& sf = scene.surfaces[size_t(s)];
@@ -95,11 +164,15 @@ std::vector<BeamGroup> userGroups(const FitInputsConfig& cfg, FitSources& source
     std::vector<BeamGroup> groups;
     if (!cfg.surfaces_file.empty()) groups = readBeamGroupFile(cfg.surfaces_file);
     for (const auto& s : cfg.surfaces) groups.push_back(parseBeamGroup(s));
-    for (const BeamGroup& g : groups)
+    for (BeamGroup& g : groups) {
         if (g.range_m > 0)
             throw Error(
                 cfg.surfaces.empty() ? cfg.surfaces_file : std::string("--surface"),
                 "group '" + g.name + "' gives a range: the omnicam's distances and lines of sight come from the scene");
+        std::vector<std::pair<double, double>> wrapped;  // bearings on the log's circle
+        for (const auto& [a0, a1] : g.intervals_rad) addWrapped(wrapped, a0, a1);
+        g.intervals_rad = wrapped;
+    }
     sources.groups_from = cfg.surfaces_file.empty() ? std::string("--surface") : cfg.surfaces_file;
     return groups;
 }
@@ -115,6 +188,7 @@ OmniFitInputs loadOmniFitInputs(const FitInputsConfig& cfg, const OmniFitConfig&
     o.in = loadFitData(cfg);
     const RecordedLog& log = o.in.log;
     const Scene& scene = *o.in.scene;
+    checkLayout(log);
     checkUnit(log, omni.max_range_m);
     const Camera& cam = standingCamera(scene, log, omni.camera);
     o.camera = cam.name;
@@ -123,27 +197,39 @@ OmniFitInputs loadOmniFitInputs(const FitInputsConfig& cfg, const OmniFitConfig&
     if (!(o.height_m > 0))
         throw Error("--floor-z",
                     fmt("puts the floor at or above the omni camera '%s' (at %.3f m)", cam.name.c_str(), pose.t.z()));
+    checkFloor(*o.in.surfaces, pose, o.height_m, cam.name);
     // The truth is the geometry's: smoke does not move an obstacle.
     const std::vector<double>& angle = log.scans.front().angle_rad;
     const ScanlineTruth truth = scanlineTruth(*o.in.surfaces, SmokeField{}, pose, o.height_m, angle, omni.max_range_m);
     o.truth_m = truth.range_m;
     o.surface = truth.surface;
-    for (double d : o.truth_m) o.sight_m.push_back(std::hypot(std::min(d, omni.max_range_m), o.height_m));
+    // One pixel at radius ρ is dθ = (1 + cos θ)/R of incidence, and d = h·tan θ moves by h·sec²θ·dθ.
+    const double R = cam.mirror_radius_px, h = o.height_m;
+    for (double d0 : o.truth_m) {
+        const double d = std::min(d0, omni.max_range_m), sight = std::hypot(d, h);
+        o.sight_m.push_back(sight);
+        o.pixel_m.push_back(sight * sight / h * (1 + h / sight) / R);
+    }
     for (const LaserLogScan& s : log.scans) {
         std::vector<bool> f(s.range.size());
         for (size_t i = 0; i < f.size(); ++i) {
             const ReadingOutcome c =
                 classifyReading(s.range[i] * log.unit_m, o.truth_m[i], omni.max_range_m, omni.tolerance_m);
             f[i] = c != ReadingOutcome::Ok;
+            o.outcome.push_back(c);
             o.shorter += c == ReadingOutcome::Short;
             o.longer += c == ReadingOutcome::Long;
         }
         o.readings += (long long)f.size();
         o.failed.push_back(std::move(f));
     }
-    o.in.groups = cfg.surfaces.empty() && cfg.surfaces_file.empty()
-        ? truthGroups(scene, o, angle, cfg.prefix, omni.max_range_m, omni.tolerance_m)
-        : userGroups(cfg, o.in.sources);
+    checkAgreement(o, log.path, omni.tolerance_m);
+    if (!omni.groups)
+        o.in.groups.clear();
+    else if (cfg.surfaces.empty() && cfg.surfaces_file.empty())
+        o.in.groups = truthGroups(scene, o, angle, cfg.prefix, omni.max_range_m, omni.tolerance_m);
+    else
+        o.in.groups = userGroups(cfg, o.in.sources);
     if (o.in.sources.groups_from.empty()) o.in.sources.groups_from = scene.source;
     for (BeamGroup& g : o.in.groups) {
         std::vector<double> sight;
@@ -152,7 +238,12 @@ OmniFitInputs loadOmniFitInputs(const FitInputsConfig& cfg, const OmniFitConfig&
         if (!sight.empty()) g.range_m = median(std::move(sight));
     }
     o.spec.n_beams = int(angle.size());
+    o.spec.angle0_rad = angle.front();
+    o.spec.dangle_rad = angle.size() > 1 ? std::remainder(angle[1] - angle[0], 2 * M_PI) : 0.0;
+    o.spec.range_min_m = 0;
     o.spec.range_max_m = omni.max_range_m;
+    o.spec.unit_m = log.unit_m;
+    o.spec.wavelength_nm = 550;  // the camera's: visible light
     std::vector<double> dt;
     for (size_t k = 1; k < log.scans.size(); ++k) dt.push_back(log.scans[k].time_s - log.scans[k - 1].time_s);
     o.spec.scan_period_s = dt.empty() ? 1.0 : std::max(quantile(dt, 0.5), 1e-3);

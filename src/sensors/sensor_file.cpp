@@ -56,4 +56,48 @@ void writeSensorFile(const std::string& path, const SensorConfig& c, const std::
     f.commit();
 }
 
+OmniSensorFile readOmniSensorFile(const std::string& path)
+{
+    const toml::table root = parseToml(readTextInput(path, "sensor file"), path);
+    TomlTable t(root, path, "");
+    const std::string type = t.strReq("type");
+    if (type != "omnicam") t.error("type", "is '" + type + "' but an omnicam's file is needed (type = \"omnicam\")");
+    OmniSensorFile f;
+    f.path = path;
+    f.camera = t.str("camera", "");
+    f.tolerance_m = t.positive("tolerance_m", f.tolerance_m);
+    f.max_range_m = t.positive("max_range_m", f.max_range_m);
+    f.floor_z_m = t.num("floor_z_m", f.floor_z_m);
+    if (!t.has("paper")) t.error("paper", "is missing: the omnicam's onset is its penetration_power");
+    TomlTable paper = t.table("paper");
+    f.penetration_power = paper.positive("penetration_power", 0);
+    if (f.penetration_power < 1e-9 || f.penetration_power > 1e3)
+        paper.error("penetration_power", "must lie in 1e-9…1e3 density·m (the omnicam's onset)");
+    paper.finish();
+    if (t.has("extensions")) readExtensionsTable(t.table("extensions"), f.extensions);
+    t.finish();
+    return f;
+}
+
+void writeOmniSensorFile(const std::string& path, const OmniSensorFile& f, const std::string& comment)
+{
+    std::ostringstream o;
+    o << std::setprecision(10);
+    o << "# smokescan omnicam sensor file (docs/omnicam.md); `smokescan scan` simulates lasers and refuses it\n";
+    std::istringstream lines(comment);
+    for (std::string line; std::getline(lines, line);) o << "# " << line << "\n";
+    o << "type = \"omnicam\"\ncamera = \"" << f.camera << "\"\ntolerance_m = " << f.tolerance_m
+      << "  # a reading this far off its truth failed [m]\nmax_range_m = " << f.max_range_m
+      << "  # the rangefinder's maximum range [m]\nfloor_z_m = " << f.floor_z_m
+      << "  # the floor's height [m]\n\n[paper]\npenetration_power = " << f.penetration_power
+      << "  # the column along the line of sight at which half its readings fail [density·m]\n";
+    if (f.extensions.changesBeams() || f.extensions.clock_offset_s != 0) {
+        o << "\n";
+        writeExtensionsTable(o, f.extensions);
+    }
+    AtomicFile file(path);
+    file.stream() << o.str();
+    file.commit();
+}
+
 }  // namespace smokescan

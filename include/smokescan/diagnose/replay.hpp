@@ -44,6 +44,9 @@ struct ReplayBeam {
     double angle_rad = 0;  ///< beam angle in the sensor's convention
     double incidence_rad = 0;  ///< angle between the beam and the surface normal
     double column_ref = 0;  ///< regional smoke column to the surface in the reference state [density·m]
+    double sight_m = 0;  ///< the smoke is integrated over this length of the beam's ray: the range (the
+        ///< omnicam: its line of sight to the obstacle's foot) [m]
+    double sigma_m = 0;  ///< a clear reading's noise σ [m]; 0: the sensor's datasheet noise at range_m
 };
 
 /// One scan: its time, the smoke it saw, its block.
@@ -104,6 +107,15 @@ struct Replay {
 /// a surface the scene does not have; and for the physical model of the LMS200 or without a
 /// saturation series (not replayed).
 Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg);
+
+/// @brief Replays the omnicam rangefinder's log (fit/omni_fit.hpp) as a sensor with the omnicam
+/// file's penetration power along each line of sight. Per scanline: the truth's obstacle and
+/// distance, the smoke along the camera's line of sight to the obstacle's foot, a clear reading's
+/// noise of one pixel's metric error there; a reading that is ok or short is a range, one that is
+/// long (an obstacle missed) is the omnicam's "no return". @throw Error as replayRun does.
+struct OmniFitInputs;
+struct OmniSensorFile;
+Replay replayOmniRun(const OmniFitInputs& o, const OmniSensorFile& file, const ReplayConfig& cfg);
 
 /// @brief A sensor file's extensions on the replay's surfaces and beam angles (the clock offset
 /// stays out: the replay's offset_s holds it). @throw Error for a surface the scene lacks.

@@ -18,11 +18,13 @@
 /// | floor_z_m    | 0       | m    | the floor's height: the viewpoint's height above it is h         |
 /// | max_range_m  | 3.8     | m    | the rangefinder's maximum range (as the log was made)            |
 /// | tolerance_m  | 0.3     | m    | a reading further than this from its truth failed (range_tally's) |
+/// | groups       | true    | –    | make the fit's groups (a diagnosis needs none)                   |
 #include <string>
 #include <vector>
 
 #include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
+#include "smokescan/omni/range_tally.hpp"
 
 namespace smokescan {
 
@@ -31,18 +33,22 @@ struct OmniFitConfig {
     double floor_z_m = 0;
     double max_range_m = 3.8;
     double tolerance_m = 0.3;
+    bool groups = true;  ///< make the fit's groups (a diagnosis needs none)
 };
 
 /// The omnicam's log with its truth.
 struct OmniFitInputs {
     FitInputs in;  ///< the log, saturation, calibration, scene and groups (mount unused)
     FailureMask failed;  ///< [scan][scanline]: not ok against the truth
-    LrfSpec spec;  ///< the log's scanlines as a beam layout; its scan period the log's median step
+    LrfSpec spec;  ///< the log's scanlines as a beam layout (no error values: failures are `failed`); its
+        ///< scan period the log's median step
     std::string camera;  ///< the omni camera's name
     double height_m = 0;  ///< the viewpoint above the floor
     std::vector<double> truth_m;  ///< per scanline: horizontal distance to the nearest obstacle (+inf: none)
     std::vector<double> sight_m;  ///< per scanline: line of sight to the obstacle's foot (at most the maximum range)
     std::vector<int> surface;  ///< per scanline: the obstacle's surface (−1: none)
+    std::vector<double> pixel_m;  ///< per scanline: one image pixel's metric error at the truth (Fig. 8)
+    std::vector<ReadingOutcome> outcome;  ///< [scan · scanlines + scanline]: each reading against its truth
     long long readings = 0, shorter = 0, longer = 0;  ///< all readings; those that failed short, long
 };
 
