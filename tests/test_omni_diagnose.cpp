@@ -150,7 +150,11 @@ TEST(OmniDiagnosisCli, WritesTheOmnicamsExtendedFileAndRefusesWhatItCannotReplay
     expectBad(base + " --sensor-file " + none + " --out " + no, "penetration_power", no);
     expectBad(base + " --sensor-file " + onset + " --model paper --out " + no, "--model", no);
     expectBad(base + " --sensor-file " + onset + " --sensor target_camera --out " + no, "is the onset of 'omni'", no);
-    expectBad(base + " --sensor-file " + onset + " --tolerance 0.5 --out " + no, "was fitted with --tolerance 0.3", no);
+    expectBad(base + " --sensor-file " + onset + " --tolerance 0.5 --out " + no, "was fitted with 0.3", no);
+    // The option the onset was fitted with is accepted.
+    const std::string same = (dir() / "omni_diag_same").string();
+    std::filesystem::remove_all(same);
+    EXPECT_EQ(cli(base + " --sensor-file " + onset + " --tolerance 0.3 --out " + same).status, 0);
     expectBad("diagnose --laser " + c.laser + " --saturation " + c.saturation + " --scene " + c.scene +
                   " --camera target_camera --tolerance 0.5 --out " + no,
               "omnicam", no);

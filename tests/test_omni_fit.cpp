@@ -35,6 +35,33 @@ FitInputsConfig plantedFiles(unsigned seed, const std::string& tag)
     return plantedFiles(plantOmniRun(seed), tag, omniCourt());
 }
 
+/// The planted run's log (seed 1) rewritten: its bearings turned by `turn_rad`, each scanline
+/// split into `split` reading the truth at their own bearings (clear air); in c's other files.
+FitInputsConfig relogged(const FitInputsConfig& c, double turn_rad, int split)
+{
+    std::string text;
+    std::istringstream lines(plantOmniRun(1).log_text);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream f(line);
+        std::string t, a, r;
+        f >> t;
+        text += t;
+        for (int i = 0; f >> a >> r; ++i)
+            for (int j = 0; j < split; ++j) {
+                const double b = std::remainder(std::stod(a) + j * M_PI / 180 / split + turn_rad, 2 * M_PI);
+                const double reading =
+                    split == 1 ? std::stod(r) : 1000 * courtWall(std::stod(a) + j * M_PI / 180 / split);
+                char buf[64];
+                std::snprintf(buf, sizeof buf, " %.6f %lld", b, std::llround(reading));
+                text += buf;
+            }
+        text += "\n";
+    }
+    FitInputsConfig out = c;
+    out.laser = file("relogged_" + std::to_string(split) + "_" + std::to_string(turn_rad) + ".log", text);
+    return out;
+}
+
 /// The Error's message, or "" when none is thrown.
 template <class F>
 std::string errorOf(F&& f)
@@ -205,8 +232,24 @@ TEST(OmniFit, RefusesMovingCamerasRangedGroupsAndFailureMasksOfAnotherShape)
     turned.replace(turned.find("time_s = 0\n"), 11, "time_s = 0\nyaw_deg = 90\n");
     FitInputsConfig other = c;
     other.scene = file("court_turned.toml", turned);
-    EXPECT_NE(errorOf([&] { loadOmniFitInputs(other, OmniFitConfig{}); }).find("even in its best scan"),
+    EXPECT_NE(errorOf([&] { loadOmniFitInputs(other, OmniFitConfig{}); }).find("in its clearest scans"),
               std::string::npos);
+    // The same log with its bearings turned by 0.3 rad: wrong on most scanlines in clear air.
+    const FitInputsConfig plain = plantedFiles(1, "refuse");
+    EXPECT_NE(
+        errorOf([&] { loadOmniFitInputs(relogged(plain, 0.3, 1), OmniFitConfig{}); }).find("in its clearest scans"),
+        std::string::npos);
+    // 3600 scanlines (omnirange allows 36000), bearings written to 6 decimals: the layout holds.
+    const OmniFitInputs fine = loadOmniFitInputs(relogged(plain, 0, 10), OmniFitConfig{});
+    EXPECT_EQ(fine.spec.n_beams, 3600);
+    EXPECT_EQ(fine.in.groups.size(), 4u);
+    // A group across the ±180° seam holds all 21 scanlines of 170°–190°.
+    FitInputsConfig seam = c;
+    seam.surfaces = {"back=170:190"};
+    const OmniFitInputs back = loadOmniFitInputs(seam, OmniFitConfig{});
+    int in_back = 0;
+    for (double a : back.in.log.scans.front().angle_rad) in_back += back.in.groups[0].contains(a);
+    EXPECT_EQ(in_back, 21);
     bad = OmniFitConfig{};
     bad.camera = "nope";
     EXPECT_NE(errorOf([&] { loadOmniFitInputs(c, bad); }).find("no omni camera 'nope'"), std::string::npos);

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,8 +35,8 @@ SensorModel sensorModelOption(const std::string& option, const std::string& valu
 /// The sensor type an option names ("urg04lx", "lms200"); Error(option, ...) otherwise.
 SensorType sensorTypeOption(const std::string& option, const std::string& value);
 /// @brief The omnicam's options of `fit` and `diagnose` (--max-range, --floor-z, --tolerance)
-/// into `omni`; `given` turns true when any of them is on the command line.
-void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, bool& given);
+/// into `omni`; `given` collects the names of those on the command line.
+void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>& given);
 
 /// @brief An option whose value is one of a few names, stored as the enum it names; any other
 /// value is a parse error listing the names ("--link: 'x' is not one of probit, logistic").

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <set>
 
 #include "commands.hpp"
 #include "progress.hpp"
@@ -25,7 +26,7 @@ struct DiagnoseArgs {
     ReplayConfig replay;
     DiagnosisConfig diag;
     OmniFitConfig omni;
-    bool omni_options = false;  ///< --max-range, --floor-z or --tolerance given (the omnicam's)
+    std::set<std::string> omni_given;  ///< which of --max-range, --floor-z, --tolerance were given (the omnicam's)
 };
 
 /// The diagnosis with a bar per round on a terminal.
@@ -82,12 +83,13 @@ int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out)
     omni.tolerance_m = file.tolerance_m;
     omni.max_range_m = file.max_range_m;
     omni.floor_z_m = file.floor_z_m;
-    if (a.omni_options &&
-        (a.omni.tolerance_m != omni.tolerance_m || a.omni.max_range_m != omni.max_range_m ||
-         a.omni.floor_z_m != omni.floor_z_m))
-        throw Error(a.sensor_file,
-                    fmt("was fitted with --tolerance %g --max-range %g --floor-z %g; the options given differ",
-                        omni.tolerance_m, omni.max_range_m, omni.floor_z_m));
+    const std::pair<const char*, std::pair<double, double>> given[] = {
+        {"--tolerance", {a.omni.tolerance_m, omni.tolerance_m}},
+        {"--max-range", {a.omni.max_range_m, omni.max_range_m}},
+        {"--floor-z", {a.omni.floor_z_m, omni.floor_z_m}}};
+    for (const auto& [name, v] : given)
+        if (a.omni_given.count(name) && std::abs(v.first - v.second) > 1e-6 * std::max(1.0, std::abs(v.second)))
+            throw Error(name, fmt("is %g, but %s was fitted with %g", v.first, a.sensor_file.c_str(), v.second));
     omni.camera = a.in.sensor.empty() ? file.camera : a.in.sensor;
     omni.groups = false;
     const OmniFitInputs o = loadOmniFitInputs(a.in, omni);
@@ -120,7 +122,7 @@ int runDiagnose(const DiagnoseArgs& a0)
     // The folder is checked (and staged) before the work: a taken --out fails at once.
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
     if (a.in.sensor_type == "omnicam") return runDiagnoseOmni(a, out);
-    if (a.omni_options)
+    if (!a.omni_given.empty())
         throw Error("diagnose", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
     const FitInputs in = loadFitInputs(a.in);
     SensorConfig config = in.mount.config;
@@ -159,7 +161,7 @@ void addDiagnose(CLI::App& app, Runner& run)
                   "urg04lx or lms200, or omnicam: the omnirange log against the scene's truth, from the onset of "
                   "--sensor-file (--sensor then names the omni camera)")
         ->capture_default_str();
-    addOmniClassOptions(c, a->omni, a->omni_options);
+    addOmniClassOptions(c, a->omni, a->omni_given);
     c->add_option("--sensor-file", a->sensor_file, "Sensor file whose model is diagnosed (default: the scene's)");
     c->add_option("--model", a->model,
                   "Sensor model: paper or physical (the urg04lx's, with --saturation; default: the scene's or the "

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include "commands.hpp"
 #include "smokescan/calib/calibration.hpp"
@@ -31,7 +32,7 @@ struct FitArgs {
     bool fixed_offset = false, lenient = false, covariates_all = false;
     SensorFitConfig cfg;
     OmniFitConfig omni;
-    bool omni_options = false;  ///< --max-range, --floor-z or --tolerance given (the omnicam's)
+    std::set<std::string> omni_given;  ///< which of --max-range, --floor-z, --tolerance were given (the omnicam's)
 };
 
 /// OUT with its extension replaced: sensor.toml → sensor_report.json.
@@ -109,10 +110,17 @@ void requireOnsets(SensorFitResult& r, const std::string& reference)
         if (named || (reference.empty() && (r.reference < 0 || th.beams > r.thresholds[size_t(r.reference)].beams)))
             r.reference = int(g);
     }
-    if (r.reference < 0)
-        r.diagnoses.insert(r.diagnoses.begin(),
-                           "no wall's readings crossed from mostly right to mostly wrong as the smoke "
-                           "changed: no onset in this log");
+    if (r.reference >= 0) return;
+    for (const ThresholdFit& th : r.thresholds)
+        if (!reference.empty() && th.group == reference) {
+            r.diagnoses.insert(r.diagnoses.begin(),
+                               "the reference group '" + reference + "' has no onset (" +
+                                   (th.diagnosis.empty() ? "not fitted" : th.diagnosis) + ")");
+            return;
+        }
+    r.diagnoses.insert(r.diagnoses.begin(),
+                       "no wall's readings crossed from mostly right to mostly wrong as the smoke changed: no onset in "
+                       "this log");
 }
 
 /// The omnicam's log: its failures against the scene's truth, fitted as a laser's errors are.
@@ -200,10 +208,11 @@ int runFit(const FitArgs& a0)
         if (model == SensorModel::Physical)
             throw Error("--model physical", "fits a laser's receiver; the omnicam is fitted with the paper model");
         if (!a.covariates.empty() || a.covariates_all)
-            throw Error("--covariates", "are a laser's beams; the omnicam has none");
+            throw Error(a.covariates_all ? "--covariates-all" : "--covariates",
+                        "are a laser's beams; the omnicam has none");
         return runFitOmni(a, ic, files);
     }
-    if (a.omni_options)
+    if (!a.omni_given.empty())
         throw Error("fit", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
     FitInputs in = loadFitInputs(ic);
     if (std::isfinite(in.sigma_t_per_density)) a.cfg.sigma_t_per_density = in.sigma_t_per_density;
@@ -340,7 +349,7 @@ void addFit(CLI::App& app, Runner& run)
                   "urg04lx or lms200 (without --scene), or omnicam: the omnirange log, its failures against the "
                   "--scene's truth (--sensor then names the omni camera)")
         ->capture_default_str();
-    addOmniClassOptions(c, a->omni, a->omni_options);
+    addOmniClassOptions(c, a->omni, a->omni_given);
     c->add_option("--unit", a->unit, "Range unit of the log: mm, cm, m")->capture_default_str();
     c->add_flag("--lenient", a->lenient, "Skip bad lines (counted and listed in the report) instead of failing");
     c->add_option("--calibration", a->calibration, "Density-saturation calibration JSON, or a built-in name")

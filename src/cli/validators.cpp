@@ -90,11 +90,11 @@ void recordSceneInputs(RunFiles& files, const std::string& path, const Scene& sc
     for (const std::string& f : sceneFiles(scene)) files.input(f, "a file the scene reads");
 }
 
-void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, bool& given)
+void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>& given)
 {
     const auto option = [&](const char* name, double& v, const char* help) {
-        c->add_option(name, v, help)->capture_default_str()->check(finite())->each([&given](const std::string&) {
-            given = true;
+        c->add_option(name, v, help)->capture_default_str()->check(finite())->each([&given, name](const std::string&) {
+            given.insert(name);
         });
     };
     option("--max-range", omni.max_range_m, "omnicam: the rangefinder's maximum range [m]");
