@@ -8,7 +8,8 @@
 # the URG's error codes on the target (its penetration power is set to 0.007 in the scene: a
 # calibration, so its fit is a check), and the omnicam's readings that are more than 0.3 m off the
 # court's truth, per wall. Then `smokescan diagnose` replays the omnicam's log with that onset as a
-# laser's threshold and names what it gets wrong (diagnosis/report.md). About 4 min on two cores.
+# laser's threshold and names what it gets wrong (diagnosis/report.md). About 4 min on two cores
+# (SPP=32: the frames with less noise, about 12 min).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 top=$(cd "$here/../.." && pwd)
