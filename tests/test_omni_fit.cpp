@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <sstream>
 
 #include "cli_run.hpp"
+#include "error_of.hpp"
 #include "omni_fit_run.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/error.hpp"
@@ -35,9 +37,9 @@ FitInputsConfig plantedFiles(unsigned seed, const std::string& tag)
     return plantedFiles(plantOmniRun(seed), tag, omniCourt());
 }
 
-/// The planted run's log (seed 1) rewritten: its bearings turned by `turn_rad`, each scanline
-/// split into `split` reading the truth at their own bearings (clear air); in c's other files.
-FitInputsConfig relogged(const FitInputsConfig& c, double turn_rad, int split)
+/// The planted run's log (seed 1) rewritten scanline by scanline: `pair(i, bearing, reading)`
+/// gives what follows the scan's time for scanline i (its fields as written; "" drops it).
+std::string rewrittenLog(const std::function<std::string(int, const std::string&, const std::string&)>& pair)
 {
     std::string text;
     std::istringstream lines(plantOmniRun(1).log_text);
@@ -46,32 +48,30 @@ FitInputsConfig relogged(const FitInputsConfig& c, double turn_rad, int split)
         std::string t, a, r;
         f >> t;
         text += t;
-        for (int i = 0; f >> a >> r; ++i)
-            for (int j = 0; j < split; ++j) {
-                const double b = std::remainder(std::stod(a) + j * M_PI / 180 / split + turn_rad, 2 * M_PI);
-                const double reading =
-                    split == 1 ? std::stod(r) : 1000 * courtWall(std::stod(a) + j * M_PI / 180 / split);
-                char buf[64];
-                std::snprintf(buf, sizeof buf, " %.6f %lld", b, std::llround(reading));
-                text += buf;
-            }
+        for (int i = 0; f >> a >> r; ++i) text += pair(i, a, r);
         text += "\n";
     }
+    return text;
+}
+
+/// The planted run's log (seed 1) with its bearings turned by `turn_rad`, each scanline split
+/// into `split` reading the truth at their own bearings (clear air); in c's other files.
+FitInputsConfig relogged(const FitInputsConfig& c, double turn_rad, int split)
+{
+    const std::string text = rewrittenLog([&](int, const std::string& a, const std::string& r) {
+        std::string out;
+        for (int j = 0; j < split; ++j) {
+            const double b = std::remainder(std::stod(a) + j * M_PI / 180 / split + turn_rad, 2 * M_PI);
+            const double reading = split == 1 ? std::stod(r) : 1000 * courtWall(std::stod(a) + j * M_PI / 180 / split);
+            char buf[64];
+            std::snprintf(buf, sizeof buf, " %.6f %lld", b, std::llround(reading));
+            out += buf;
+        }
+        return out;
+    });
     FitInputsConfig out = c;
     out.laser = file("relogged_" + std::to_string(split) + "_" + std::to_string(turn_rad) + ".log", text);
     return out;
-}
-
-/// The Error's message, or "" when none is thrown.
-template <class F>
-std::string errorOf(F&& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
 }
 
 }  // namespace
@@ -213,17 +213,8 @@ TEST(OmniFit, RefusesMovingCamerasRangedGroupsAndFailureMasksOfAnotherShape)
     tiny.read.unit_m = 1e-5;  // millimetres read as hundredths of one
     EXPECT_NE(errorOf([&] { loadOmniFitInputs(tiny, OmniFitConfig{}); }).find("below 2 cm"), std::string::npos);
     // A laser's layout (half the circle), and the omnicam's log on a robot turned by 90°.
-    std::string half;
-    std::istringstream lines(plantOmniRun(1).log_text);
-    for (std::string line; std::getline(lines, line);) {
-        std::istringstream f(line);
-        std::string t, a, r;
-        f >> t;
-        half += t;
-        for (int i = 0; f >> a >> r; ++i)
-            if (i < 180) half += " " + a + " " + r;
-        half += "\n";
-    }
+    const std::string half = rewrittenLog(
+        [](int i, const std::string& a, const std::string& r) { return i < 180 ? " " + a + " " + r : std::string(); });
     FitInputsConfig laser = c;
     laser.laser = file("half.log", half);
     EXPECT_NE(errorOf([&] { loadOmniFitInputs(laser, OmniFitConfig{}); }).find("evenly spaced all round"),

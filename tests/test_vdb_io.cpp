@@ -14,10 +14,12 @@
 #include "../src/media/vdb_header.hpp"
 #include "smokescan/core/error.hpp"
 
+#include "error_of.hpp"
 #include "scratch.hpp"
 #include "test_data.hpp"
 
 using namespace smokescan;
+using smokescan::test::errorOf;
 namespace fs = std::filesystem;
 
 namespace {
@@ -33,15 +35,6 @@ std::string writeGrid(const std::string& name, openvdb::GridBase::Ptr g)
     return p;
 }
 
-std::string errorOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
 }  // namespace
 
 TEST(VdbLoad, FogBallOfKnownColumns)

@@ -321,9 +321,7 @@ Replay replayOmniRun(const OmniFitInputs& o, const OmniSensorFile& file, const R
     const Scene& scene = *o.in.scene;
     for (const auto& s : scene.surfaces) r.surface_names.push_back(s.name);
     r.prior = replayExtensions(r, config.extensions);
-    const Pose eye = scene.cameraAt(*scene.findCamera(o.camera), o.in.log.scans.front().time_s).pose;
     const std::vector<double>& angle = o.in.log.scans.front().angle_rad;
-    std::vector<Ray> rays;
     double unwrapped = angle.front();  // bearings on from the first: a sector may span ±180°
     for (size_t i = 0; i < angle.size(); ++i) {
         if (i > 0) unwrapped += std::remainder(angle[i] - angle[i - 1], 2 * M_PI);
@@ -334,15 +332,10 @@ Replay replayOmniRun(const OmniFitInputs& o, const OmniSensorFile& file, const R
         b.angle_rad = unwrapped;
         b.sight_m = o.sight_m[i];
         b.sigma_m = o.pixel_m[i];
-        // The line of sight from the viewpoint to the obstacle's foot.
-        Vec3 dir = eye.rotate(Vec3(std::cos(angle[i]), std::sin(angle[i]), 0));
-        dir.z() = 0;
-        const Vec3 foot = Vec3(eye.t.x(), eye.t.y(), eye.t.z() - o.height_m) + b.range_m * dir.normalized();
-        rays.push_back(Ray{eye.t, (foot - eye.t).normalized()});
         r.beams.push_back(b);
     }
     const size_t n = angle.size();
-    return replayScans(o.in, std::move(r), rays, cfg, [&o, n](size_t k, size_t b, double m) {
+    return replayScans(o.in, std::move(r), o.sight, cfg, [&o, n](size_t k, size_t b, double m) {
         return o.outcome[k * n + b] == ReadingOutcome::Long ? NAN : float(m);
     });
 }

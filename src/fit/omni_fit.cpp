@@ -241,13 +241,11 @@ OmniFitInputs loadOmniFitInputs(const FitInputsConfig& cfg, const OmniFitConfig&
     const ScanlineTruth truth = scanlineTruth(*o.in.surfaces, SmokeField{}, pose, o.height_m, angle, omni.max_range_m);
     o.truth_m = truth.range_m;
     o.surface = truth.surface;
+    o.sight = truth.sight;
+    o.sight_m = truth.sight_m;
     // One pixel at radius ρ is dθ = (1 + cos θ)/R of incidence, and d = h·tan θ moves by h·sec²θ·dθ.
     const double R = cam.mirror_radius_px, h = o.height_m;
-    for (double d0 : o.truth_m) {
-        const double d = std::min(d0, omni.max_range_m), sight = std::hypot(d, h);
-        o.sight_m.push_back(sight);
-        o.pixel_m.push_back(sight * sight / h * (1 + h / sight) / R);
-    }
+    for (double sight : o.sight_m) o.pixel_m.push_back(sight * sight / h * (1 + h / sight) / R);
     for (const LaserLogScan& s : log.scans) {
         std::vector<bool> f(s.range.size());
         for (size_t i = 0; i < f.size(); ++i) {

@@ -44,7 +44,9 @@ ScanlineTruth scanlineTruth(const SurfaceSet& surfaces, const SmokeField& smoke,
         const Vec3 foot = Vec3(eye.x(), eye.y(), floor_z) + std::min(nearest, max_range_m) * dir;
         const Vec3 sight = foot - eye;
         const double len = sight.norm();
-        const BeamSmoke b = smoke.trace(Ray{eye, sight / len}, 0, len, BeamQuery{});
+        out.sight.push_back(Ray{eye, sight / len});
+        out.sight_m.push_back(len);
+        const BeamSmoke b = smoke.trace(out.sight.back(), 0, len, BeamQuery{});
         out.column.push_back(b.column_regional + b.column_local);
     }
     return out;

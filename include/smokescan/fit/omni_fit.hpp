@@ -45,7 +45,8 @@ struct OmniFitInputs {
     std::string camera;  ///< the omni camera's name
     double height_m = 0;  ///< the viewpoint above the floor
     std::vector<double> truth_m;  ///< per scanline: horizontal distance to the nearest obstacle (+inf: none)
-    std::vector<double> sight_m;  ///< per scanline: line of sight to the obstacle's foot (at most the maximum range)
+    std::vector<Ray> sight;  ///< per scanline: the line of sight to the obstacle's foot (at most the maximum range)
+    std::vector<double> sight_m;  ///< its length [m]
     std::vector<int> surface;  ///< per scanline: the obstacle's surface (−1: none)
     std::vector<double> pixel_m;  ///< per scanline: one image pixel's metric error at the truth (Fig. 8)
     std::vector<ReadingOutcome> outcome;  ///< [scan · scanlines + scanline]: each reading against its truth

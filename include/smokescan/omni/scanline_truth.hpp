@@ -37,6 +37,8 @@ struct ScanlineTruth {
     std::vector<double> range_m;  ///< horizontal distance to the nearest obstacle; +inf for none
     std::vector<double> column;  ///< smoke column along the line of sight [density·m]
     std::vector<int> surface;  ///< the nearest obstacle's scene surface index; −1 for none
+    std::vector<Ray> sight;  ///< the line of sight from the viewpoint to the obstacle's foot (unit direction)
+    std::vector<double> sight_m;  ///< its length [m]
 };
 
 /// @brief The truth at each azimuth.
