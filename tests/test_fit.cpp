@@ -147,15 +147,18 @@ std::string pulls(const std::vector<double>& v, double* mean, double* sd)
     return "pulls mean " + std::to_string(m) + " sd " + std::to_string(*sd);
 }
 
-// Ten simulated runs (paper model, P = 0.007, camera 7.3 s ahead, saturation noise 0.01 at 10 Hz):
-// every fitted value within 3.5 of its own standard errors of the truth, and the pulls, pooled
-// over seeds, centred with unit spread (so the reported errors are neither too small nor inflated).
-TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
+// Forty independent simulated runs (paper model, P = 0.007, camera 7.3 s ahead, saturation noise
+// 0.01 at 10 Hz, scans at 2 Hz), one strip each so that no two pulls share a saturation series:
+// every fitted value within 3.5 of its own standard errors of the truth, and the pulls of S* and of
+// the offset centred with a spread in [0.7, 1.3] (the spread's own error is 0.11 at forty). The
+// errors come from the fit's parametric bootstrap; the analytic floor it replaced gave S* pulls a
+// spread of 0.49 on seeds 1000-1039 and 0.68 on these (docs/fitting.md, "Errors").
+TEST(SensorFit, RoundTripPullsOfOffsetAndThresholdHaveUnitSpreadOverIndependentRuns)
 {
     const double P = 0.007, offset = 7.3;
     const auto groups = targetGroups();
-    std::vector<double> p_off, p_S, p_P;
-    const uint64_t n = test::sanitized() ? 1 : 10;  // the sanitizers check one run's paths
+    std::vector<double> p_off, p_S;
+    const uint64_t n = test::sanitized() ? 1 : 40;  // the sanitizers check one run's paths
     for (uint64_t seed = 1; seed <= n; ++seed) {
         const SimRun r = simulate(seed, P, offset, 0.01);
         const SensorFitResult f = fitSensor(r.log, r.sat, groups, urg04lx(), &bocas().calib);
@@ -163,30 +166,32 @@ TEST(SensorFit, RoundTripRecoversOffsetThresholdAndPenetrationPowerOverSeeds)
                             << (f.diagnoses.empty() ? f.thresholds[1].diagnosis : f.diagnoses.front());
         EXPECT_TRUE(f.diagnoses.empty()) << f.diagnoses.front();
         EXPECT_EQ(f.offset.transitions, 2);
+        EXPECT_EQ(f.bootstrap_replicates, SensorFitConfig{}.bootstrap);
         EXPECT_NEAR(f.saturation_noise, 0.01, 0.001);
         p_off.push_back((f.offset.offset_s.value - offset) / f.offset.offset_s.se);
         EXPECT_LT(std::abs(p_off.back()), 3.5) << "seed " << seed << " offset " << f.offset.offset_s.value;
-        for (size_t g = 0; g < groups.size(); ++g) {
-            const ThresholdFit& th = f.thresholds[g];
-            ASSERT_TRUE(th.fitted) << th.group << ": " << th.diagnosis;
-            p_S.push_back((th.S_star.value - trueThreshold(groups[g], P)) / th.S_star.se);
-            EXPECT_LT(std::abs(p_S.back()), 3.5) << th.group << " seed " << seed;
-            // The paper model's step is sharp: the sensor's own width is consistent with 0.
-            EXPECT_LT(th.width.value, 0.004) << th.group;
-            p_P.push_back((th.penetration_power.value - P) / th.penetration_power.se);
-            EXPECT_LT(std::abs(p_P.back()), 3.5) << th.group;
-        }
+        const size_t g = size_t(seed % groups.size());
+        const ThresholdFit& th = f.thresholds[g];
+        ASSERT_TRUE(th.fitted) << th.group << ": " << th.diagnosis;
+        const double S_true = trueThreshold(groups[g], P);
+        p_S.push_back((th.S_star.value - S_true) / th.S_star.se);
+        EXPECT_LT(std::abs(p_S.back()), 3.5) << th.group << " seed " << seed;
+        // The paper model's step is sharp: the sensor's own width is consistent with 0.
+        EXPECT_LT(th.width.value, 0.004) << th.group;
+        EXPECT_LT(std::abs(th.penetration_power.value - P), 3.5 * th.penetration_power.se) << th.group;
     }
-    if (n < 10) return;
+    if (n < 40) return;
     double m, sd;
-    SCOPED_TRACE(pulls(p_off, &m, &sd));
-    EXPECT_LT(std::abs(m), 1.2);
-    EXPECT_GT(sd, 0.3);
-    EXPECT_LT(sd, 1.8);
-    pulls(p_S, &m, &sd);
-    EXPECT_LT(std::abs(m), 1.0) << "S* pulls";
-    EXPECT_GT(sd, 0.3) << "S* pulls";
-    EXPECT_LT(sd, 1.8) << "S* pulls";
+    const std::string off = pulls(p_off, &m, &sd);
+    std::printf("offset %s\n", off.c_str());
+    EXPECT_LT(std::abs(m), 3 / std::sqrt(double(n))) << "offset " << off;
+    EXPECT_GT(sd, 0.7) << "offset " << off;
+    EXPECT_LT(sd, 1.3) << "offset " << off;
+    const std::string st = pulls(p_S, &m, &sd);
+    std::printf("S* %s\n", st.c_str());
+    EXPECT_LT(std::abs(m), 3 / std::sqrt(double(n))) << "S* " << st;
+    EXPECT_GT(sd, 0.7) << "S* " << st;
+    EXPECT_LT(sd, 1.3) << "S* " << st;
 }
 
 // The physical model (AMCW URG-04LX, its onset emerging from the lidar equation) with a receiver

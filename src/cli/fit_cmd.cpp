@@ -368,6 +368,11 @@ void addFit(CLI::App& app, Runner& run)
     c->add_option("--smooth", a->cfg.smooth_s, "Saturation smoothing window [s]")
         ->capture_default_str()
         ->check(nonnegative());
+    c->add_option(
+         "--bootstrap", a->cfg.bootstrap,
+         "Replicates of the parametric bootstrap behind the errors on S* and the offset (0: the analytic floor)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1000));
     c->add_option("--model", a->model,
                   "Sensor file model: paper (penetration power) or physical (URG noise floor solved in --scene)")
         ->capture_default_str();

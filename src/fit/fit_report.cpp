@@ -51,6 +51,7 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
                    {"diagnosis", r.offset.diagnosis}};
     j["saturation_noise"] = r.saturation_noise;
     j["smoothing_samples"] = r.smoothing_samples;
+    j["bootstrap_replicates"] = r.bootstrap_replicates;  // 0: S* and offset errors from the analytic floor
     j["reference_group"] = r.ok() ? nlohmann::json(r.thresholds[size_t(r.reference)].group) : nlohmann::json(nullptr);
     j["diagnoses"] = r.diagnoses;
     nlohmann::json gs = nlohmann::json::array();
@@ -301,6 +302,9 @@ std::string fitSummaryText(const SensorFitResult& r, size_t skipped)
     const auto& o = r.offset;
     out += fmt("clock offset (camera - laser): %.2f +/- %.2f s%s; %d transitions; saturation noise %.4f\n",
                o.offset_s.value, o.offset_s.se, o.estimated ? "" : " (held)", o.transitions, r.saturation_noise);
+    out += r.bootstrap_replicates > 0
+        ? fmt("errors on S* and the offset: parametric bootstrap, %d replicates\n", r.bootstrap_replicates)
+        : std::string("errors on S* and the offset: the analytic floor (--bootstrap 0)\n");
     for (size_t g = 0; g < r.thresholds.size(); ++g) {
         const auto& t = r.thresholds[g];
         const auto& q = r.ranges[g];

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <numeric>
 
+#include "fit_bootstrap.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/plot/format.hpp"
@@ -141,6 +142,7 @@ public:
 
     SensorFitResult run(const SaturationSeries& raw)
     {
+        raw_ = &raw;
         smoothSaturation(raw);
         collectGroups();
         summariseGroups();
@@ -149,6 +151,7 @@ public:
         startOffset();
         fitThresholds();
         floorErrors();
+        bootstrapErrors();
         penetrationAndRanges();
         chooseReference();
         alignStreams();
@@ -161,7 +164,8 @@ private:
     const LrfSpec& spec_;
     const FailureMask& failed_;
     const CurveFitResult* calibration_;
-    const SensorFitConfig& cfg_;
+    SensorFitConfig cfg_;  ///< a copy: the bootstrap's replicates narrow the offset search
+    const SaturationSeries* raw_ = nullptr;  ///< the measured saturation, for the bootstrap
     const size_t K_;
     SensorFitResult res_;
     SaturationSeries sat_;  ///< the saturation, smoothed over 2h + 1 frames
@@ -454,6 +458,89 @@ private:
             }
     }
 
+    /// The errors on S* and the offset from a parametric bootstrap (cfg_.bootstrap replicates): the
+    /// spread of the refits of streams drawn from the fitted model. Where fewer than ten replicates
+    /// fit, the floor's errors stay.
+    void bootstrapErrors()
+    {
+        if (cfg_.bootstrap <= 0 || fit_groups_.empty()) return;
+        std::vector<detail::GroupModel> models;
+        for (size_t g : fit_groups_) models.push_back(groupModel(g));
+        // The replicates search the offset near the fit's: far wider than its floor's error.
+        const double window =
+            std::min(cfg_.offset_window_s, std::max(2.5, 8 * res_.offset.offset_s.se + 2 * cfg_.offset_step_s));
+        std::vector<std::vector<double>> reps;  // [replicate]: offset, then each fit group's S*
+        for (int b = 0; b < cfg_.bootstrap; ++b) reps.push_back(replicate(uint64_t(b), models, window));
+        auto column = [&](size_t j) {
+            std::vector<double> v;
+            for (const auto& r : reps) v.push_back(r[j]);
+            return detail::finiteSpread(v, 10);
+        };
+        const double se_offset = column(0);
+        if (fit_offset_ && std::isfinite(se_offset)) res_.offset.offset_s.se = se_offset;
+        for (size_t j = 0; j < fit_groups_.size(); ++j) {
+            auto& th = res_.thresholds[fit_groups_[j]];
+            const double se = column(j + 1);
+            if (th.fitted && std::isfinite(se)) th.S_star.se = se;
+        }
+        res_.bootstrap_replicates = cfg_.bootstrap;
+    }
+
+    /// A fit group's model as the bootstrap draws from it.
+    detail::GroupModel groupModel(size_t g) const
+    {
+        const ThresholdFit& th = res_.thresholds[g];
+        detail::GroupModel m;
+        m.S_star = th.S_star.value;
+        m.width = th.sharp || !(th.width.value > 0) ? 0.0 : th.width.value;
+        m.logistic = cfg_.link == ErrorLink::Logistic;
+        if (m.width == 0) {
+            std::vector<std::vector<bool>> failed;
+            std::vector<double> S;
+            for (size_t k = 0; k < K_; ++k) {
+                S.push_back(saturationAt(sat_, gd_[g].counts.t[k] + res_.offset.offset_s.value));
+                std::vector<bool> f;
+                for (double r : gd_[g].range_m[k]) f.push_back(std::isnan(r));
+                failed.push_back(std::move(f));
+            }
+            m.beam_offset = detail::beamThresholdSpread(failed, S);
+        }
+        return m;
+    }
+
+    /// One replicate: the smoothed saturation is the truth; the camera's frames get fresh white
+    /// noise of the measured level, each group's errors are drawn from its model at the truth, and
+    /// the offset and thresholds are fitted again (the offset within `window` of the fit's).
+    /// Returns the offset, then each fit group's S* (NaN where it did not fit).
+    std::vector<double> replicate(uint64_t b, const std::vector<detail::GroupModel>& models, double window) const
+    {
+        SensorFit r(*this);
+        KeyedRng rng(0x626f6f74ull, b);
+        SaturationSeries raw = *raw_;
+        for (size_t i = 0; i < raw.time_s.size(); ++i)
+            raw.saturation[i] = sat_.saturation[i] + res_.saturation_noise * rng.normal();
+        r.sat_ = movingAverage(raw, h_);
+        r.res_.saturation_noise = detail::noiseOfSeries(raw.saturation);
+        const double delta = res_.offset.offset_s.value;
+        for (size_t j = 0; j < fit_groups_.size(); ++j) {
+            auto& c = r.gd_[fit_groups_[j]].counts;
+            std::vector<double> S_true;
+            for (double t : c.t) S_true.push_back(saturationAt(sat_, t + delta));
+            detail::drawErrorCounts(models[j], S_true, rng, c);
+        }
+        r.res_.offset = {};
+        r.res_.diagnoses.clear();
+        for (auto& th : r.res_.thresholds) th = ThresholdFit{};
+        r.cfg_.offset_s = delta;
+        r.cfg_.offset_window_s = window;
+        r.startOffset();
+        r.fitThresholds();
+        std::vector<double> out{r.res_.offset.offset_s.value};
+        for (size_t g : fit_groups_)
+            out.push_back(r.res_.thresholds[g].fitted ? r.res_.thresholds[g].S_star.value : NAN);
+        return out;
+    }
+
     /// Penetration power and optical depth through the calibration curve; range bias and noise.
     void penetrationAndRanges()
     {
@@ -546,6 +633,7 @@ SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, c
         throw Error("--offset-window", "window must be >= 0 and step > 0");
     if (groups.empty()) throw Error("fit", "no beam groups: give --scene or --surface/--surfaces");
     if (!(cfg.smooth_s >= 0)) throw Error("--smooth", "must be >= 0");
+    if (cfg.bootstrap < 0 || cfg.bootstrap > 1000) throw Error("--bootstrap", "must lie in 0…1000 replicates");
     if (!failed.empty()) {
         bool shaped = failed.size() == log.scans.size();
         for (size_t k = 0; shaped && k < failed.size(); ++k) shaped = failed[k].size() == log.scans[k].range.size();

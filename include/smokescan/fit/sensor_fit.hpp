@@ -27,6 +27,7 @@
 /// | sigma_t_per_density | 200   | 1/m  | extinction per unit density at the laser's wavelength (τ = σ_t·P) |
 /// | reference        | ""       | –    | group whose threshold goes into the sensor file ("" = most beams) |
 /// | smooth_s         | 2        | s    | the saturation is averaged over this window before fitting (its slope aligns the clocks) |
+/// | bootstrap        | 30       | –    | replicates of the parametric bootstrap behind the errors on S* and δ (0: the analytic floor only) |
 #include <string>
 #include <vector>
 
@@ -64,6 +65,7 @@ struct SensorFitConfig {
     double sigma_t_per_density = Medium::kCalibratedSigmaT;
     std::string reference;
     double smooth_s = 2.0;
+    int bootstrap = 30;
 };
 
 struct ThresholdFit {
@@ -129,6 +131,7 @@ struct SensorFitResult {
     double saturation_noise = 0;  ///< σ of the measured saturation (from its second differences)
     int smoothing_samples = 1;  ///< frames averaged per smoothed sample
     int reference = -1;  ///< index into thresholds for the sensor file (−1: none fitted)
+    int bootstrap_replicates = 0;  ///< the replicates behind the errors on S* and δ (0: the analytic floor)
     bool ok() const { return reference >= 0; }
 };
 
