@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "smokescan/core/order_stats.hpp"
 
@@ -45,6 +46,25 @@ void drawErrorCounts(const GroupModel& m, const std::vector<double>& S_true, Key
         }
         c.e[k] = e;
     }
+}
+
+uint64_t dataKey(const std::vector<double>& saturation, const std::vector<const std::vector<int>*>& counts)
+{
+    uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](uint64_t v) {
+        for (int i = 0; i < 8; ++i) {
+            h ^= (v >> (8 * i)) & 0xffu;
+            h *= 1099511628211ull;
+        }
+    };
+    for (double x : saturation) {
+        uint64_t bits;
+        std::memcpy(&bits, &x, sizeof bits);
+        mix(bits);
+    }
+    for (const auto* c : counts)
+        for (int e : *c) mix(uint64_t(uint32_t(e)));
+    return h;
 }
 
 double finiteSpread(const std::vector<double>& v, int min_n)

@@ -31,6 +31,10 @@ std::vector<double> beamThresholdSpread(const std::vector<std::vector<bool>>& fa
 /// beams err independently with the model's probability.
 void drawErrorCounts(const GroupModel& m, const std::vector<double>& S_true, KeyedRng& rng, GroupCounts& c);
 
+/// @brief A key for the replicates' random numbers from the data themselves (FNV-1a over the
+/// saturation and the error counts): deterministic, and different for each run.
+uint64_t dataKey(const std::vector<double>& saturation, const std::vector<const std::vector<int>*>& counts);
+
 /// @brief The sample standard deviation of the finite values; NaN when fewer than `min_n`.
 double finiteSpread(const std::vector<double>& v, int min_n);
 

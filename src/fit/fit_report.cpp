@@ -48,10 +48,12 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
     j["offset"] = {{"estimated", r.offset.estimated},
                    {"offset_s", est(r.offset.offset_s)},
                    {"transitions", r.offset.transitions},
-                   {"diagnosis", r.offset.diagnosis}};
+                   {"diagnosis", r.offset.diagnosis},
+                   {"bootstrap_fits", r.offset.bootstrap_fits}};
     j["saturation_noise"] = r.saturation_noise;
     j["smoothing_samples"] = r.smoothing_samples;
-    j["bootstrap_replicates"] = r.bootstrap_replicates;  // 0: S* and offset errors from the analytic floor
+    j["bootstrap_replicates"] = r.bootstrap_replicates;  // drawn; each estimate's bootstrap_fits: how many fitted
+    j["error_method"] = r.error_method;
     j["reference_group"] = r.ok() ? nlohmann::json(r.thresholds[size_t(r.reference)].group) : nlohmann::json(nullptr);
     j["diagnoses"] = r.diagnoses;
     nlohmann::json gs = nlohmann::json::array();
@@ -89,7 +91,8 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
                         {"pearson_chi2", t.pearson_chi2},
                         {"deviance", t.deviance},
                         {"dof", t.dof},
-                        {"variance_inflation", t.variance_inflation}}},
+                        {"variance_inflation", t.variance_inflation},
+                        {"bootstrap_fits", t.bootstrap_fits}}},
                       {"range",
                        {{"fitted", q.fitted},
                         {"diagnosis", q.diagnosis},
@@ -302,9 +305,9 @@ std::string fitSummaryText(const SensorFitResult& r, size_t skipped)
     const auto& o = r.offset;
     out += fmt("clock offset (camera - laser): %.2f +/- %.2f s%s; %d transitions; saturation noise %.4f\n",
                o.offset_s.value, o.offset_s.se, o.estimated ? "" : " (held)", o.transitions, r.saturation_noise);
-    out += r.bootstrap_replicates > 0
-        ? fmt("errors on S* and the offset: parametric bootstrap, %d replicates\n", r.bootstrap_replicates)
-        : std::string("errors on S* and the offset: the analytic floor (--bootstrap 0)\n");
+    if (!r.error_method.empty())
+        out += std::string(o.estimated ? "errors on S* and the offset: " : "errors on S* (the offset held): ") +
+            r.error_method + "\n";
     for (size_t g = 0; g < r.thresholds.size(); ++g) {
         const auto& t = r.thresholds[g];
         const auto& q = r.ranges[g];

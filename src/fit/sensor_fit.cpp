@@ -21,6 +21,9 @@ RangeFit fitRangeBiasNoise(const std::string& group, const std::vector<std::vect
 
 namespace {
 
+/// Replicates that must fit for the bootstrap's spread to replace the floor.
+constexpr int kMinBootstrapFits = 10;
+
 /// Per group: the beams of the log it holds, and per scan the errors and valid ranges.
 struct GroupData {
     std::vector<int> beams;
@@ -180,6 +183,7 @@ private:
     double delta0_ = 0;  ///< the offset the thresholds start from [s]
     double sigma_S_ = 0;  ///< the smoothed saturation's noise
     std::vector<double> S_at_;  ///< saturation at each scan (offset applied)
+    std::vector<double> gap_se_;  ///< per group: a sharp step's resolution, its gap/√12 (else 0)
 
     /// The saturation, smoothed: its noise σ_S shrinks by √(2h + 1) and enters the width.
     void smoothSaturation(const SaturationSeries& raw)
@@ -365,6 +369,7 @@ private:
         prob.offset0 = delta0_;
         prob.cluster_s = std::max({(2 * h_ + 2) * frame_s_, 2 * spec_.scan_period_s, 1e-3});
         prob.sigma_S = sigma_S_ = res_.saturation_noise / std::sqrt(2.0 * h_ + 1);
+        gap_se_.assign(groups_.size(), 0.0);
         std::vector<size_t> smooth;
         for (size_t j = 0; j < fit_groups_.size(); ++j) {
             const size_t g = fit_groups_[j];
@@ -388,6 +393,7 @@ private:
             if (err_max < clean_min) {
                 th.fitted = th.sharp = true;
                 th.S_star = {0.5 * (err_max + clean_min), (clean_min - err_max) / std::sqrt(12.0)};
+                gap_se_[g] = th.S_star.se;
                 th.width = {0.0, NAN};
                 th.diagnosis = fmt(
                     "sharp step: every scan below saturation %.4f had errors, none above %.4f; the width is below the "
@@ -463,27 +469,58 @@ private:
     /// fit, the floor's errors stay.
     void bootstrapErrors()
     {
-        if (cfg_.bootstrap <= 0 || fit_groups_.empty()) return;
+        const bool any_fitted =
+            std::any_of(fit_groups_.begin(), fit_groups_.end(), [&](size_t g) { return res_.thresholds[g].fitted; });
+        if (!any_fitted) return;
+        res_.error_method = "the analytic floor (--bootstrap 0)";
+        if (cfg_.bootstrap <= 0) return;
+        // The bootstrap draws from a model the data support; a run the fit already diagnosed (one
+        // crossing, the offset at the search's edge, ...) keeps the floor's errors.
+        if (!res_.diagnoses.empty()) {
+            res_.error_method = "the analytic floor: the bootstrap needs a run without the diagnoses above";
+            return;
+        }
         std::vector<detail::GroupModel> models;
-        for (size_t g : fit_groups_) models.push_back(groupModel(g));
+        std::vector<const std::vector<int>*> counts;
+        for (size_t g : fit_groups_) {
+            models.push_back(groupModel(g));
+            counts.push_back(&gd_[g].counts.e);
+        }
         // The replicates search the offset near the fit's: far wider than its floor's error.
         const double window =
             std::min(cfg_.offset_window_s, std::max(2.5, 8 * res_.offset.offset_s.se + 2 * cfg_.offset_step_s));
+        const uint64_t key = detail::dataKey(raw_->saturation, counts);
         std::vector<std::vector<double>> reps;  // [replicate]: offset, then each fit group's S*
-        for (int b = 0; b < cfg_.bootstrap; ++b) reps.push_back(replicate(uint64_t(b), models, window));
-        auto column = [&](size_t j) {
+        for (int b = 0; b < cfg_.bootstrap; ++b) reps.push_back(replicate(key, uint64_t(b), models, window));
+        auto column = [&](size_t j, int* fits) {
             std::vector<double> v;
             for (const auto& r : reps) v.push_back(r[j]);
-            return detail::finiteSpread(v, 10);
+            *fits = int(std::count_if(v.begin(), v.end(), [](double x) { return std::isfinite(x); }));
+            return detail::finiteSpread(v, kMinBootstrapFits);
         };
-        const double se_offset = column(0);
-        if (fit_offset_ && std::isfinite(se_offset)) res_.offset.offset_s.se = se_offset;
+        res_.bootstrap_replicates = cfg_.bootstrap;
+        int fits = 0;
+        const double se_offset = column(0, &fits);
+        if (fit_offset_ && std::isfinite(se_offset)) {
+            // Never below the search grid's resolution.
+            res_.offset.offset_s.se = std::max(se_offset, cfg_.offset_step_s / std::sqrt(12.0));
+            res_.offset.bootstrap_fits = fits;
+        }
+        std::string floored = fit_offset_ && res_.offset.bootstrap_fits == 0 ? "the offset" : "";
         for (size_t j = 0; j < fit_groups_.size(); ++j) {
             auto& th = res_.thresholds[fit_groups_[j]];
-            const double se = column(j + 1);
-            if (th.fitted && std::isfinite(se)) th.S_star.se = se;
+            const double se = column(j + 1, &fits);
+            if (!th.fitted) continue;
+            if (!std::isfinite(se)) {
+                floored += (floored.empty() ? "" : ", ") + th.group;
+                continue;
+            }
+            th.S_star.se = std::max(se, gap_se_[fit_groups_[j]]);  // never below a sharp step's gap
+            th.bootstrap_fits = fits;
         }
-        res_.bootstrap_replicates = cfg_.bootstrap;
+        res_.error_method = fmt("parametric bootstrap, %d replicates", cfg_.bootstrap) +
+            (floored.empty() ? std::string()
+                             : "; the analytic floor for " + floored + " (fewer than 10 replicates fitted)");
     }
 
     /// A fit group's model as the bootstrap draws from it.
@@ -492,7 +529,8 @@ private:
         const ThresholdFit& th = res_.thresholds[g];
         detail::GroupModel m;
         m.S_star = th.S_star.value;
-        m.width = th.sharp || !(th.width.value > 0) ? 0.0 : th.width.value;
+        // A width well below the smoothed saturation's noise is not resolved: a step.
+        m.width = th.sharp || !(th.width.value > 0.5 * sigma_S_) ? 0.0 : th.width.value;
         m.logistic = cfg_.link == ErrorLink::Logistic;
         if (m.width == 0) {
             std::vector<std::vector<bool>> failed;
@@ -512,10 +550,11 @@ private:
     /// noise of the measured level, each group's errors are drawn from its model at the truth, and
     /// the offset and thresholds are fitted again (the offset within `window` of the fit's).
     /// Returns the offset, then each fit group's S* (NaN where it did not fit).
-    std::vector<double> replicate(uint64_t b, const std::vector<detail::GroupModel>& models, double window) const
+    std::vector<double> replicate(uint64_t key, uint64_t b, const std::vector<detail::GroupModel>& models,
+                                  double window) const
     {
         SensorFit r(*this);
-        KeyedRng rng(0x626f6f74ull, b);
+        KeyedRng rng(key, b);
         SaturationSeries raw = *raw_;
         for (size_t i = 0; i < raw.time_s.size(); ++i)
             raw.saturation[i] = sat_.saturation[i] + res_.saturation_noise * rng.normal();
@@ -533,7 +572,11 @@ private:
         for (auto& th : r.res_.thresholds) th = ThresholdFit{};
         r.cfg_.offset_s = delta;
         r.cfg_.offset_window_s = window;
+        r.cfg_.estimate_offset = fit_offset_;
         r.startOffset();
+        // A replicate whose offset is held where the fit's was free (too few transitions) would
+        // narrow both spreads: it does not count.
+        if (r.fit_offset_ != fit_offset_) return std::vector<double>(fit_groups_.size() + 1, NAN);
         r.fitThresholds();
         std::vector<double> out{r.res_.offset.offset_s.value};
         for (size_t g : fit_groups_)
@@ -633,7 +676,8 @@ SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, c
         throw Error("--offset-window", "window must be >= 0 and step > 0");
     if (groups.empty()) throw Error("fit", "no beam groups: give --scene or --surface/--surfaces");
     if (!(cfg.smooth_s >= 0)) throw Error("--smooth", "must be >= 0");
-    if (cfg.bootstrap < 0 || cfg.bootstrap > 1000) throw Error("--bootstrap", "must lie in 0…1000 replicates");
+    if (cfg.bootstrap != 0 && (cfg.bootstrap < kMinBootstrapFits || cfg.bootstrap > 1000))
+        throw Error("--bootstrap", "must be 0 (the analytic floor) or 10…1000 replicates");
     if (!failed.empty()) {
         bool shaped = failed.size() == log.scans.size();
         for (size_t k = 0; shaped && k < failed.size(); ++k) shaped = failed[k].size() == log.scans[k].range.size();

@@ -27,7 +27,7 @@
 /// | sigma_t_per_density | 200   | 1/m  | extinction per unit density at the laser's wavelength (τ = σ_t·P) |
 /// | reference        | ""       | –    | group whose threshold goes into the sensor file ("" = most beams) |
 /// | smooth_s         | 2        | s    | the saturation is averaged over this window before fitting (its slope aligns the clocks) |
-/// | bootstrap        | 30       | –    | replicates of the parametric bootstrap behind the errors on S* and δ (0: the analytic floor only) |
+/// | bootstrap        | 30       | –    | replicates of the parametric bootstrap behind the errors on S* and δ: 0 (the analytic floor only) or 10…1000 |
 #include <string>
 #include <vector>
 
@@ -84,6 +84,7 @@ struct ThresholdFit {
     Estimate tau;  ///< σ_t·P, the optical depth at the threshold
     double pearson_chi2 = 0, deviance = 0;
     double variance_inflation = NAN;  ///< robust / model-based variance of S* (correlated beams, frames)
+    int bootstrap_fits = 0;  ///< replicates behind S*'s error (0: the analytic floor)
     int dof = 0;
 };
 
@@ -111,6 +112,7 @@ struct OffsetFit {
     int transitions = 0;  ///< error onsets and recoveries seen in the log
     std::vector<std::pair<double, double>> agreement;  ///< (δ, fraction of beams classified right)
     std::string diagnosis;
+    int bootstrap_fits = 0;  ///< replicates behind the error (0: the analytic floor)
 };
 
 /// The two streams on the laser's scan times.
@@ -131,7 +133,10 @@ struct SensorFitResult {
     double saturation_noise = 0;  ///< σ of the measured saturation (from its second differences)
     int smoothing_samples = 1;  ///< frames averaged per smoothed sample
     int reference = -1;  ///< index into thresholds for the sensor file (−1: none fitted)
-    int bootstrap_replicates = 0;  ///< the replicates behind the errors on S* and δ (0: the analytic floor)
+    /// Replicates drawn for the errors on S* and δ (0: none); each estimate's bootstrap_fits says
+    /// how many fitted.
+    int bootstrap_replicates = 0;
+    std::string error_method;  ///< where the errors on S* and δ come from ("" when nothing fitted)
     bool ok() const { return reference >= 0; }
 };
 
