@@ -314,6 +314,13 @@ TEST(SensorFit, DegenerateRunsAreDiagnosedNotFitted)
         few.bootstrap = 5;
         EXPECT_THROW(fitSensor(r.log, r.sat, groups, urg04lx(), &bocas().calib, few), Error);
     }
+    {  // A saturation series that never changes: nothing to read a threshold off.
+        SimRun r = simulate(1, 0.007, 0, 0.01, 0, 360);
+        for (double& S : r.sat.saturation) S = 0.5;
+        const auto f = fitSensor(r.log, r.sat, groups, urg04lx(), &bocas().calib);
+        EXPECT_FALSE(f.ok());
+        EXPECT_TRUE(has(f, "never changes"));
+    }
     {  // The camera's clock is 1000 s off: nothing overlaps within the search window.
         const SimRun r = simulate(1, 0.007, 1000.0, 0.01, 0, 360);
         const auto f = fitSensor(r.log, r.sat, groups, urg04lx(), &bocas().calib);

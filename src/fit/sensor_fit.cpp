@@ -271,6 +271,11 @@ private:
     {
         S_min_ = *std::min_element(sat_.saturation.begin(), sat_.saturation.end());
         S_max_ = *std::max_element(sat_.saturation.begin(), sat_.saturation.end());
+        if (S_max_ - S_min_ < 1e-9) {
+            res_.diagnoses.push_back(
+                fmt("the saturation never changes (%.4f throughout): no threshold can be read off it", S_min_));
+            return false;
+        }
         for (size_t g : usable_) {
             auto& th = res_.thresholds[g];
             if (th.errors == 0)
