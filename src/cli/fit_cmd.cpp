@@ -370,7 +370,8 @@ void addFit(CLI::App& app, Runner& run)
         ->check(nonnegative());
     c->add_option(
          "--bootstrap", a->cfg.bootstrap,
-         "Replicates of the parametric bootstrap behind the errors on S* and the offset (0: the analytic floor)")
+         "Replicates of the parametric bootstrap behind the errors on S* and the offset: 0 (the analytic floor) or "
+         "10-1000")
         ->capture_default_str()
         ->check(CLI::Range(0, 1000));
     c->add_option("--model", a->model,
