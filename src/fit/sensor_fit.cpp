@@ -485,10 +485,14 @@ private:
             res_.error_method = "the analytic floor: the bootstrap needs a run without the diagnoses above";
             return;
         }
+        // The truth at each scan, the same for every group and replicate.
+        std::vector<double> S_truth;
+        for (const LaserLogScan& scan : log_.scans)
+            S_truth.push_back(saturationAt(sat_, scan.time_s + res_.offset.offset_s.value));
         std::vector<detail::GroupModel> models;
         std::vector<const std::vector<int>*> counts;
         for (size_t g : fit_groups_) {
-            models.push_back(groupModel(g));
+            models.push_back(groupModel(g, S_truth));
             counts.push_back(&gd_[g].counts.e);
         }
         // The replicates search the offset near the fit's: far wider than its floor's error.
@@ -496,7 +500,7 @@ private:
             std::min(cfg_.offset_window_s, std::max(2.5, 8 * res_.offset.offset_s.se + 2 * cfg_.offset_step_s));
         const uint64_t key = detail::dataKey(raw_->saturation, counts);
         std::vector<std::vector<double>> reps;  // [replicate]: offset, then each fit group's S*
-        for (int b = 0; b < cfg_.bootstrap; ++b) reps.push_back(replicate(key, uint64_t(b), models, window));
+        for (int b = 0; b < cfg_.bootstrap; ++b) reps.push_back(replicate(key, uint64_t(b), models, S_truth, window));
         auto column = [&](size_t j, int* fits) {
             std::vector<double> v;
             for (const auto& r : reps) v.push_back(r[j]);
@@ -528,8 +532,8 @@ private:
                              : "; the analytic floor for " + floored + " (fewer than 10 replicates fitted)");
     }
 
-    /// A fit group's model as the bootstrap draws from it.
-    detail::GroupModel groupModel(size_t g) const
+    /// A fit group's model as the bootstrap draws from it; S_truth: the smoothed saturation at each scan.
+    detail::GroupModel groupModel(size_t g, const std::vector<double>& S_truth) const
     {
         const ThresholdFit& th = res_.thresholds[g];
         detail::GroupModel m;
@@ -539,14 +543,12 @@ private:
         m.logistic = cfg_.link == ErrorLink::Logistic;
         if (m.width == 0) {
             std::vector<std::vector<bool>> failed;
-            std::vector<double> S;
             for (size_t k = 0; k < K_; ++k) {
-                S.push_back(saturationAt(sat_, gd_[g].counts.t[k] + res_.offset.offset_s.value));
                 std::vector<bool> f;
                 for (double r : gd_[g].range_m[k]) f.push_back(std::isnan(r));
                 failed.push_back(std::move(f));
             }
-            m.beam_offset = detail::beamThresholdSpread(failed, S);
+            m.beam_offset = detail::beamThresholdSpread(failed, S_truth);
         }
         return m;
     }
@@ -556,7 +558,7 @@ private:
     /// the offset and thresholds are fitted again (the offset within `window` of the fit's).
     /// Returns the offset, then each fit group's S* (NaN where it did not fit).
     std::vector<double> replicate(uint64_t key, uint64_t b, const std::vector<detail::GroupModel>& models,
-                                  double window) const
+                                  const std::vector<double>& S_truth, double window) const
     {
         SensorFit r(*this);
         KeyedRng rng(key, b);
@@ -566,12 +568,8 @@ private:
         r.sat_ = movingAverage(raw, h_);
         r.res_.saturation_noise = detail::noiseOfSeries(raw.saturation);
         const double delta = res_.offset.offset_s.value;
-        for (size_t j = 0; j < fit_groups_.size(); ++j) {
-            auto& c = r.gd_[fit_groups_[j]].counts;
-            std::vector<double> S_true;
-            for (double t : c.t) S_true.push_back(saturationAt(sat_, t + delta));
-            detail::drawErrorCounts(models[j], S_true, rng, c);
-        }
+        for (size_t j = 0; j < fit_groups_.size(); ++j)
+            detail::drawErrorCounts(models[j], S_truth, rng, r.gd_[fit_groups_[j]].counts);
         r.res_.offset = {};
         r.res_.diagnoses.clear();
         for (auto& th : r.res_.thresholds) th = ThresholdFit{};
