@@ -1,6 +1,6 @@
 // Fuzzes the sensor file reader, applied to a URG-04LX config.
 #include "fuzz_common.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {

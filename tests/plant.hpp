@@ -16,8 +16,8 @@
 #include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 #include "smokescan/sensors/scanner.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan::test {
 

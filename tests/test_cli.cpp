@@ -128,7 +128,7 @@ TEST(Cli, BadInputGivesOneLineAndNoOutput)
     const std::string no_cam = file("no_cam.toml", "[[materials]]\nname = \"a\"\n");
     expectBad("render " + no_cam + " --out " + png, "has no camera", png);
     const std::string zero = file("zero.toml", "[[cameras]]\nname = \"c\"\nwidth = 0\n");
-    expectBad("render " + zero + " --out " + png, zero + ":3: cameras[0].width and height must be > 0", png);
+    expectBad("render " + zero + " --out " + png, zero + ":3: cameras[0].width must lie in 1…16384 px", png);
     expectBad("render bocas --width 0 --out " + png, "--width: '0' is outside", png);
     const std::string nan_pose = file("nan.toml", "[[cameras]]\nname = \"c\"\nposition = [nan, 0.0, 0.0]\n");
     expectBad("render " + nan_pose + " --out " + png, "cameras[0].position must be an array of 3 finite numbers", png);

@@ -7,7 +7,7 @@
 
 #include "plant.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;

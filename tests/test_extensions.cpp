@@ -10,9 +10,9 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/quadrature.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 #include "smokescan/sensors/beam_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
 
 using namespace smokescan;
 using smokescan::test::Rig;

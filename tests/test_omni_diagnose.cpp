@@ -13,7 +13,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/fit/omni_fit.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;

@@ -14,7 +14,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/fit/omni_fit.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;

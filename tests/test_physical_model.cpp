@@ -12,10 +12,10 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 #include "smokescan/sensors/cloud_profile.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
 
 #include "room_rig.hpp"
 #include "scratch.hpp"
@@ -422,7 +422,10 @@ TEST(SensorFile, RoundTripAndStrictErrors)
     };
     expectError("type = \"lms200\"\n", "sensor is a urg04lx");
     expectError("type = \"urg04lx\"\n[physical]\nnoise_flor = 1\n", "unknown key");
-    expectError("type = \"urg04lx\"\n[physical]\nnoise_floor = -1\n", "must be > 0");
+    expectError("type = \"urg04lx\"\n[physical]\nnoise_floor = -1\n", "noise_floor must be in [1e-15, 1000]");
+    expectError("type = \"urg04lx\"\n[physical]\nnoise_floor = 1e308\n", "noise_floor must be in [1e-15, 1000]");
+    expectError("type = \"urg04lx\"\n[physical]\nthreshold_snr = 6\n",
+                "unknown key 'physical.threshold_snr': not a key of the physical model of an urg04lx");
     expectError("type = \"urg04lx\"\nmodel = \"magic\"\n", "paper or physical");
     expectError("type = \"urg04lx\"\n[physical]\nsub_rays = 0\n", "sub_rays");
     expectError("type = \"urg04lx\"\n[physical]\noverlap_blur_m = -0.1\n", "must be >= 0");

@@ -4,9 +4,9 @@
 
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/plot/canvas.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/plot/palette.hpp"
 
 namespace smokescan {

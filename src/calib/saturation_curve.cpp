@@ -139,7 +139,6 @@ CurveFitResult fitSaturationCurve(const std::vector<SaturationPoint>& pts, const
     problem.SetParameterUpperBound(p, 0, 1.0);
     problem.SetParameterLowerBound(p, 1, 1e-9);
     problem.SetParameterLowerBound(p, 2, 1e-9);
-    detail::quietCeres();
     const ceres::Solver::Options opt = detail::denseOptions(1000, 1e-12);
     ceres::Solver::Summary summary;
     ceres::Solve(opt, &problem, &summary);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/overloaded.hpp"
 #include "smokescan/core/random.hpp"
 
 namespace smokescan {
@@ -11,9 +12,13 @@ namespace {
 
 Vec3 centreOf(const Surface& s)
 {
-    if (const auto* q = std::get_if<QuadShape>(&s.shape)) return q->corner_m + 0.5 * (q->edge_u_m + q->edge_v_m);
-    if (const auto* c = std::get_if<CylinderShape>(&s.shape)) return s.pose.t + Vec3(0, 0, 0.5 * c->height_m);
-    return s.pose.t;
+    return std::visit(Overloaded{
+                          [&](const QuadShape& q) -> Vec3 { return q.corner_m + 0.5 * (q.edge_u_m + q.edge_v_m); },
+                          [&](const CylinderShape& c) -> Vec3 { return s.pose.t + Vec3(0, 0, 0.5 * c.height_m); },
+                          [&](const BoxShape&) -> Vec3 { return s.pose.t; },  // centred on its pose
+                          [&](const MeshShape&) -> Vec3 { return s.pose.t; },  // the mesh's origin
+                      },
+                      s.shape);
 }
 
 }  // namespace

@@ -9,8 +9,9 @@
 #include <sstream>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
+#include "smokescan/io/recorded.hpp"
 #include "smokescan/io/text_input.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/render/renderer.hpp"
 
 namespace smokescan {
@@ -109,6 +110,7 @@ FramePatch parseFramePatch(const std::string& spec, bool rect, const std::string
     if (eq == std::string::npos || eq == 0) throw Error(option, "expects NAME=numbers, got '" + spec + "'");
     FramePatch p;
     p.name = spec.substr(0, eq);
+    checkColumnName(p.name, option);
     const auto v = parseNumberList(spec.substr(eq + 1), option);
     if (rect) {
         if (v.size() != 4 || v[2] <= 0 || v[3] <= 0)

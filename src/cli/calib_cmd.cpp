@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -17,11 +18,11 @@
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/camera/frame_saturation.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/text_input.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
@@ -54,12 +55,12 @@ int runCalibrate(const CalibArgs& a)
         throw Error("--spp",
                     "width × height × spp × --max-batches × densities is over " +
                         std::to_string(limits::kFrameSamples) + " samples");
+    const Scene scene = loadScene(a.scene);
     RunFiles files;
-    files.input(a.scene, "the scene");
+    recordSceneInputs(files, a.scene, scene);
     files.output(a.out, "--out");
     files.output(a.plot, "--plot");
     if (!a.plot.empty() && !isImageExtension(a.plot)) throw Error(a.plot, "unknown image format (png, exr, jpg, tif)");
-    const Scene scene = loadScene(a.scene);
     const Progress progress("calibrate", "frames");
     const CalibrationResult r = calibrate(scene, cfg, [&](int done, int total) { progress.update(done, total); });
     if (!r.fit.converged)
@@ -160,7 +161,11 @@ int runSaturation(const SatArgs& a)
     RunFiles files;
     for (const auto& f : frames) files.input(f, "the frames");
     for (const auto& f : id_frames) files.input(f, "--ids");
-    files.input(a.scene, "--scene");
+    std::optional<Scene> scene;
+    if (!a.scene.empty()) {
+        scene = loadScene(a.scene);
+        recordSceneInputs(files, a.scene, *scene);
+    }
     files.input(a.timestamps, "--timestamps");
     files.output(a.out, "--out");
     if (!a.ids.empty()) {
@@ -168,7 +173,7 @@ int runSaturation(const SatArgs& a)
             throw Error(a.ids,
                         "holds " + std::to_string(id_frames.size()) + " id images for " +
                             std::to_string(frames.size()) + " frames");
-        regions.target = targetPatches(loadScene(a.scene), a.prefix);
+        regions.target = targetPatches(*scene, a.prefix);
         regions.by_id = true;
     }
     const std::vector<double> stamps =
@@ -198,7 +203,7 @@ void addCalibration(CLI::App& app, Runner& run)
                   "Batches until each patch's fitted radiance has this relative standard error")
         ->capture_default_str()
         ->check(finite())
-        ->check(CLI::Range(1e-4, 1.0));
+        ->check(range(1e-4, 1.0));
     c->add_option("--max-batches", a->cfg.field.max_batches, "At most this many batches")
         ->capture_default_str()
         ->check(intRange(4, 4096));

@@ -10,7 +10,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/fit/omni_fit.hpp"
-#include "smokescan/sensors/sensor_kind.hpp"
+#include "smokescan/sensor_config/sensor_kind.hpp"
 
 namespace smokescan {
 class RunFiles;
@@ -28,12 +28,12 @@ const CLI::Validator& finite();
 const CLI::Validator& positive();
 /// A finite number >= 0.
 const CLI::Validator& nonnegative();
+/// A finite number in [lo, hi] (CLI::Range lets "nan" through: never use it).
+CLI::Validator range(double lo, double hi);
 /// An integer in [lo, hi].
 CLI::Validator intRange(long long lo, long long hi);
 /// The sensor model an option names ("paper", "physical"); Error(option, ...) otherwise.
 SensorModel sensorModelOption(const std::string& option, const std::string& value);
-/// The sensor type an option names ("urg04lx", "lms200"); Error(option, ...) otherwise.
-SensorType sensorTypeOption(const std::string& option, const std::string& value);
 /// @brief The omnicam's options of `fit` and `diagnose` (--max-range, --floor-z, --tolerance)
 /// into `omni`; `given` collects the names of those on the command line.
 void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>& given);

@@ -7,14 +7,14 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/diagnose/diagnosis_report.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
 #include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/run_files.hpp"
-#include "smokescan/plot/format.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -68,7 +68,7 @@ void finishDiagnosis(const DiagnoseArgs& a, AtomicFolder& out, const Replay& rep
 }
 
 /// The omnicam's log against its truth, from the onset its sensor file holds.
-int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out)
+int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out, RunFiles& files)
 {
     if (a.sensor_file.empty())
         throw Error("--sensor-type omnicam",
@@ -93,6 +93,7 @@ int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out)
     omni.camera = a.in.sensor.empty() ? file.camera : a.in.sensor;
     omni.groups = false;
     const OmniFitInputs o = loadOmniFitInputs(a.in, omni);
+    if (o.in.scene) recordSceneInputs(files, a.in.scene, *o.in.scene);
     if (std::isnan(a.replay.offset_s)) a.replay.offset_s = file.extensions.clock_offset_s;
     const Replay replay = replayOmniRun(o, file, a.replay);
     const DiagnosisResult r = diagnoseWithProgress(replay, a.diag);
@@ -112,7 +113,6 @@ int runDiagnose(const DiagnoseArgs& a0)
     RunFiles files;
     files.input(a.in.laser, "--laser");
     files.input(a.in.saturation, "--saturation");
-    files.input(a.in.scene, "--scene");
     files.input(a.in.calibration, "--calibration");
     files.input(a.sensor_file, "--sensor-file");
     files.outputFolder(a.out, "--out");
@@ -121,10 +121,11 @@ int runDiagnose(const DiagnoseArgs& a0)
     a.in.prefix = a.replay.target_prefix;
     // The folder is checked (and staged) before the work: a taken --out fails at once.
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
-    if (a.in.sensor_type == "omnicam") return runDiagnoseOmni(a, out);
+    if (a.in.sensor_type == "omnicam") return runDiagnoseOmni(a, out, files);
     if (!a.omni_given.empty())
         throw Error("diagnose", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
     const FitInputs in = loadFitInputs(a.in);
+    if (in.scene) recordSceneInputs(files, a.in.scene, *in.scene);
     SensorConfig config = in.mount.config;
     if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);
     if (!a.model.empty()) config.model = sensorModelOption("--model", a.model);
@@ -174,7 +175,7 @@ void addDiagnose(CLI::App& app, Runner& run)
     a->replay.offset_s = NAN;
     c->add_option("--offset", a->replay.offset_s,
                   "Camera clock - laser clock [s] (default: the sensor file's clock_offset_s, else 0)")
-        ->check(CLI::Range(-1e5, 1e5));
+        ->check(range(-1e5, 1e5));
     c->add_option("--block", a->replay.block_s, "Time block of the held-out split [s]")
         ->capture_default_str()
         ->check(positive());
@@ -182,7 +183,7 @@ void addDiagnose(CLI::App& app, Runner& run)
     c->add_option("--target-prefix", a->replay.target_prefix, "The camera's target surfaces")->capture_default_str();
     c->add_option("--alpha", a->diag.alpha, "False-alarm level of each round")
         ->capture_default_str()
-        ->check(CLI::Range(1e-9, 0.5));
+        ->check(range(1e-9, 0.5));
     c->add_option("--max-findings", a->diag.max_findings, "Greedy rounds at most")
         ->capture_default_str()
         ->check(intRange(1, 8));

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "smokescan/calib/calibration.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/fit/covariates.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
@@ -16,9 +17,8 @@
 #include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/fit/plume_fit.hpp"
 #include "smokescan/io/run_files.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/scene/scene_io.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -129,6 +129,7 @@ int runFitOmni(const FitArgs& a, const FitInputsConfig& ic, RunFiles& files)
     OmniFitConfig omni = a.omni;
     omni.camera = a.sensor;  // --sensor names the omni camera
     OmniFitInputs o = loadOmniFitInputs(ic, omni);
+    if (o.in.scene) recordSceneInputs(files, a.scene, *o.in.scene);
     checkReference(a.cfg.reference, o.in.groups);
     SensorFitConfig cfg = a.cfg;
     for (const auto& v : o.in.scene->volumes)
@@ -175,7 +176,6 @@ int runFit(const FitArgs& a0)
     RunFiles files;
     files.input(a.laser, "--laser");
     files.input(a.saturation, "--saturation");
-    files.input(a.scene, "--scene");
     files.input(a.surfaces_file, "--surfaces");
     files.input(a.calibration, "--calibration");
     files.output(a.out, "--out");
@@ -215,6 +215,7 @@ int runFit(const FitArgs& a0)
     if (!a.omni_given.empty())
         throw Error("fit", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
     FitInputs in = loadFitInputs(ic);
+    if (in.scene) recordSceneInputs(files, a.scene, *in.scene);
     if (std::isfinite(in.sigma_t_per_density)) a.cfg.sigma_t_per_density = in.sigma_t_per_density;
     const LrfSpec spec = specFor(in.mount.config);
     checkReference(a.cfg.reference, in.groups);
@@ -266,15 +267,15 @@ struct PlumeArgs {
 
 int runFitPlume(const PlumeArgs& a)
 {
+    const Scene scene = loadScene(a.scene);
     RunFiles files;
     files.input(a.laser, "--laser");
-    files.input(a.scene, "--scene");
+    recordSceneInputs(files, a.scene, scene);
     files.output(a.out, "--out");
     ReadOptions ro;
     ro.unit_m = parseRangeUnit(a.unit);
     ro.lenient = a.lenient;
     const RecordedLog log = readRecordedLog(a.laser, ro);
-    const Scene scene = loadScene(a.scene);
     const SurfaceSet surfaces(scene);
     const int si = scene.findSensor(a.sensor.empty() ? "lms200" : a.sensor);
     if (si < 0) throw Error(scene.source, "no sensor '" + (a.sensor.empty() ? std::string("lms200") : a.sensor) + "'");
@@ -373,7 +374,7 @@ void addFit(CLI::App& app, Runner& run)
          "Replicates of the parametric bootstrap behind the errors on S* and the offset: 0 (the analytic floor) or "
          "10-1000")
         ->capture_default_str()
-        ->check(CLI::Range(0, 1000));
+        ->check(intRange(0, 1000));
     c->add_option("--model", a->model,
                   "Sensor file model: paper (penetration power) or physical (URG noise floor solved in --scene)")
         ->capture_default_str();

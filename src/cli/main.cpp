@@ -1,4 +1,6 @@
 // smokescan: laser range finders and cameras in smoke. A thin CLI over the library.
+#include <glog/logging.h>
+
 #include <iostream>
 #include <new>
 
@@ -6,8 +8,24 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/version.hpp"
 
+namespace {
+
+/// Ceres logs through glog (rank-deficient covariances, line-search notes); the fits report what
+/// matters in their results and an error is one line, so the program lets glog say nothing
+/// below FATAL.
+void quietGlog(const char* argv0)
+{
+    google::InitGoogleLogging(argv0);
+    FLAGS_minloglevel = google::GLOG_FATAL;
+    FLAGS_stderrthreshold = google::GLOG_FATAL;
+    FLAGS_logtostderr = false;
+}
+
+}  // namespace
+
 int main(int argc, char** argv)
 {
+    quietGlog(argc > 0 ? argv[0] : "smokescan");
     CLI::App app{"smokescan: laser range finders and cameras in smoke, simulated physically"};
     app.set_version_flag("--version", std::string("smokescan ") + smokescan::version());
     app.require_subcommand(1);
@@ -21,6 +39,19 @@ int main(int argc, char** argv)
     smokescan::cli::addFitPlume(app, run);
     smokescan::cli::addDiagnose(app, run);
     smokescan::cli::addOmnirange(app, run);
+    if (argc > 1 && argv[1][0] != '-') {  // CLI11 would say only that an argument was not expected
+        std::string names;
+        bool known = false;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+            known = known || sub->get_name() == argv[1];
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+        }
+        if (!known) {
+            std::cerr << "smokescan: unknown command '" << smokescan::printable(argv[1]) << "' (" << names
+                      << "; see --help)\n";
+            return 2;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -51,8 +51,8 @@ int runRender(const RenderArgs& a)
     if (a.exposure != "auto") {
         char* end = nullptr;
         exposure = std::strtod(a.exposure.c_str(), &end);
-        if (end == a.exposure.c_str() || *end || !(exposure > 0) || !std::isfinite(exposure))
-            throw Error("--exposure", "must be 'auto' or a number > 0, got '" + a.exposure + "'");
+        if (end == a.exposure.c_str() || *end || !(exposure > 0 && exposure <= 1e6))
+            throw Error("--exposure", "must be 'auto' or a number in (0, 1e6], got '" + a.exposure + "'");
     }
     std::vector<double> times = {a.cfg.time_s};
     const bool series = a.every > 0;

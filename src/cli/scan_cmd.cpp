@@ -258,12 +258,12 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--saturation-sigma", a->sat.sigma, "Measurement noise added to the saturation (standard deviation)")
         ->capture_default_str()
         ->check(nonnegative())
-        ->check(CLI::Range(0.0, 1.0));
+        ->check(range(0.0, 1.0));
     a->sat.clock_offset_s = NAN;
     c->add_option("--camera-offset", a->sat.clock_offset_s,
-                  "Camera clock - laser clock [s] in --saturation-out (default: the sensor file's clock_offset_s, "
-                  "else 0)")
-        ->check(finite());
+                  "Camera clock - laser clock [s] in --saturation-out, within +/-1e5 s as in a sensor file "
+                  "(default: the sensor file's clock_offset_s, else 0)")
+        ->check(range(-1e5, 1e5));
     c->callback([a, &run] { run = [a] { return runScan(*a); }; });
 }
 

@@ -1,6 +1,7 @@
 // Option checks shared by the subcommands (commands.hpp).
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "commands.hpp"
@@ -57,6 +58,23 @@ const CLI::Validator& nonnegative()
     return v;
 }
 
+CLI::Validator range(double lo, double hi)
+{
+    char name[64];
+    std::snprintf(name, sizeof name, "NUMBER in [%g, %g]", lo, hi);
+    return CLI::Validator(
+        [lo, hi](std::string& text) {
+            double v = 0;
+            const std::string why = parseFinite(text, v);
+            if (!why.empty()) return why;
+            if (v >= lo && v <= hi) return std::string();
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "' is outside [%g, %g]", lo, hi);
+            return "'" + text + buf;
+        },
+        name);
+}
+
 CLI::Validator intRange(long long lo, long long hi)
 {
     return CLI::Validator(
@@ -76,12 +94,6 @@ SensorModel sensorModelOption(const std::string& option, const std::string& valu
 {
     if (const auto m = parseSensorModel(value)) return *m;
     throw Error(option, "unknown sensor model '" + value + "' (paper, physical)");
-}
-
-SensorType sensorTypeOption(const std::string& option, const std::string& value)
-{
-    if (const auto t = parseSensorType(value)) return *t;
-    throw Error(option, "unknown sensor type '" + value + "' (urg04lx, lms200)");
 }
 
 void recordSceneInputs(RunFiles& files, const std::string& path, const Scene& scene)

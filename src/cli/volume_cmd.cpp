@@ -59,10 +59,10 @@ int runInfo(const VolumeArgs& a)
 
 int runBuild(const VolumeArgs& a)
 {
-    RunFiles files;
-    files.input(a.input, "the scene");
-    files.output(a.out, "--out");
     const Scene scene = loadScene(a.input);
+    RunFiles files;
+    recordSceneInputs(files, a.input, scene);
+    files.output(a.out, "--out");
     if (scene.volumes.empty()) throw Error(scene.source, "has no smoke volumes to build");
     std::vector<std::pair<std::string, DensityGrid>> grids;
     for (const auto& v : scene.volumes) grids.emplace_back(v.name, v.gridAt(a.time_s)->scaled(v.timeline.at(a.time_s)));

@@ -5,8 +5,9 @@
 namespace smokescan {
 namespace {
 
-/// Length of the valid UTF-8 sequence starting at s[i] (0 when it is not one).
-size_t utf8Length(const std::string& s, size_t i)
+/// Length of the valid UTF-8 sequence starting at s[i] (0 when it is not one); its code point
+/// in `cp`.
+size_t utf8Length(const std::string& s, size_t i, unsigned& cp)
 {
     const auto c = static_cast<unsigned char>(s[i]);
     size_t n = 0;
@@ -20,7 +21,7 @@ size_t utf8Length(const std::string& s, size_t i)
     else
         return 0;
     if (i + n > s.size()) return 0;
-    unsigned cp = c & (0xFF >> (n + 1));
+    cp = c & (0xFF >> (n + 1));
     for (size_t k = 1; k < n; ++k) {
         const auto d = static_cast<unsigned char>(s[i + k]);
         if ((d & 0xC0) != 0x80) return 0;
@@ -28,6 +29,14 @@ size_t utf8Length(const std::string& s, size_t i)
     }
     if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return 0;
     return n;
+}
+
+/// Code points that would move or hide text on a terminal: C1 controls (U+0080–U+009F, e.g. the
+/// CSI U+009B), bidirectional overrides, embeddings and isolates, line and paragraph separators.
+bool isHidingControl(unsigned cp)
+{
+    return (cp >= 0x80 && cp <= 0x9F) || cp == 0x061C || cp == 0x200E || cp == 0x200F ||
+        (cp >= 0x2028 && cp <= 0x202E) || (cp >= 0x2066 && cp <= 0x2069);
 }
 
 }  // namespace
@@ -45,8 +54,13 @@ std::string printable(const std::string& text, size_t max_bytes)
         if (c >= 0x20 && c < 0x7F) {
             out += char(c);
             ++i;
-        } else if (const size_t n = c >= 0x80 ? utf8Length(text, i) : 0) {
-            out.append(text, i, n);
+        } else if (unsigned cp = 0; const size_t n = c >= 0x80 ? utf8Length(text, i, cp) : 0) {
+            if (isHidingControl(cp)) {
+                char buf[16];
+                std::snprintf(buf, sizeof buf, "\\u%04X", cp);
+                out += buf;
+            } else
+                out.append(text, i, n);
             i += n;
         } else {
             char buf[8];

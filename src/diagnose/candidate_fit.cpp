@@ -7,7 +7,7 @@
 #include <cmath>
 #include <map>
 
-#include "../calib/ceres_fit.hpp"
+#include "ceres_fit.hpp"
 
 namespace smokescan::detail {
 namespace {
@@ -80,7 +80,6 @@ ThetaFit fitCandidate(const Replay& r, const Extensions& m, const Candidate& c, 
     opt.function_tolerance = 1e-10;
     opt.gradient_tolerance = 1e-8;
     ceres::GradientProblemSolver::Summary summary;
-    quietCeres();
     ceres::Solve(opt, problem, &theta, &summary);
     if (!summary.IsSolutionUsable() || !std::isfinite(theta) || !c.plausible(theta, m)) return f;
     // Observed information by central differences of the analytic gradient; scores per block.

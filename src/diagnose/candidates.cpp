@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "smokescan/plot/format.hpp"
+#include "smokescan/core/format.hpp"
 
 namespace smokescan::detail {
 namespace {

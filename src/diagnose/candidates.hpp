@@ -26,6 +26,10 @@ enum class Cause {
     SectorDropout,
     Hysteresis
 };
+/// Every cause the diagnosis tries, in the order above.
+inline constexpr Cause kCauses[] = {Cause::ClockOffset,      Cause::SurfaceThreshold, Cause::ThresholdWidth,
+                                    Cause::SurfaceRangeBias, Cause::RangeNoiseGrowth, Cause::SmokeObstacleReturn,
+                                    Cause::SectorDropout,    Cause::Hysteresis};
 const char* causeName(Cause c);
 
 /// One observation: scan k, beam b.

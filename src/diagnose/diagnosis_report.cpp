@@ -10,9 +10,9 @@
 
 #include "candidates.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/image.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/plot/frame.hpp"
 
 namespace smokescan {

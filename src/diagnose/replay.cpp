@@ -9,12 +9,12 @@
 
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
-#include "smokescan/plot/format.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 #include "smokescan/sensors/beam_model.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
 
 namespace smokescan {
 namespace {

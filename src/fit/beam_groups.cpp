@@ -14,6 +14,8 @@ namespace smokescan {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+/// A group's surface range [m]: beyond every sensor's reach (a range a sensor file then carries).
+constexpr double kMaxGroupRange_m = 1000;
 
 double number(const std::string& tok, const std::string& where)
 {
@@ -48,7 +50,8 @@ BeamGroup parseBeamGroup(const std::string& spec, const std::string& what)
     std::string rest = spec.substr(eq + 1);
     if (const auto at = rest.find('@'); at != std::string::npos) {
         g.range_m = number(rest.substr(at + 1), what);
-        if (!(g.range_m > 0)) throw Error(what, "range of '" + g.name + "' must be > 0");
+        if (!(g.range_m > 0 && g.range_m <= kMaxGroupRange_m))
+            throw Error(what, "range of '" + g.name + "' must be in (0, 1000] m");
         rest = rest.substr(0, at);
     }
     std::stringstream ss(rest);
@@ -83,7 +86,7 @@ std::vector<BeamGroup> readBeamGroupFile(const std::string& path)
         addInterval(g, number(f[1], where), number(f[2], where));
         if (f.size() == 4) {
             g.range_m = number(f[3], where);
-            if (!(g.range_m > 0)) throw Error(where, "range must be > 0");
+            if (!(g.range_m > 0 && g.range_m <= kMaxGroupRange_m)) throw Error(where, "range must be in (0, 1000] m");
         }
     }
     if (out.empty()) throw Error(path, "names no beam groups");

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_file.hpp"
 
 namespace smokescan {
@@ -36,7 +37,7 @@ void writeCovariates(const std::string& path, const RecordedLog& log, const Sens
             const double m = s.range[i] * log.unit_m;
             const bool err = spec.isErrorRange(m);
             std::ostringstream r;
-            r << std::setprecision(9) << s.time_s << ',' << i << ',' << a << ',' << group << ',';
+            r << std::setprecision(9) << shortest(s.time_s) << ',' << i << ',' << a << ',' << group << ',';
             if (!err) r << m;
             r << ',' << int(err) << ',';
             if (!std::isnan(S)) r << S;

@@ -8,9 +8,9 @@
 #include <iomanip>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/plot/canvas.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/plot/frame.hpp"
 #include "smokescan/plot/palette.hpp"
 #include "threshold_fit.hpp"
@@ -146,7 +146,7 @@ void writeAlignedCsv(const std::string& path, const SensorFitResult& r)
     for (const auto& g : r.groups) o << ',' << g.name << "_errors," << g.name << "_beams," << g.name << "_mean_range_m";
     o << '\n' << std::setprecision(9);
     for (const auto& a : r.aligned) {
-        o << a.time_s << ',';
+        o << shortest(a.time_s) << ',';
         if (!std::isnan(a.saturation)) o << a.saturation;
         for (size_t g = 0; g < a.errors.size(); ++g) {
             o << ',' << a.errors[g] << ',' << a.beams[g] << ',';

@@ -5,10 +5,10 @@
 #include <map>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/media/smoke.hpp"
 #include "smokescan/omni/scanline_truth.hpp"
-#include "smokescan/plot/format.hpp"
 
 namespace smokescan {
 namespace {

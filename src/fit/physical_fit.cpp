@@ -6,8 +6,8 @@
 
 #include <ceres/ceres.h>
 
-#include "../calib/ceres_fit.hpp"
 #include "binomial_deviance.hpp"
+#include "ceres_fit.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 

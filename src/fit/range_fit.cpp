@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "../calib/ceres_fit.hpp"
+#include "ceres_fit.hpp"
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
 
@@ -36,7 +36,6 @@ Line fitLine(const std::vector<double>& x, const std::vector<double>& y, const s
     for (size_t i = 0; i < x.size(); ++i)
         problem.AddResidualBlock(
             new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{x[i], y[i], se[i]}), nullptr, p);
-    detail::quietCeres();
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::DENSE_QR;
     ceres::Solver::Summary sum;

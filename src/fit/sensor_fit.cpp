@@ -9,8 +9,8 @@
 
 #include "fit_bootstrap.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/order_stats.hpp"
-#include "smokescan/plot/format.hpp"
 #include "threshold_fit.hpp"
 
 namespace smokescan {
@@ -23,6 +23,8 @@ namespace {
 
 /// Replicates that must fit for the bootstrap's spread to replace the floor.
 constexpr int kMinBootstrapFits = 10;
+/// The offset grid's size on each side of its centre (--offset-window / --offset-step): 1 h at 0.1 s.
+constexpr int kMaxOffsetSteps = 36000;
 
 /// Per group: the beams of the log it holds, and per scan the errors and valid ranges.
 struct GroupData {
@@ -109,6 +111,7 @@ double saturationAt(const SaturationSeries& s, double t)
 
 SaturationSeries movingAverage(const SaturationSeries& s, int h)
 {
+    h = std::max(h, 0);
     SaturationSeries out = s;
     const int n = int(s.time_s.size());
     for (int i = 0; i < n; ++i) {
@@ -677,6 +680,12 @@ SensorFitResult fitSensor(const RecordedLog& log, const SaturationSeries& raw, c
 {
     if (!(cfg.offset_window_s >= 0) || !(cfg.offset_step_s > 0))
         throw Error("--offset-window", "window must be >= 0 and step > 0");
+    if (cfg.offset_window_s / cfg.offset_step_s > kMaxOffsetSteps)
+        throw Error("--offset-window",
+                    fmt("%g s in steps of %g s is more than %d offsets on each side", cfg.offset_window_s,
+                        cfg.offset_step_s, kMaxOffsetSteps));
+    if (raw.time_s.size() < 3)
+        throw Error(raw.path, fmt("holds %zu saturation rows: a fit needs at least 3", raw.time_s.size()));
     if (groups.empty()) throw Error("fit", "no beam groups: give --scene or --surface/--surfaces");
     if (!(cfg.smooth_s >= 0)) throw Error("--smooth", "must be >= 0");
     if (cfg.bootstrap != 0 && (cfg.bootstrap < kMinBootstrapFits || cfg.bootstrap > 1000))

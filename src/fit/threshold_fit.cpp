@@ -5,7 +5,7 @@
 // covariance uses Pearson residuals with the weights at the solution: their JᵀJ is the Fisher
 // information, their score sums the cluster-robust middle.
 #include "threshold_fit.hpp"
-#include "../calib/ceres_fit.hpp"
+#include "ceres_fit.hpp"
 #include "smokescan/core/order_stats.hpp"
 
 #include <ceres/ceres.h>

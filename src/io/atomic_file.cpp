@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -58,7 +59,9 @@ void installHandlers()
         struct sigaction sa {};
         sa.sa_handler = removeTemporariesAndDie;
         sigemptyset(&sa.sa_mask);
-        for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        // SIGPIPE too: a reader that closes early (`smokescan ... | head -c 1`) ends the run
+        // as it would have, but without a temporary left behind.
+        for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) {
             struct sigaction old {};
             ::sigaction(sig, nullptr, &old);
             if (old.sa_handler != SIG_IGN) ::sigaction(sig, &sa, nullptr);  // keep nohup's choice
@@ -81,7 +84,13 @@ mode_t processUmask()
 std::string makeTemporary(const fs::path& dir, const fs::path& target)
 {
     const std::string ext = target.extension().string();
-    std::string name = (dir / (target.stem().string() + ".tmpXXXXXX" + ext)).string();
+    // The stem is shortened so that a name near the file system's limit (255 bytes) still has
+    // room for the temporary's suffix; an extension that leaves none is refused as the target's.
+    std::string stem = target.stem().string();
+    const size_t room = 255 > ext.size() + 10 ? 255 - ext.size() - 10 : 0;
+    if (room == 0) throw Error(target.string(), "cannot write (file name too long)");
+    if (stem.size() > room) stem.resize(room);
+    std::string name = (dir / (stem + ".tmpXXXXXX" + ext)).string();
     std::vector<char> buf(name.begin(), name.end());
     buf.push_back('\0');
     const int fd = ::mkostemps(buf.data(), int(ext.size()), O_CLOEXEC);
@@ -122,6 +131,22 @@ void copyInto(const std::string& from, int fd, const std::string& target)
     ::close(in);
 }
 
+/// The descriptor of /dev/stdout, /dev/stderr, /dev/fd/N or /proc/self/fd/N (the process's own
+/// open streams), or −1 for any other path.
+int ownStreamFd(const std::string& path)
+{
+    if (path == "/dev/stdout") return 1;
+    if (path == "/dev/stderr") return 2;
+    for (const char* prefix : {"/dev/fd/", "/proc/self/fd/"})
+        if (path.rfind(prefix, 0) == 0) {
+            const std::string n = path.substr(std::strlen(prefix));
+            if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos) return -1;
+            return std::atoi(n.c_str());
+        }
+    return -1;
+}
+bool isOwnStream(const std::string& path) { return ownStreamFd(path) >= 0; }
+
 }  // namespace
 
 void registerTemporary(const std::string& path)
@@ -154,8 +179,15 @@ bool checkOutputPath(const std::string& path)
     if (path.empty()) throw Error("output", "empty file name");
     struct stat st {};
     if (::lstat(path.c_str(), &st) == 0) {
-        if (S_ISLNK(st.st_mode))
+        if (S_ISLNK(st.st_mode)) {
+            // A link to a device or pipe is written into, like the device; so is the file a
+            // process's own output stream was redirected to (/dev/stdout > FILE, appended to).
+            struct stat to {};
+            if (::stat(path.c_str(), &to) == 0 &&
+                (S_ISCHR(to.st_mode) || S_ISFIFO(to.st_mode) || (S_ISREG(to.st_mode) && isOwnStream(path))))
+                return true;
             throw Error(path, "is a symbolic link; smokescan does not replace links (name the file it points to)");
+        }
         if (S_ISDIR(st.st_mode)) throw Error(path, "is a directory");
         if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) return true;
         if (!S_ISREG(st.st_mode))
@@ -206,6 +238,18 @@ void AtomicFile::commit()
             throw Error(path_, std::string("write failed (") + (ok ? "close" : std::strerror(e)) + ")");
     }
     if (device_) {
+        // One of the process's own streams is written through its descriptor, so that what the
+        // program printed before and prints after stays in order (a file behind `> FILE` has one
+        // offset for all); any other device or pipe is opened.
+        const int own = ownStreamFd(path_);
+        if (own >= 0) {
+            std::fflush(nullptr);
+            copyInto(tmp_, own, path_);
+            std::remove(tmp_.c_str());
+            releaseTemporary(tmp_);
+            done_ = true;
+            return;
+        }
         const int fd = ::open(path_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
         if (fd < 0) throw Error(path_, std::string("cannot write (") + std::strerror(errno) + ")");
         try {

@@ -1,6 +1,7 @@
 #include "smokescan/io/atomic_folder.hpp"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
@@ -54,8 +55,14 @@ void AtomicFolder::makeFolder(const std::string& relative)
 
 void AtomicFolder::commit()
 {
+    // What appeared at the target during the run is refused as at the start, never removed:
+    // only an empty folder is replaced (rmdir removes nothing else).
+    struct stat st {};
+    if (::lstat(dir_.c_str(), &st) == 0) {
+        if (!S_ISDIR(st.st_mode) || ::rmdir(dir_.c_str()) != 0)
+            throw Error(dir_, "appeared during the run and is not an empty folder; not replacing it");
+    }
     std::error_code ec;
-    fs::remove(dir_, ec);  // an empty folder given as the target
     fs::rename(tmp_, dir_, ec);
     if (ec) throw Error(dir_, "cannot move " + what_ + " into place: " + ec.message());
     releaseTemporary(tmp_);

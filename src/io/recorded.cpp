@@ -1,5 +1,6 @@
 #include "smokescan/io/recorded.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/text_input.hpp"
 
@@ -223,8 +225,20 @@ SaturationSeries parseSaturationCsv(const std::string& text, const std::string& 
     return s;
 }
 
+void checkColumnName(const std::string& name, const std::string& where)
+{
+    bool ok = !name.empty() && name.size() <= 64;
+    for (char c : name) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
+    if (!ok)
+        throw Error(where, "patch name '" + name + "' must be 1-64 letters, digits, '_', '-' or '.' (a CSV column)");
+    if (name == "time_s" || name == "time" || name == "saturation" || name == "pixels" || endsWith(name, "_median") ||
+        endsWith(name, "_sd"))
+        throw Error(where, "patch name '" + name + "' is one of the CSV's own columns");
+}
+
 void writeSaturationCsv(const std::string& path, const SaturationSeries& s, const std::vector<std::string>& header)
 {
+    for (const auto& n : s.patch_names) checkColumnName(n, path);
     AtomicFile f(path);
     std::ostream& o = f.stream();
     for (const auto& h : header) o << "# " << h << '\n';
@@ -241,7 +255,7 @@ void writeSaturationCsv(const std::string& path, const SaturationSeries& s, cons
         if (std::isfinite(v)) o << v;
     };
     for (size_t k = 0; k < s.time_s.size(); ++k) {
-        o << s.time_s[k] << ',' << s.saturation[k];
+        o << shortest(s.time_s[k]) << ',' << s.saturation[k];
         if (spread) {
             value(s.median[k]);
             value(s.sd[k]);

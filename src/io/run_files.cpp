@@ -1,6 +1,12 @@
 #include "smokescan/io/run_files.hpp"
 
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 
 #include <filesystem>
 
@@ -35,6 +41,23 @@ bool identify(const std::string& path, FileId& id)
     return true;
 }
 
+/// A second name for `path`'s file in its folder (".smokescan-keep-PID-N"), removed on a signal
+/// until released.
+std::string keepLink(const std::string& path)
+{
+    const fs::path dir = fs::path(path).parent_path();
+    for (int n = 0; n < 1000; ++n) {
+        const std::string keep =
+            (dir / (".smokescan-keep-" + std::to_string(::getpid()) + "-" + std::to_string(n))).string();
+        if (::link(path.c_str(), keep.c_str()) == 0) {
+            registerTemporary(keep);
+            return keep;
+        }
+        if (errno != EEXIST) break;
+    }
+    throw Error(path, std::string("cannot keep the file being replaced (") + std::strerror(errno) + ")");
+}
+
 }  // namespace
 
 RunFiles::RunFiles() = default;
@@ -44,6 +67,15 @@ void RunFiles::input(const std::string& path, const std::string& option)
 {
     struct stat st {};
     if (path.empty() || ::stat(path.c_str(), &st) != 0) return;
+    // An input learned after the outputs (the files a scene reads, known once it is loaded) is
+    // checked against them as an output is checked against the inputs.
+    FileId me;
+    if (identify(path, me) && !me.device)
+        for (const auto& [out, opt] : outputs_) {
+            FileId other;
+            if (identify(out, other) && other == me)
+                throw Error(out, "is the input of " + option + " (" + path + "); " + opt + " would destroy it");
+        }
     inputs_.emplace_back(path, option);
 }
 
@@ -91,8 +123,43 @@ void RunFiles::commit()
     // the files are renamed into place only once every device took its content.
     for (auto& f : staged_)
         if (f->isDevice()) f->commit();
+    // Every file's target is checked again before the first rename (a folder or link may have
+    // appeared during the run) ...
     for (auto& f : staged_)
-        if (!f->isDevice()) f->commit();
+        if (!f->isDevice()) checkOutputPath(f->path());
+    // ... and each file it replaces is kept (a hard link beside it) until all are in place, so
+    // that a rename that still fails puts back what the earlier ones replaced.
+    std::vector<std::pair<std::string, std::string>> kept;  // (target, its old content's link)
+    std::vector<std::string> placed;
+    try {
+        for (auto& f : staged_) {
+            if (f->isDevice()) continue;
+            struct stat st {};
+            if (::lstat(f->path().c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+                const std::string keep = keepLink(f->path());
+                kept.emplace_back(f->path(), keep);
+            }
+            f->commit();
+            placed.push_back(f->path());
+        }
+    } catch (...) {
+        for (const std::string& p : placed) {
+            const auto k = std::find_if(kept.begin(), kept.end(), [&](const auto& x) { return x.first == p; });
+            if (k != kept.end())
+                std::rename(k->second.c_str(), p.c_str());
+            else
+                std::remove(p.c_str());
+        }
+        for (const auto& [target, keep] : kept) {
+            std::remove(keep.c_str());
+            releaseTemporary(keep);
+        }
+        throw;
+    }
+    for (const auto& [target, keep] : kept) {
+        std::remove(keep.c_str());
+        releaseTemporary(keep);
+    }
 }
 
 }  // namespace smokescan

@@ -4,10 +4,10 @@
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/plot/canvas.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/plot/frame.hpp"
 
 namespace smokescan {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
-#include "smokescan/plot/format.hpp"
+#include "smokescan/core/format.hpp"
 
 namespace smokescan {
 

@@ -2,10 +2,10 @@
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/omni/omni_plots.hpp"
 #include "smokescan/plot/canvas.hpp"
-#include "smokescan/plot/format.hpp"
 #include "smokescan/plot/frame.hpp"
 #include "smokescan/plot/palette.hpp"
 

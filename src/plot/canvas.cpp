@@ -32,6 +32,12 @@ void Canvas::box(int x0, int y0, int x1, int y1, const Col& c, bool fill)
 
 void Canvas::text(int x, int y, const std::string& s, int size, const Col& c)
 {
+    // OpenImageIO asserts on text drawn past the image's edge (a long legend, a crowded key):
+    // text that does not fit whole is left out, so that a plot never aborts a run.
+    const OIIO::ROI ext = OIIO::ImageBufAlgo::text_size(s, size, "DejaVuSans");
+    if (!ext.defined()) return;
+    const OIIO::ImageSpec& sp = impl_->buf.spec();
+    if (x + ext.xbegin < 0 || y + ext.ybegin < 0 || x + ext.xend > sp.width || y + ext.yend > sp.height) return;
     OIIO::ImageBufAlgo::render_text(impl_->buf, x, y, s, size, "DejaVuSans", c);
 }
 

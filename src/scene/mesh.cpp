@@ -11,6 +11,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
+#include "smokescan/core/overloaded.hpp"
 #include "smokescan/io/text_input.hpp"
 
 namespace smokescan {
@@ -136,24 +137,25 @@ TriMesh cylinderMesh(double r, double h, int n = 128)
 
 TriMesh tessellate(const Surface& s)
 {
-    TriMesh m;
-    double scale = 1.0;
-    if (auto b = std::get_if<BoxShape>(&s.shape)) {
-        m = boxMesh(b->size_m);
-    } else if (auto q = std::get_if<QuadShape>(&s.shape)) {
-        m.points_m = {q->corner_m, q->corner_m + q->edge_u_m, q->corner_m + q->edge_u_m + q->edge_v_m,
-                      q->corner_m + q->edge_v_m};
-        m.triangles = {{0, 1, 2}, {0, 2, 3}};
-        return m;  // quads are given in world coordinates
-    } else if (auto c = std::get_if<CylinderShape>(&s.shape)) {
-        m = cylinderMesh(c->radius_m, c->height_m);
-    } else {
-        const auto& mesh = std::get<MeshShape>(s.shape);
-        m = loadObj(mesh.obj_path);
-        scale = mesh.scale;
-    }
-    for (Vec3& p : m.points_m) p = s.pose.apply(scale * p);
-    return m;
+    const auto local = [](const TriMesh& m, const Pose& pose, double scale) {
+        TriMesh out = m;
+        for (Vec3& p : out.points_m) p = pose.apply(scale * p);
+        return out;
+    };
+    return std::visit(
+        Overloaded{
+            [&](const BoxShape& b) { return local(boxMesh(b.size_m), s.pose, 1.0); },
+            [&](const QuadShape& q) {  // quads are given in world coordinates
+                TriMesh m;
+                m.points_m = {q.corner_m, q.corner_m + q.edge_u_m, q.corner_m + q.edge_u_m + q.edge_v_m,
+                              q.corner_m + q.edge_v_m};
+                m.triangles = {{0, 1, 2}, {0, 2, 3}};
+                return m;
+            },
+            [&](const CylinderShape& c) { return local(cylinderMesh(c.radius_m, c.height_m), s.pose, 1.0); },
+            [&](const MeshShape& mesh) { return local(loadObj(mesh.obj_path), s.pose, mesh.scale); },
+        },
+        s.shape);
 }
 
 }  // namespace smokescan

@@ -8,13 +8,14 @@
 #include <map>
 #include <sstream>
 
-#include "../io/toml_reader.hpp"
-#include "../sensors/sensor_tables.hpp"
+#include "sensor_tables.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/scene/mesh.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
+#include "toml_reader.hpp"
 
 namespace smokescan {
 namespace {
@@ -22,12 +23,20 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Pose from `position` and either `rpy_deg` or `look_at` (local +x towards it, +z up).
+/// A point within limits::kSceneReach_m of the origin.
+Vec3 placed(TomlTable& t, const std::string& key, const Vec3& def)
+{
+    const Vec3 p = t.vec3(key, def);
+    if (!(p.cwiseAbs().maxCoeff() <= limits::kSceneReach_m)) t.error(key, "must lie within 1000 km of the origin");
+    return p;
+}
+
 Pose readPose(TomlTable& t, const Vec3& def_pos = Vec3::Zero())
 {
-    const Vec3 p = t.vec3("position", def_pos);
+    const Vec3 p = placed(t, "position", def_pos);
     if (t.has("look_at")) {
         if (t.has("rpy_deg")) t.error("rpy_deg", "conflicts with look_at: give one");
-        const Vec3 x = t.vec3Req("look_at") - p;
+        const Vec3 x = placed(t, "look_at", p) - p;
         if (x.norm() < 1e-9) t.error("look_at", "must differ from position");
         const Vec3 fx = x.normalized();
         Vec3 fy = Vec3::UnitZ().cross(fx);
@@ -122,7 +131,7 @@ Robot readRobot(TomlTable t)
     for (auto& f : frames) {
         Keyframe k;
         k.time_s = f.numReq("time_s");
-        k.position = f.vec3("position", k.position);
+        k.position = placed(f, "position", k.position);
         k.yaw_deg = f.num("yaw_deg", 0.0);
         if (!r.keyframes.empty() && !(k.time_s > r.keyframes.back().time_s))
             f.error("time_s", "must exceed the previous keyframe's");
@@ -146,10 +155,13 @@ SensorMount readSensor(TomlTable t, const std::string& base_dir, const std::vect
     m.robot = readRobotRef(t, robots);
     if (t.has("sensor_file")) applySensorFile(resolve(base_dir, t.strReq("sensor_file")), m.config);
     readSceneSensorKeys(t, m.config);
-    t.finish();
+    t.finish(std::string(*kind == SensorType::Urg04lx ? "an " : "a ") + type + " sensor");
     return m;
 }
 
+/// A light: the keys every kind has, then its own kind's (any other kind's key is refused).
+/// Bounds: power 1 MW, radiance and irradiance 1e6 (the sun gives about 1e3 W/m²), colour
+/// gains 100, extents 1 km.
 Light readLight(TomlTable t)
 {
     Light l;
@@ -158,16 +170,37 @@ Light readLight(TomlTable t)
     const auto k = parseLightKind(kind);
     if (!k) t.error("kind", "must be area, point, spot, directional or ambient, got '" + kind + "'");
     l.kind = *k;
-    l.pose = readPose(t);
-    l.width_m = t.positive("width", l.width_m);
-    l.height_m = t.positive("height", l.height_m);
-    l.power_w = t.nonneg("power_w", l.power_w);
-    l.efficiency = t.nonneg("efficiency", l.efficiency);
     l.color = t.vec3("color", l.color);
-    l.spot_angle_deg = t.positive("spot_angle_deg", l.spot_angle_deg);
-    l.radiance = t.nonneg("radiance", l.radiance);
-    l.irradiance = t.nonneg("irradiance", l.irradiance);
-    t.finish();
+    if (!(l.color.minCoeff() >= 0 && l.color.maxCoeff() <= 100)) t.error("color", "must be 3 gains in [0, 100]");
+    auto radiant = [&] {
+        l.power_w = t.between("power_w", l.power_w, 0, 1e6);
+        l.efficiency = t.between("efficiency", l.efficiency, 0, 1);
+    };
+    switch (l.kind) {
+    case LightKind::Area:
+        l.pose = readPose(t);
+        l.width_m = t.between("width", l.width_m, 1e-6, 1e3);
+        l.height_m = t.between("height", l.height_m, 1e-6, 1e3);
+        radiant();
+        break;
+    case LightKind::Point:
+        l.pose = readPose(t);
+        radiant();
+        break;
+    case LightKind::Spot:
+        l.pose = readPose(t);
+        l.spot_angle_deg = t.between("spot_angle_deg", l.spot_angle_deg, 1e-3, 180);
+        radiant();
+        break;
+    case LightKind::Directional:
+        l.pose = readPose(t);
+        l.irradiance = t.between("irradiance", l.irradiance, 0, 1e6);
+        break;
+    case LightKind::Ambient:
+        l.radiance = t.between("radiance", l.radiance, 0, 1e6);
+        break;
+    }
+    t.finish("a" + std::string(kind == "area" || kind == "ambient" ? "n " : " ") + kind + " light");
     return l;
 }
 
@@ -195,40 +228,44 @@ CameraSensor readCameraSensor(TomlTable t)
     return s;
 }
 
+/// A camera: the keys every kind has, then its own kind's (the other kind's are refused).
 Camera readCamera(TomlTable t, const std::vector<Robot>& robots)
 {
     Camera c;
     c.name = t.strReq("name");
-    c.pose = readPose(t);
-    c.robot = readRobotRef(t, robots);
-    c.width = int(t.integer("width", c.width));
-    c.height = int(t.integer("height", c.height));
-    if (c.width <= 0 || c.height <= 0) t.error("width", "and height must be > 0");
-    c.hfov_deg = t.positive("hfov_deg", c.hfov_deg);
-    if (c.hfov_deg >= 180) t.error("hfov_deg", "must be < 180");
-    c.fx_px = t.nonneg("fx_px", 0.0);
-    c.fy_px = t.nonneg("fy_px", 0.0);
-    c.cx_px = t.num("cx_px", -1.0);
-    c.cy_px = t.num("cy_px", -1.0);
-    if (t.has("cx_px") && !(c.cx_px >= 0 && c.cx_px <= limits::kFrameSide))
-        t.error("cx_px", "must lie in 0…" + std::to_string(limits::kFrameSide) + " px");
-    if (t.has("cy_px") && !(c.cy_px >= 0 && c.cy_px <= limits::kFrameSide))
-        t.error("cy_px", "must lie in 0…" + std::to_string(limits::kFrameSide) + " px");
     const std::string kind = t.str("kind", "pinhole");
     const auto k = parseCameraKind(kind);
     if (!k) t.error("kind", "must be pinhole or omni, got '" + kind + "'");
     c.kind = *k;
-    c.mirror_radius_px = t.positive("mirror_radius_px", c.mirror_radius_px);
-    if (c.mirror_radius_px > 1e6) t.error("mirror_radius_px", "must be at most 1e6");
-    c.max_incidence_deg = t.positive("max_incidence_deg", c.max_incidence_deg);
-    if (c.max_incidence_deg >= 170)
-        t.error("max_incidence_deg", "must be < 170 (a paraboloid's image grows without bound towards 180)");
-    c.base_radius_px = t.nonneg("base_radius_px", c.base_radius_px);
-    if (c.kind == CameraKind::Omni &&
-        c.base_radius_px >= c.mirror_radius_px * std::tan(0.5 * c.max_incidence_deg * M_PI / 180))
-        t.error("base_radius_px", "hides the whole mirror");
+    c.pose = readPose(t);
+    c.robot = readRobotRef(t, robots);
+    for (auto [key, side] : {std::pair<const char*, int*>{"width", &c.width}, {"height", &c.height}}) {
+        const long long v = t.integer(key, *side);
+        if (v < 1 || v > limits::kFrameSide)
+            t.error(key, "must lie in 1…" + std::to_string(limits::kFrameSide) + " px");
+        *side = int(v);
+    }
+    if (int64_t(c.width) * c.height > limits::kFramePixels)
+        t.error("height", "makes a frame of more than " + std::to_string(limits::kFramePixels) + " pixels");
+    c.cx_px = t.has("cx_px") ? t.between("cx_px", 0, 0, limits::kFrameSide) : -1.0;
+    c.cy_px = t.has("cy_px") ? t.between("cy_px", 0, 0, limits::kFrameSide) : -1.0;
+    if (c.kind == CameraKind::Pinhole) {
+        c.hfov_deg = t.positive("hfov_deg", c.hfov_deg);
+        if (c.hfov_deg >= 180) t.error("hfov_deg", "must be < 180");
+        c.fx_px = t.between("fx_px", 0.0, 0, 1e7);
+        c.fy_px = t.between("fy_px", 0.0, 0, 1e7);
+    } else {
+        c.mirror_radius_px = t.positive("mirror_radius_px", c.mirror_radius_px);
+        if (c.mirror_radius_px > 1e6) t.error("mirror_radius_px", "must be at most 1e6");
+        c.max_incidence_deg = t.positive("max_incidence_deg", c.max_incidence_deg);
+        if (c.max_incidence_deg >= 170)
+            t.error("max_incidence_deg", "must be < 170 (a paraboloid's image grows without bound towards 180)");
+        c.base_radius_px = t.nonneg("base_radius_px", c.base_radius_px);
+        if (c.base_radius_px >= c.mirror_radius_px * std::tan(0.5 * c.max_incidence_deg * M_PI / 180))
+            t.error("base_radius_px", "hides the whole mirror");
+    }
     if (t.has("sensor")) c.sensor = readCameraSensor(t.table("sensor"));
-    t.finish();
+    t.finish(c.kind == CameraKind::Pinhole ? "a pinhole camera" : "an omni camera");
     return c;
 }
 
@@ -291,7 +328,7 @@ DensityTimeline readTimeline(TomlTable& parent)
     const std::string kind = t.strReq("kind");
     try {
         if (kind == "constant") {
-            const double v = t.nonneg("value", 1.0);
+            const double v = t.between("value", 1.0, 0, limits::kDensity);
             t.finish();
             return DensityTimeline::constant(v);
         }
@@ -305,6 +342,11 @@ DensityTimeline readTimeline(TomlTable& parent)
             else if (interp != "linear")
                 t.error("interp", "must be linear, step or exp");
             auto keys = t.pairs("keys");
+            for (const auto& [time_s, factor] : keys)
+                if (!(factor >= 0 && factor <= limits::kDensity))
+                    t.error(
+                        "keys",
+                        "factors must be in [0, 1e6], got " + fmt("%g", factor) + " at " + fmt("%g", time_s) + " s");
             const double decay = t.nonneg("decay_s", 0.0);
             t.finish();
             return DensityTimeline::keyframes(keys, i, decay);

@@ -2,8 +2,8 @@
 // Internal: what a sensor file's extensions (extensions.hpp) make of one beam, shared by the
 // URG-04LX's paper model (urg04lx/paper_urg.cpp) and its physical model (extension_rule.cpp).
 #include "smokescan/core/quadrature.hpp"
+#include "smokescan/sensor_config/extensions.hpp"
 #include "smokescan/sensors/beam_model.hpp"
-#include "smokescan/sensors/extensions.hpp"
 
 namespace smokescan {
 

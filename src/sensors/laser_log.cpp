@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/io/recorded.hpp"
@@ -50,10 +51,11 @@ void writeBeamCsvScan(std::ostream& o, const Scan& s, const Scene& scene)
     o << std::setprecision(9);
     for (size_t i = 0; i < s.beams.size(); ++i) {
         const BeamResult& b = s.beams[i];
-        o << s.time_s << ',' << i << ',' << s.angle_rad[i] << ',' << s.value[i] << ',' << (b.error ? 1 : 0) << ','
-          << b.cause << ',' << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none"))
-          << ',' << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local
-          << ',' << b.smoke.tau << ',' << b.power << '\n';
+        o << shortest(s.time_s) << ',' << i << ',' << s.angle_rad[i] << ',' << s.value[i] << ',' << (b.error ? 1 : 0)
+          << ',' << b.cause << ','
+          << (b.hit.surface >= 0 ? scene.surfaces[size_t(b.hit.surface)].name : std::string("none")) << ','
+          << (b.hit.hit ? b.hit.t_m : -1.0) << ',' << b.smoke.column_regional << ',' << b.smoke.column_local << ','
+          << b.smoke.tau << ',' << b.power << '\n';
     }
 }
 

@@ -6,7 +6,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 namespace smokescan {
 

@@ -8,8 +8,9 @@
 namespace smokescan {
 
 /// @brief `text` made safe to print on one line: control bytes, bytes that are not valid UTF-8 and
-/// line breaks become `\xNN` (backslash itself stays), so a message quoting a binary input is
-/// still one readable line.
+/// line breaks become `\xNN` (backslash itself stays), and C1 controls, bidirectional overrides
+/// and line separators `\uXXXX`, so a message quoting a binary input is still one readable line
+/// that shows what it quotes.
 /// @param max_bytes longer texts are cut there and end in "…"
 std::string printable(const std::string& text, size_t max_bytes = 400);
 

@@ -40,6 +40,9 @@ inline constexpr int64_t kConvergedBytes = int64_t(2) << 30;
 /// Largest smoke density (engine units; the paper's threshold is 0.0028) of a box, mesh, plume
 /// puff or timeline factor: beyond it optical depths overflow.
 inline constexpr double kDensity = 1e6;
+/// How far from the scene's origin a position may lie [m] (sensors, cameras, lights, robots'
+/// keyframes, smoke areas): 1000 km. Beyond about 1e18 m Embree's ray set-up asserts.
+inline constexpr double kSceneReach_m = 1e6;
 /// Voxels a side of a box or mesh smoke area.
 inline constexpr double kGridSide = 4000;
 /// Density bins of `fit-plume`.

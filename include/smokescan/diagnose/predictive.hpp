@@ -34,7 +34,7 @@
 #include <map>
 #include <vector>
 
-#include "smokescan/sensors/extensions.hpp"
+#include "smokescan/sensor_config/extensions.hpp"
 
 namespace smokescan {
 

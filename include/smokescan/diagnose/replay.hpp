@@ -24,8 +24,8 @@
 
 #include "smokescan/diagnose/predictive.hpp"
 #include "smokescan/fit/fit_inputs.hpp"
-#include "smokescan/sensors/lrf.hpp"
-#include "smokescan/sensors/sensor_config.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
+#include "smokescan/sensor_config/sensor_config.hpp"
 
 namespace smokescan {
 

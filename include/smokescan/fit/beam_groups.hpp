@@ -13,7 +13,7 @@
 
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
-#include "smokescan/sensors/lrf.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
 
 namespace smokescan {
 

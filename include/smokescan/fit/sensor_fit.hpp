@@ -20,7 +20,7 @@
 /// | estimate_offset  | true     | –    | fit δ; false: δ = offset_s                                   |
 /// | offset_s         | 0        | s    | fixed δ, or the centre of the search                          |
 /// | offset_window_s  | 60       | s    | δ searched in offset_s ± this                                 |
-/// | offset_step_s    | 0.1      | s    | grid step of the search                                       |
+/// | offset_step_s    | 0.1      | s    | grid step of the search (window/step at most 36000)           |
 /// | min_beams        | 2        | –    | groups with fewer beams in the log are not fitted              |
 /// | range_bins       | 8        | –    | saturation bins of the range bias/noise fit                    |
 /// | clear_quantile   | 0.8      | –    | scans above this saturation quantile (and clear of S*) are clear air |
@@ -38,7 +38,7 @@
 #include "smokescan/fit/beam_groups.hpp"
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/media/medium.hpp"
-#include "smokescan/sensors/lrf.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
 
 namespace smokescan {
 

@@ -5,11 +5,13 @@
 /// The content goes to a temporary created exclusively (O_EXCL, random name) beside the target,
 /// with the target's extension so that writers choosing a format by extension (OpenImageIO) work,
 /// and commit() renames it into place. A target that exists must be a regular file, a character
-/// device or a FIFO: a symbolic link, a folder or anything else is refused, never replaced. A
-/// device or FIFO (`/dev/null`, `/dev/stdout`, a pipe) is written into at commit, from a
+/// device or a FIFO, or a link to a device or FIFO, or one of the process's own streams
+/// (`/dev/stdout`, `/dev/fd/N`, whatever they lead to): any other link, a folder or anything else
+/// is refused, never replaced. A
+/// device, FIFO or stream (`/dev/null`, `/dev/stdout`, a pipe) is appended to at commit, from a
 /// temporary in the temp folder. Every write and the close are checked ("No space left on
 /// device" is an error, not a short file). An uncommitted temporary is removed when the object is
-/// destroyed, and also on SIGINT, SIGTERM and SIGHUP.
+/// destroyed, and also on SIGINT, SIGTERM, SIGHUP and SIGPIPE.
 #include <fstream>
 #include <memory>
 #include <string>
@@ -47,7 +49,7 @@ private:
 /// @return true when `path` is a character device or FIFO (written into, not replaced)
 bool checkOutputPath(const std::string& path);
 
-/// @brief Removes `path` (a file or a folder tree) on SIGINT, SIGTERM or SIGHUP until it is
+/// @brief Removes `path` (a file or a folder tree) on SIGINT, SIGTERM, SIGHUP or SIGPIPE until it is
 /// released; for temporaries. Installs the signal handlers on first use.
 void registerTemporary(const std::string& path);
 void releaseTemporary(const std::string& path);

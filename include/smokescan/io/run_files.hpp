@@ -28,7 +28,10 @@ public:
     RunFiles& operator=(const RunFiles&) = delete;
 
     /// @brief Records an input file. Names that are not files (built-in scenes, "") are ignored.
+    /// Inputs and outputs may be recorded in any order (a scene's files are known once it is
+    /// loaded): either way a clash is refused before anything is written.
     /// @param option the option or argument that named it, for errors
+    /// @throw Error when it is an output already recorded
     void input(const std::string& path, const std::string& option);
     /// @brief Records an output; "" is ignored.
     /// @throw Error when it may not be written, or is an input or another output of this run

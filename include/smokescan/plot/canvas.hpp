@@ -26,7 +26,8 @@ public:
     /// @brief A box with corners (x0, y0), (x1, y1), filled or outlined.
     void box(int x0, int y0, int x1, int y1, const Col& c, bool fill);
     /// @brief Text with its baseline's left end at (x, y), in DejaVu Sans at `size` px. Without
-    /// the font the plot has no labels rather than failing.
+    /// the font the plot has no labels rather than failing; text that would run past the image's
+    /// edge is left out (a long legend never aborts a run).
     void text(int x, int y, const std::string& s, int size = 14, const Col& c = {0, 0, 0});
     /// @brief The canvas as an image, clamped to [0, 1].
     Image image() const;

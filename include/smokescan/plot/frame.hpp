@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 
+#include "smokescan/core/format.hpp"
 #include "smokescan/plot/canvas.hpp"
-#include "smokescan/plot/format.hpp"
 
 namespace smokescan {
 

@@ -13,7 +13,7 @@
 #include "smokescan/media/smoke.hpp"
 #include "smokescan/scene/camera_sensor.hpp"
 #include "smokescan/scene/trajectory.hpp"
-#include "smokescan/sensors/sensor_config.hpp"
+#include "smokescan/sensor_config/sensor_config.hpp"
 
 namespace smokescan {
 

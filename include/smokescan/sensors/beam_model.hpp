@@ -18,8 +18,8 @@
 #include <string>
 
 #include "smokescan/media/smoke.hpp"
+#include "smokescan/sensor_config/sensor_config.hpp"
 #include "smokescan/sensors/beam_result.hpp"
-#include "smokescan/sensors/sensor_config.hpp"
 
 namespace smokescan {
 

@@ -3,7 +3,7 @@
 /// @brief What one beam reports, and why; the sensor-side rounding every model shares.
 #include "smokescan/media/smoke.hpp"
 #include "smokescan/scene/surfaces.hpp"
-#include "smokescan/sensors/lrf.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
 
 namespace smokescan {
 

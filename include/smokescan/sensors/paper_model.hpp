@@ -10,8 +10,8 @@
 /// value 0. A beam that meets local smoke reports error value 0.
 /// Sick: passes through regional smoke; local smoke is a solid obstacle at the distance where
 /// the beam meets it.
+#include "smokescan/sensor_config/sensor_config.hpp"
 #include "smokescan/sensors/beam_result.hpp"
-#include "smokescan/sensors/sensor_config.hpp"
 
 namespace smokescan {
 

@@ -19,9 +19,9 @@
 #include "smokescan/media/smoke.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
+#include "smokescan/sensor_config/physical_params.hpp"
 #include "smokescan/sensors/beam_result.hpp"
-#include "smokescan/sensors/lrf.hpp"
-#include "smokescan/sensors/physical_params.hpp"
 
 namespace smokescan {
 

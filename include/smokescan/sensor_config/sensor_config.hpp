@@ -15,9 +15,9 @@
 /// Physical model: sensors/physical_params.hpp. Learned extensions of the paper model: sensors/extensions.hpp.
 #include <string>
 
-#include "smokescan/sensors/extensions.hpp"
-#include "smokescan/sensors/physical_params.hpp"
-#include "smokescan/sensors/sensor_kind.hpp"
+#include "smokescan/sensor_config/extensions.hpp"
+#include "smokescan/sensor_config/physical_params.hpp"
+#include "smokescan/sensor_config/sensor_kind.hpp"
 
 namespace smokescan {
 

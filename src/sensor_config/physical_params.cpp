@@ -1,4 +1,4 @@
-#include "smokescan/sensors/physical_params.hpp"
+#include "smokescan/sensor_config/physical_params.hpp"
 
 #include <algorithm>
 

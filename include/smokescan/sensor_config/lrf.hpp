@@ -19,7 +19,7 @@
 #include <cmath>
 #include <string>
 
-#include "smokescan/sensors/sensor_kind.hpp"
+#include "smokescan/sensor_config/sensor_kind.hpp"
 
 namespace smokescan {
 

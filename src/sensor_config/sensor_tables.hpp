@@ -3,15 +3,16 @@
 // Each parameter set reads and writes its own keys from one registry (sensor_tables.cpp).
 #include <ostream>
 
-#include "../io/toml_reader.hpp"
-#include "smokescan/sensors/sensor_config.hpp"
+#include "smokescan/sensor_config/sensor_config.hpp"
+#include "toml_reader.hpp"
 
 namespace smokescan {
 
 /// Reads the optional keys of a [physical] table into p and validates them.
-void readPhysicalTable(TomlTable t, PhysicalParams& p);
+/// The [physical] table of a sensor of `type`: its receiver's keys only, each within its bounds.
+void readPhysicalTable(TomlTable t, PhysicalParams& p, SensorType type);
 /// Writes every PhysicalParams field as `key = value` lines.
-void writePhysicalTable(std::ostream& o, const PhysicalParams& p);
+void writePhysicalTable(std::ostream& o, const PhysicalParams& p, SensorType type);
 /// Reads the optional keys of a [paper] table.
 void readPaperTable(TomlTable t, PaperModelConfig& p);
 /// Writes the paper model's keys as `key = value` lines.

@@ -14,7 +14,7 @@
 /// ```
 #include <string>
 
-#include "smokescan/sensors/sensor_config.hpp"
+#include "smokescan/sensor_config/sensor_config.hpp"
 
 namespace smokescan {
 

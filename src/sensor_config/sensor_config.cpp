@@ -1,4 +1,4 @@
-#include "smokescan/sensors/sensor_config.hpp"
+#include "smokescan/sensor_config/sensor_config.hpp"
 
 namespace smokescan {
 

@@ -1,4 +1,4 @@
-#include "smokescan/sensors/sensor_kind.hpp"
+#include "smokescan/sensor_config/sensor_kind.hpp"
 
 namespace smokescan {
 

@@ -34,7 +34,7 @@
 ///
 /// "assumed" values are engineering guesses, documented as such; "calibrated" ones are fitted
 /// so that the bocas scene reproduces the smoke paper (docs/sensors.md).
-#include "smokescan/sensors/sensor_kind.hpp"
+#include "smokescan/sensor_config/sensor_kind.hpp"
 
 namespace smokescan {
 

@@ -1,31 +1,18 @@
 #pragma once
-// Internal: the Ceres side every fit shares (calib/ and fit/; only .cpp files that link Ceres
-// include it): a quiet solver, the solve and its convergence, a parameter block's covariance, and
-// the cluster-robust ("sandwich") covariance.
+// The solve module (internal, header-only): the Ceres side every fit shares (calib, fit and
+// diagnose link it; only their .cpp files include it): a quiet solver, the solve and its
+// convergence, a parameter block's covariance, and the cluster-robust ("sandwich") covariance.
 //
-// Ceres logs through glog to stderr (rank-deficient covariances, line-search notes). The fits
-// report what matters in their results and diagnoses, and a CLI error is one line, so glog is told
-// to say nothing below FATAL.
+// Ceres logs through glog (rank-deficient covariances, line-search notes). The library leaves
+// glog's flags to the program: the CLI silences it (src/cli/main.cpp), since the fits report
+// what matters in their results and diagnoses.
 #include <ceres/ceres.h>
-#include <glog/logging.h>
 
 #include <Eigen/Dense>
 #include <map>
-#include <mutex>
 #include <vector>
 
 namespace smokescan::detail {
-
-inline void quietCeres()
-{
-    static std::once_flag once;
-    std::call_once(once, [] {
-        if (!google::IsGoogleLoggingInitialized()) google::InitGoogleLogging("smokescan");
-        FLAGS_minloglevel = google::GLOG_FATAL;
-        FLAGS_stderrthreshold = google::GLOG_FATAL;
-        FLAGS_logtostderr = false;
-    });
-}
 
 /// @brief Quiet dense-QR solver options for the calibration's small problems.
 inline ceres::Solver::Options denseOptions(int max_iterations, double tolerance)
@@ -42,7 +29,6 @@ inline ceres::Solver::Options denseOptions(int max_iterations, double tolerance)
 /// @brief Solves quietly with the given options; true when the solution is usable and converged.
 inline bool solveQuiet(ceres::Problem& problem, const ceres::Solver::Options& options, ceres::Solver::Summary& summary)
 {
-    quietCeres();
     ceres::Solve(options, &problem, &summary);
     return summary.IsSolutionUsable() && summary.termination_type == ceres::CONVERGENCE;
 }

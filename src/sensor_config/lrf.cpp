@@ -1,9 +1,9 @@
-#include "smokescan/sensors/lrf.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
 
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
-#include "smokescan/sensors/sensor_config.hpp"
+#include "smokescan/sensor_config/sensor_config.hpp"
 
 namespace smokescan {
 

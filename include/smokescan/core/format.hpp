@@ -1,7 +1,8 @@
 #pragma once
 /// @file format.hpp
-/// @brief printf-style number formatting into a std::string, for plot labels and messages.
+/// @brief printf-style number formatting into a std::string, for messages and plot labels.
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace smokescan {
@@ -18,6 +19,18 @@ std::string fmt(const char* format, Args... args)
     std::snprintf(out.data(), out.size(), format, args...);
     out.resize(size_t(n));
     return out;
+}
+
+/// @brief The shortest text that reads back as exactly `v` (%.{1..17}g): a time of the Unix epoch
+/// keeps its fraction of a second, and 0.1 stays "0.1".
+inline std::string shortest(double v)
+{
+    char buf[32];
+    for (int p = 6; p <= 17; ++p) {
+        std::snprintf(buf, sizeof buf, "%.*g", p, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
+    return buf;
 }
 
 }  // namespace smokescan

@@ -45,6 +45,17 @@ public:
         if (!(v >= 0)) fail(t_.get(key), key, "must be >= 0");
         return v;
     }
+    /// A number in [lo, hi] (the unit is the caller's).
+    double between(const std::string& key, double def, double lo, double hi)
+    {
+        const double v = num(key, def);
+        if (!(v >= lo && v <= hi)) {
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "must be in [%g, %g]", lo, hi);
+            fail(t_.get(key), key, buf);
+        }
+        return v;
+    }
     long long integer(const std::string& key, long long def)
     {
         if (!has(key)) return def;
@@ -120,11 +131,14 @@ public:
     bool isString(const std::string& key) const { return has(key) && t_.get(key)->is_string(); }
 
     /// Rejects keys that were never read.
-    void finish() const
+    /// Refuses any key not read; `what` (e.g. "a point light") names whose keys they are not.
+    void finish(const std::string& what = "") const
     {
         for (const auto& [k, v] : t_)
             if (!used_.count(std::string(k.str())))
-                throw Error(where(&v), "unknown key '" + qualify(std::string(k.str())) + "'");
+                throw Error(where(&v),
+                            "unknown key '" + qualify(std::string(k.str())) + "'" +
+                                (what.empty() ? "" : ": not a key of " + what));
     }
     [[noreturn]] void error(const std::string& key, const std::string& problem) const
     {

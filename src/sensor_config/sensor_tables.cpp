@@ -2,63 +2,73 @@
 
 #include <cmath>
 
+#include "smokescan/core/limits.hpp"
+
 namespace smokescan {
 namespace {
 
-// One table of every PhysicalParams field: name, member. Reading and writing share it.
+// One table of every PhysicalParams field: name, member, bounds, and the receiver it belongs
+// to (a URG's AMCW phase receiver or a Sick's pulse receiver; both: the optics and noise).
+// Reading and writing share it; a key of the other receiver is refused.
+enum class Receiver { Both, Amcw, Pulsed };
 struct Field {
     const char* name;
     double PhysicalParams::*member;
+    double lo, hi;  ///< inclusive; every field is > 0
+    Receiver receiver;
 };
 const Field kFields[] = {
-    {"divergence_mrad", &PhysicalParams::divergence_mrad},
-    {"overlap_start_m", &PhysicalParams::overlap_start_m},
-    {"overlap_full_m", &PhysicalParams::overlap_full_m},
-    {"overlap_floor", &PhysicalParams::overlap_floor},
-    {"window_m", &PhysicalParams::window_m},
-    {"noise_floor", &PhysicalParams::noise_floor},
-    {"saturation_power", &PhysicalParams::saturation_power},
-    {"snr_min", &PhysicalParams::snr_min},
-    {"mod_freq_lo_hz", &PhysicalParams::mod_freq_lo_hz},
-    {"mod_freq_hi_hz", &PhysicalParams::mod_freq_hi_hz},
-    {"two_wave_tolerance", &PhysicalParams::two_wave_tolerance},
-    {"pulse_fwhm_ns", &PhysicalParams::pulse_fwhm_ns},
-    {"threshold_snr", &PhysicalParams::threshold_snr},
-    {"valid_snr", &PhysicalParams::valid_snr},
-    {"max_echo_width", &PhysicalParams::max_echo_width},
+    {"divergence_mrad", &PhysicalParams::divergence_mrad, 1e-3, 1e3, Receiver::Both},
+    {"overlap_start_m", &PhysicalParams::overlap_start_m, 1e-6, 1e3, Receiver::Both},
+    {"overlap_full_m", &PhysicalParams::overlap_full_m, 1e-6, 1e3, Receiver::Both},
+    {"overlap_floor", &PhysicalParams::overlap_floor, 1e-12, 1, Receiver::Both},
+    {"window_m", &PhysicalParams::window_m, 1e-6, 10, Receiver::Both},
+    {"noise_floor", &PhysicalParams::noise_floor, 1e-15, 1e3, Receiver::Both},
+    {"saturation_power", &PhysicalParams::saturation_power, 1e-12, 1e9, Receiver::Both},
+    {"snr_min", &PhysicalParams::snr_min, 1e-3, 1e6, Receiver::Amcw},
+    {"mod_freq_lo_hz", &PhysicalParams::mod_freq_lo_hz, 1e3, 1e11, Receiver::Amcw},
+    {"mod_freq_hi_hz", &PhysicalParams::mod_freq_hi_hz, 1e3, 1e11, Receiver::Amcw},
+    {"two_wave_tolerance", &PhysicalParams::two_wave_tolerance, 1e-6, 0.999, Receiver::Amcw},
+    {"pulse_fwhm_ns", &PhysicalParams::pulse_fwhm_ns, 1e-3, 1e4, Receiver::Pulsed},
+    {"threshold_snr", &PhysicalParams::threshold_snr, 1e-3, 1e6, Receiver::Pulsed},
+    {"valid_snr", &PhysicalParams::valid_snr, 1e-3, 1e6, Receiver::Pulsed},
+    {"max_echo_width", &PhysicalParams::max_echo_width, 1e-3, 1e6, Receiver::Pulsed},
 };
+
+Receiver receiverOf(SensorType type) { return type == SensorType::Urg04lx ? Receiver::Amcw : Receiver::Pulsed; }
+bool has(SensorType type, const Field& f) { return f.receiver == Receiver::Both || f.receiver == receiverOf(type); }
 
 }  // namespace
 
-void readPhysicalTable(TomlTable t, PhysicalParams& p)
+void readPhysicalTable(TomlTable t, PhysicalParams& p, SensorType type)
 {
-    for (const Field& f : kFields) p.*f.member = t.positive(f.name, p.*f.member);
+    for (const Field& f : kFields)
+        if (has(type, f)) p.*f.member = t.between(f.name, p.*f.member, f.lo, f.hi);
     const long long n = t.integer("sub_rays", p.sub_rays);
     if (n < 1 || n > 64) t.error("sub_rays", "must lie in 1…64");
     p.sub_rays = int(n);
     p.overlap_blur_m = t.nonneg("overlap_blur_m", p.overlap_blur_m);
     if (p.overlap_blur_m > p.overlap_start_m) t.error("overlap_blur_m", "must not exceed overlap_start_m");
     if (p.overlap_full_m < p.overlap_start_m) t.error("overlap_full_m", "must not be below overlap_start_m");
-    if (p.mod_freq_hi_hz <= p.mod_freq_lo_hz) t.error("mod_freq_hi_hz", "must exceed mod_freq_lo_hz");
-    if (p.valid_snr < p.threshold_snr) t.error("valid_snr", "must not be below threshold_snr");
-    if (p.overlap_floor > 1) t.error("overlap_floor", "must be <= 1");
-    if (p.two_wave_tolerance >= 1) t.error("two_wave_tolerance", "must be < 1");
-    t.finish();
+    if (type == SensorType::Urg04lx && p.mod_freq_hi_hz <= p.mod_freq_lo_hz)
+        t.error("mod_freq_hi_hz", "must exceed mod_freq_lo_hz");
+    if (type == SensorType::Lms200 && p.valid_snr < p.threshold_snr)
+        t.error("valid_snr", "must not be below threshold_snr");
+    t.finish(std::string("the physical model of an ") + sensorTypeName(type));
 }
 
-void writePhysicalTable(std::ostream& o, const PhysicalParams& p)
+void writePhysicalTable(std::ostream& o, const PhysicalParams& p, SensorType type)
 {
-    for (const Field& f : kFields) o << f.name << " = " << p.*f.member << "\n";
+    for (const Field& f : kFields)
+        if (has(type, f)) o << f.name << " = " << p.*f.member << "\n";
     o << "sub_rays = " << p.sub_rays << "\n";
     if (p.overlap_blur_m > 0) o << "overlap_blur_m = " << p.overlap_blur_m << "\n";
 }
 
 void readPaperTable(TomlTable t, PaperModelConfig& p)
 {
-    p.penetration_power = t.positive("penetration_power", p.penetration_power);
-    if (p.penetration_power < 1e-9 || p.penetration_power > 1e3)
-        t.error("penetration_power", "must lie in 1e-9…1e3 density·m");
-    p.local_threshold = t.positive("local_threshold", p.local_threshold);
+    p.penetration_power = t.between("penetration_power", p.penetration_power, 1e-9, 1e3);
+    p.local_threshold = t.between("local_threshold", p.local_threshold, 1e-9, limits::kDensity);
     t.finish();
 }
 
@@ -139,9 +149,10 @@ SensorModel readSensorModel(TomlTable& t, const char* key, SensorModel def)
 void readSceneSensorKeys(TomlTable& t, SensorConfig& c)
 {
     c.model = readSensorModel(t, "model", c.model);
-    c.paper.penetration_power = t.positive("penetration_power", c.paper.penetration_power);
-    c.paper.local_threshold = t.positive("local_threshold", c.paper.local_threshold);
-    if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical);
+    c.paper.penetration_power = t.between("penetration_power", c.paper.penetration_power, 1e-9, 1e3);
+    c.paper.local_threshold = t.between("local_threshold", c.paper.local_threshold, 1e-9, limits::kDensity);
+    if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical, c.type);
+    if (c.type != SensorType::Lms200) return;  // the LMS200's own keys: its angular resolution and range mode
     c.lms.resolution_deg = t.num("resolution_deg", c.lms.resolution_deg);
     if (c.lms.resolution_deg != 1.0 && c.lms.resolution_deg != 0.5) t.error("resolution_deg", "must be 1 or 0.5");
     c.lms.range_mode_m = t.num("range_mode_m", c.lms.range_mode_m);

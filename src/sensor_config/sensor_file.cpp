@@ -1,4 +1,4 @@
-#include "smokescan/sensors/sensor_file.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 #include <iomanip>
 #include <sstream>
@@ -23,7 +23,7 @@ void applySensorText(const std::string& text, const std::string& path, SensorCon
         t.error("type", "is '" + type + "' but the sensor is a " + sensorTypeName(c.type));
     c.model = readSensorModel(t, "model", c.model);
     if (t.has("paper")) readPaperTable(t.table("paper"), c.paper);
-    if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical);
+    if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical, c.type);
     if (t.has("extensions")) {
         readExtensionsTable(t.table("extensions"), c.extensions);
         if (c.extensions.changesBeams() && c.type != SensorType::Urg04lx)
@@ -46,7 +46,7 @@ void writeSensorFile(const std::string& path, const SensorConfig& c, const std::
     o << "type = \"" << sensorTypeName(c.type) << "\"\nmodel = \"" << sensorModelName(c.model) << "\"\n\n[paper]\n";
     writePaperTable(o, c.paper);
     o << "\n[physical]\n";
-    writePhysicalTable(o, c.physical);
+    writePhysicalTable(o, c.physical, c.type);
     if (c.extensions.changesBeams() || c.extensions.clock_offset_s != 0) {
         o << "\n";
         writeExtensionsTable(o, c.extensions);

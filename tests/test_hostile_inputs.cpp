@@ -1,0 +1,326 @@
+// Hostile inputs that got through a review of every subcommand (issue "the house"): each class
+// closed where it starts, tested here through the program as a user runs it, and the pieces
+// that close them (message text, plot text, numbers as text) as units.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_run.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
+#include "smokescan/io/atomic_folder.hpp"
+#include "smokescan/io/recorded.hpp"
+#include "smokescan/io/run_files.hpp"
+#include "smokescan/plot/canvas.hpp"
+
+using namespace smokescan;
+using namespace smokescan::test;
+
+namespace {
+
+/// A recorded run for the fit commands (scan's own log and camera saturation), made once.
+struct RecordedPair {
+    std::string log, sat;
+};
+const RecordedPair& recorded()
+{
+    static const RecordedPair r = [] {
+        RecordedPair x{file("hostile.log"), file("hostile_sat.csv")};
+        const CliRun c =
+            cli("scan bocas --from 80 --to 130 --rate 2 --quiet --out " + x.log + " --saturation-out " + x.sat);
+        EXPECT_EQ(c.status, 0) << c.err;
+        return x;
+    }();
+    return r;
+}
+
+/// A scene file with one URG-04LX and `extra` TOML after it.
+std::string sceneWith(const std::string& name, const std::string& sensor_keys, const std::string& extra = "")
+{
+    return file(
+        name,
+        "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n" + sensor_keys + "\n" + extra);
+}
+
+}  // namespace
+
+// ---- crashes ----
+
+TEST(Hardening, ASaturationSeriesTooShortToFitIsNamed)
+{
+    // One row and --smooth 0: movingAverage ran with a window from a NaN frame time (SIGSEGV).
+    const RecordedPair& run = recorded();
+    const std::string one = file("one_row.csv", "time_s,saturation\n80,0.25\n"), out = file("one.toml");
+    expectBad("fit --laser " + run.log + " --saturation " + one + " --scene bocas --smooth 0 --out " + out,
+              one + ": holds 1 saturation rows: a fit needs at least 3", out);
+}
+
+TEST(Hardening, TheOffsetSearchIsBoundedBeforeWork)
+{
+    // 1e6 s took minutes and 446 MB; 1e9 overflowed an int and skipped the search.
+    const RecordedPair& run = recorded();
+    const std::string out = file("ow.toml");
+    for (const char* w : {"1e6", "1e9"})
+        expectBad("fit --laser " + run.log + " --saturation " + run.sat + " --scene bocas --offset-window " + w +
+                      " --out " + out,
+                  "--offset-window: ", out);
+}
+
+TEST(Hardening, APlotWithMoreGroupsThanItsKeyHoldsDoesNotAbort)
+{
+    // 40 one-degree groups: the fit's legend ran off its image and OpenImageIO asserted.
+    const RecordedPair& run = recorded();
+    std::string groups;
+    for (int g = 0; g < 40; ++g)
+        groups +=
+            "g" + std::to_string(g) + " " + std::to_string(-100 + 5 * g) + " " + std::to_string(-99 + 5 * g) + "\n";
+    const std::string gfile = file("many_groups.txt", groups), out = file("many.toml");
+    const CliRun r = cli("fit --laser " + run.log + " --saturation " + run.sat + " --surfaces " + gfile +
+                         " --sensor-type urg04lx --bootstrap 0 --out " + out);
+    EXPECT_TRUE(r.status == 0 || r.status == 1) << "status " << r.status << "\n" << r.err;
+    if (r.status != 0) EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // Directly: text past every edge is left out, text inside is drawn.
+    Canvas c(60, 40);
+    for (auto [x, y] : {std::pair{-50, 20}, {55, 20}, {10, -5}, {10, 80}, {1 << 30, 1 << 30}}) c.text(x, y, "legend");
+    const Image blank = c.image();
+    for (float v : blank.data) ASSERT_EQ(v, 1.0f);
+    c.text(2, 30, "ab", 14);
+    const Image drawn = c.image();
+    float darkest = 1;
+    for (float v : drawn.data) darkest = std::min(darkest, v);
+    EXPECT_LT(darkest, 0.5f) << "text inside the image was not drawn (is DejaVu Sans installed?)";
+}
+
+TEST(Hardening, PositionsBeyondTheSceneReachAreRefusedWhenRead)
+{
+    // 1.8e18 m reached Embree's assertion.
+    const std::string out = file("far.log");
+    const std::string far =
+        file("far.toml", "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [2e18, 0.0, 0.5]\n");
+    expectBad("scan " + far + " --to 1 --out " + out, "sensors[0].position must lie within 1000 km of the origin", out);
+    const std::string robot = file("far_robot.toml",
+                                   "[[robots]]\nname = \"r\"\nkeyframes = [{ time_s = 0.0, position = "
+                                   "[0.0, -5e18, 0.0] }]\n[[sensors]]\nname = \"h\"\n"
+                                   "type = \"urg04lx\"\nrobot = \"r\"\n");
+    expectBad("scan " + robot + " --to 1 --out " + out, "must lie within 1000 km of the origin", out);
+}
+
+TEST(Hardening, AReaderThatClosesEarlyLeavesNoTemporary)
+{
+    // stdout closed at once (`| head -c 1`): SIGPIPE ended the run and left its temporary.
+    const fs::path d = scratch("sigpipe");
+    const std::string log = (d / "p.log").string();
+    // TMPDIR: the stream's own temporary (a device's is made in the temp folder) lands here too.
+    const std::string cmd = "sh -c 'TMPDIR=" + d.string() + " " + SMOKESCAN_CLI +
+        " scan bocas --from 0 --to 120 --rate 5 --out " + log + " --tau /dev/stdout | head -c 1 >/dev/null'";
+    std::system(cmd.c_str());
+    for (const auto& e : fs::directory_iterator(d))
+        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left " << e.path();
+}
+
+// ---- values accepted that meant nothing ----
+
+TEST(Hardening, SceneValuesBeyondMeaningAreOneLineErrorsNamingTheKey)
+{
+    const std::string out = file("vals.log");
+    struct Case {
+        std::string keys, extra, needle;
+    };
+    const std::string smoke =
+        "[[smoke]]\nname = \"s\"\ntype = \"box\"\nmin = [0.5, -1.0, 0.0]\nmax = [1.5, 1.0, 1.0]\n";
+    const std::string light = "[[lights]]\nname = \"l\"\n";
+    for (const Case& c : std::vector<Case>{
+             {"", smoke + "timeline = { kind = \"constant\", value = 1e300 }\n", "value must be in [0, 1e+06]"},
+             {"", smoke + "timeline = { kind = \"keyframes\", keys = [[0.0, 1.0], [5.0, 1e300]] }\n",
+              "factors must be in [0, 1e6], got 1e+300 at 5 s"},
+             {"", light + "kind = \"point\"\nspot_angle_deg = 20.0\n",
+              "'lights[0].spot_angle_deg': not a key of a point light"},
+             {"", light + "kind = \"spot\"\nspot_angle_deg = 1000.0\n", "spot_angle_deg must be in [0.001, 180]"},
+             {"", light + "kind = \"area\"\npower_w = 1e308\n", "power_w must be in [0, 1e+06]"},
+             {"", light + "kind = \"point\"\nefficiency = 2.0\n", "efficiency must be in [0, 1]"},
+             {"", light + "kind = \"ambient\"\ncolor = [-1.0, 1.0, 1.0]\n", "color must be 3 gains in [0, 100]"},
+             {"", light + "kind = \"ambient\"\nradiance = 1e308\n", "radiance must be in [0, 1e+06]"},
+             {"", light + "kind = \"ambient\"\nirradiance = 3.0\n",
+              "'lights[0].irradiance': not a key of an ambient light"},
+             {"", "[[cameras]]\nname = \"c\"\nmirror_radius_px = 100.0\n", "not a key of a pinhole camera"},
+             {"", "[[cameras]]\nname = \"c\"\nkind = \"omni\"\nhfov_deg = 60.0\n", "not a key of an omni camera"},
+             {"resolution_deg = 0.5", "", "'sensors[0].resolution_deg': not a key of an urg04lx sensor"},
+             {"[sensors.physical]\nnoise_floor = 1e308", "", "noise_floor must be in"},
+             {"[sensors.physical]\npulse_fwhm_ns = 4.0", "", "not a key of the physical model of an urg04lx"},
+             {"penetration_power = 1e308", "", "penetration_power must be in [1e-09, 1000]"},
+         }) {
+        const std::string scene = sceneWith("vals.toml", c.keys, c.extra);
+        expectBad("scan " + scene + " --to 1 --out " + out, c.needle, out);
+    }
+    // A sensor file's [physical] values are bounded as the scene's are (1e308 loaded, then scan failed).
+    const std::string sf =
+        file("big.sensor.toml", "type = \"urg04lx\"\nmodel = \"physical\"\n[physical]\nsnr_min = 1e308\n");
+    expectBad("scan bocas --to 1 --sensor-file " + sf + " --out " + out, "snr_min must be in [0.001, 1e+06]", out);
+}
+
+TEST(Hardening, OptionValuesBeyondMeaningAreOneLineErrors)
+{
+    const RecordedPair& run = recorded();
+    const std::string out = file("opt.out"), png = file("opt.png"), dir_out = (dir() / "diag_out").string();
+    const std::string diag =
+        "diagnose --laser " + run.log + " --saturation " + run.sat + " --scene bocas --out " + dir_out;
+    struct Case {
+        std::string args, needle, out;
+    };
+    for (const Case& c : std::vector<Case>{
+             {"render bocas --exposure 1e300 --out " + png, "--exposure: must be 'auto' or a number in (0, 1e6]", png},
+             {"scan bocas --to 1 --camera-offset 1e20 --saturation-out " + file("co.csv") + " --out " + out,
+              "--camera-offset: '1e20' is outside [-100000, 100000]", out},
+             {diag + " --alpha nan", "--alpha: 'nan' is not a finite number", dir_out},
+             {diag + " --offset nan", "--offset: 'nan' is not a finite number", dir_out},
+             {"fit --laser " + run.log + " --saturation " + run.sat + " --surface a=1:2@1e308 --out " + out,
+              "range of 'a' must be in (0, 1000] m", out},
+             {"saturation " + png + " --rect time_s=0,0,1,1 --out " + out, "is one of the CSV's own columns", out},
+             {"saturation " + png + " --rect 'a,b=0,0,1,1' --out " + out, "must be 1-64 letters", out},
+         })
+        expectBad(c.args, c.needle, c.out);
+    const CliRun r = cli("frobnicate");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("unknown command 'frobnicate' (scan, "), std::string::npos) << r.err;
+}
+
+// ---- output that reads back ----
+
+TEST(SaturationCsv, EpochTimesAndValuesReadBackExactly)
+{
+    // 9 significant digits printed every row of an epoch clock as 1.7e+09.
+    SaturationSeries s;
+    for (int k = 0; k < 5; ++k) {
+        s.time_s.push_back(1700000000.25 + 0.1 * k);
+        s.saturation.push_back(0.3 - 0.004 * k);
+    }
+    const std::string path = file("epoch.csv");
+    writeSaturationCsv(path, s, {"epoch clock"});
+    const SaturationSeries back = readSaturationCsv(path);
+    ASSERT_EQ(back.time_s.size(), s.time_s.size());
+    for (size_t k = 0; k < s.time_s.size(); ++k) EXPECT_EQ(back.time_s[k], s.time_s[k]) << k;
+    EXPECT_EQ(shortest(1700000000.25), "1700000000.25");
+    EXPECT_EQ(shortest(0.1), "0.1");
+    EXPECT_EQ(std::strtod(shortest(M_PI).c_str(), nullptr), M_PI);
+    // A patch name that would break the header is refused before anything is written.
+    s.patch_names = {"a,b"};
+    s.patch = {s.saturation};
+    const std::string bad = file("badname.csv");
+    EXPECT_THROW(writeSaturationCsv(bad, s, {}), Error);
+    EXPECT_FALSE(fs::exists(bad));
+}
+
+TEST(Hardening, DevStdoutIsWrittenIntoWhereverItLeads)
+{
+    // docs/limits.md names /dev/stdout as an output; it was refused as a link.
+    const std::string piped = file("piped.log"), redirected = file("redirected.log");
+    const std::string base = std::string(SMOKESCAN_CLI) + " scan bocas --to 1 --quiet --out /dev/stdout";
+    ASSERT_EQ(std::system(("sh -c '" + base + " | cat > " + piped + "'").c_str()), 0);
+    ASSERT_EQ(std::system(("sh -c '" + base + " > " + redirected + "'").c_str()), 0);
+    for (const std::string& f : {piped, redirected}) {
+        const std::string got = slurp(f);
+        EXPECT_NE(got.find("# smokescan scan builtin:bocas"), std::string::npos) << f << ":\n" << got.substr(0, 300);
+    }
+}
+
+TEST(Messages, ControlsThatMoveOrHideTextAreShownEscaped)
+{
+    // C1 controls (the CSI U+009B) and bidirectional overrides reached the terminal raw.
+    EXPECT_EQ(printable("a\xC2\x9B"
+                        "b"),
+              "a\\u009Bb");
+    EXPECT_EQ(printable("x\xE2\x80\xAEy"), "x\\u202Ey");  // RIGHT-TO-LEFT OVERRIDE
+    EXPECT_EQ(printable("x\xE2\x81\xA6y"), "x\\u2066y");  // LEFT-TO-RIGHT ISOLATE
+    EXPECT_EQ(printable("d\xC3\xA9j\xC3\xA0"), "d\xC3\xA9j\xC3\xA0");  // ordinary accents stay
+    EXPECT_EQ(printable("\x1B[31m"), "\\x1B[31m");
+}
+
+// ---- data destroyed ----
+
+TEST(Hardening, EveryCommandProtectsTheFilesItsSceneReads)
+{
+    // `volume build SCENE --out mesh.obj` overwrote the scene's mesh, and a failing `fit --report
+    // mesh.obj` still did: every command that takes a scene now learns its files from the scene.
+    const std::string cube =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+        "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n";
+    const std::string mesh = file("kept.obj", cube);
+    const std::string scene =
+        file("reads_mesh.toml",
+             "[[materials]]\nname = \"m\"\n[[surfaces]]\nname = \"target_cube\"\nmaterial = \"m\"\ntype = \"mesh\"\n"
+             "file = \"kept.obj\"\nposition = [2.0, -0.5, 0.0]\n"
+             "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
+             "[[cameras]]\nname = \"c\"\nlook_at = [2.0, 0.0, 0.5]\nposition = [0.0, 0.0, 0.5]\n"
+             "[[smoke]]\nname = \"s\"\ntype = \"box\"\nmin = [0.5, -1.0, 0.0]\nmax = [1.5, 1.0, 1.0]\n");
+    const RecordedPair& run = recorded();
+    const std::string frame = file("frame.png");
+    ASSERT_EQ(cli("render " + scene + " --width 16 --height 12 --spp 1 --out " + frame).status, 0);
+    for (const std::string& args : {
+             "volume build " + scene + " --out " + mesh,
+             "calibrate " + scene + " --out " + mesh,
+             "fit --laser " + run.log + " --saturation " + run.sat + " --scene " + scene + " --out " + file("f.toml") +
+                 " --report " + mesh,
+             "fit-plume --laser " + run.log + " --scene " + scene + " --out " + mesh,
+             "saturation " + frame + " --scene " + scene + " --rect a=0,0,4,4 --out " + mesh,
+         }) {
+        const CliRun r = cli(args);
+        EXPECT_NE(r.status, 0) << args;
+        EXPECT_NE(r.err.find("is the input of a file the scene reads"), std::string::npos) << args << "\n" << r.err;
+        EXPECT_EQ(slurp(mesh), cube) << args;
+    }
+}
+
+TEST(RunFiles, AnOutputThatCannotBePlacedPutsBackWhatTheEarlierOnesReplaced)
+{
+    // A folder appears at the second output during the run: the first had already replaced the
+    // user's file. Now every target is checked before the first rename, and a rename that still
+    // fails puts back what was replaced.
+    const fs::path d = scratch("all_or_nothing");
+    const std::string a = (d / "a.log").string(), b = (d / "b.csv").string();
+    {
+        std::ofstream(a) << "old a";
+        std::ofstream(b) << "old b";
+        RunFiles files;
+        files.output(a, "--out");
+        files.output(b, "--tau");
+        std::ofstream(files.stage(a)) << "new a";
+        std::ofstream(files.stage(b)) << "new b";
+        fs::remove(b);
+        fs::create_directory(b);
+        EXPECT_THROW(files.commit(), Error);
+    }
+    EXPECT_EQ(slurp(a), "old a");
+    EXPECT_TRUE(fs::is_directory(b));
+    fs::remove(b);
+    {
+        std::ofstream(b) << "old b";
+        RunFiles files;
+        files.output(a, "--out");
+        files.output(b, "--tau");
+        std::ofstream(files.stage(a)) << "new a";
+        std::ofstream(files.stage(b)) << "new b";
+        files.commit();
+    }
+    EXPECT_EQ(slurp(a), "new a");
+    EXPECT_EQ(slurp(b), "new b");
+    for (const auto& e : fs::directory_iterator(d)) EXPECT_TRUE(e.path() == a || e.path() == b) << "left " << e.path();
+}
+
+TEST(Hardening, AFolderThatAppearsAtDiagnoseOutIsRefusedNotRemoved)
+{
+    // diagnose --out DIR removed a file that appeared at DIR during the run.
+    const fs::path d = scratch("folder_appears");
+    const std::string target = (d / "diag").string();
+    {
+        AtomicFolder out(target, "the diagnosis folder", "--out");
+        std::ofstream(out.path("report.md")) << "report";
+        std::ofstream(target) << "the user's file";
+        EXPECT_THROW(out.commit(), Error);
+    }
+    EXPECT_EQ(slurp(target), "the user's file");
+    for (const auto& e : fs::directory_iterator(d)) EXPECT_EQ(e.path().string(), target) << "left " << e.path();
+}
