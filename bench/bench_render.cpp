@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "scene_text.hpp"
 #include "smokescan/camera/saturation.hpp"
 #include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -74,26 +75,10 @@ void teapot()
     }
     const int W = 320, H = 240;
     const double density_scale = 0.02, sigma = 100.0;  // σ_a = 100 · 0.02 · stored value [1/m]
-    const std::string toml = R"(
-[[lights]]
-name = "sky"
-kind = "ambient"
-radiance = 1.0
-[[cameras]]
-name = "cam"
-position = [0.0, -4.0, 0.0]
-look_at = [0.0, 0.0, 0.0]
-width = 320
-height = 240
-hfov_deg = 40.0
-[[smoke]]
-name = "teapot"
-type = "vdb"
-file = ")" +
-        vdb + R"("
-scale = 0.02
-medium = { sigma_t_550 = 100.0, angstrom = 0.0, albedo = 0.0 }
-)";
+    const std::string toml = smokescan::test::SceneText()
+                                 .ambient(1.0)
+                                 .camera({0, -4, 0}, {0, 0, 0}, W, H, 40)
+                                 .vdbSmoke(vdb, density_scale, "{ sigma_t_550 = 100.0, angstrom = 0.0, albedo = 0.0 }");
     const Scene scene = parseScene(toml, "teapot-bench", "");
     const SurfaceSet set(scene);
     RenderConfig cfg;

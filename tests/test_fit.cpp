@@ -207,7 +207,7 @@ TEST(SensorFit, RoundTripPullsOfOffsetAndThresholdHaveUnitSpreadOverIndependentR
 // scoring into a two-cycle; the threshold fit now minimises the deviance itself).
 TEST(SensorFit, PhysicalModelRoundTripRecoversTheNoiseFloor)
 {
-    const double nf_true = 1.6 * 5.4e-4, offset = -2.5;
+    const double nf_true = 1.6 * physicalDefaults(SensorType::Urg04lx).noise_floor, offset = -2.5;
     const auto groups = targetGroups();
     Bocas& b = bocas();
     const SensorMount& mount = b.scene.sensors[size_t(b.scene.findSensor("hokuyo"))];

@@ -180,6 +180,7 @@ TEST(Hardening, OptionValuesBeyondMeaningAreOneLineErrors)
              {"fit --laser " + run.log + " --saturation " + run.sat + " --surface a=1:2@1e308 --out " + out,
               "range of 'a' must be in (0, 1000] m", out},
              {"saturation " + png + " --rect time_s=0,0,1,1 --out " + out, "is one of the CSV's own columns", out},
+             {"volume info volumes/fog_ball_float.vdb --scale 1e300", "--scale: '1e300' is outside [0, 1e+06]", out},
              {"saturation " + png + " --rect 'a,b=0,0,1,1' --out " + out, "must be 1-64 letters", out},
          })
         expectBad(c.args, c.needle, c.out);
@@ -323,4 +324,20 @@ TEST(Hardening, AFolderThatAppearsAtDiagnoseOutIsRefusedNotRemoved)
     }
     EXPECT_EQ(slurp(target), "the user's file");
     for (const auto& e : fs::directory_iterator(d)) EXPECT_EQ(e.path().string(), target) << "left " << e.path();
+}
+
+TEST(Hardening, AScenesPlumesAreBoundedTogether)
+{
+    // Twelve plumes each under the bound peaked at 3.3 GB: the bound is now the scene's. Three
+    // plumes of about 1.8e8 voxels each pass one by one and fail together.
+    std::string plumes;
+    for (int i = 0; i < 3; ++i)
+        plumes += "[[smoke]]\nname = \"p" + std::to_string(i) +
+            "\"\ntype = \"plume\"\nsource = [0.0, 0.0, 0.5]\nrate_per_s = 10.0\nlifetime_s = 10.0\nradius_m = 1.0\n"
+            "growth_m_s = 0.0\nvoxel = 0.05\n";
+    const std::string one = file("one_plume.toml", plumes.substr(0, plumes.find("[[smoke]]", 1)));
+    const std::string three = file("three_plumes.toml", plumes), out = file("plumes.vdb");
+    const CliRun r = cli("volume info " + one);
+    EXPECT_EQ(r.err.find("voxels at once"), std::string::npos) << r.err;
+    expectBad("volume build " + three + " --out " + out, "the scene's plumes would cover about", out);
 }

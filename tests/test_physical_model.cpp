@@ -199,6 +199,60 @@ TEST(PhysicalCalibration, UrgNoiseFloorPutsTheBocasOnsetAtThePapersPenetrationPo
     EXPECT_NEAR(onset, 0.007, 0.05 * 0.007);
 }
 
+TEST(PhysicalCalibration, UrgErrsOnlyAtThePapersThresholdAndNeverInClearAirAwayFromEdges)
+{
+    // The calibration's second half (docs/sensors.md): the paper's Hokuyo read its target until
+    // the column reached 0.007 density·m and erred from there, with no errors below it. The
+    // noise floor sets how sharp the onset is: with 5.4e-4 (snr_min 8) the blue paper erred from
+    // 0.004 density·m, in the first puff at 29 s (issue 31). Over three seeds of bocas at 1 Hz:
+    // - the blue strip errs on at most 0.5 % of its beams below 0.9 × 0.007, and its first error
+    //   comes within 5 s of the paper model's (97 s: the second puff);
+    // - in clear air (no smoke on the beam) no beam errs on a surface within 4 m unless its 10 mrad
+    //   footprint straddles an edge (a neighbour within two beams 5 cm nearer or farther: a mixed
+    //   pixel, whose two waves do differ).
+    const Scene scene = loadScene("bocas");
+    const SurfaceSet surfaces(scene);
+    long long below = 0, below_err = 0, clear = 0, clear_err = 0;
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+        ScanConfig c;
+        c.model = SensorModel::Physical;
+        c.from_s = 0;
+        c.to_s = 360;
+        c.seed = seed;
+        const Scanner sc(scene, surfaces, c);
+        const auto times = sc.times();
+        double first_blue = NAN;
+        for (size_t k = 0; k < times.size(); ++k) {
+            const Scan s = sc.scanAt(times[k], k);
+            for (size_t i = 0; i < s.beams.size(); ++i) {
+                const BeamResult& b = s.beams[i];
+                if (!b.hit.hit || b.hit.surface < 0) continue;
+                const std::string& name = scene.surfaces[size_t(b.hit.surface)].name;
+                if (name == "target_blue") {
+                    if (b.error && std::isnan(first_blue)) first_blue = s.time_s;
+                    if (b.smoke.column_regional < 0.9 * 0.007) ++below, below_err += b.error;
+                }
+                if (b.smoke.column_regional > 0 || b.smoke.column_local > 0 || b.hit.t_m > 4.0) continue;
+                bool edge = false;
+                for (size_t j = i > 2 ? i - 2 : 0; j <= std::min(s.beams.size() - 1, i + 2); ++j)
+                    edge = edge || !s.beams[j].hit.hit || std::abs(s.beams[j].hit.t_m - b.hit.t_m) > 0.05;
+                if (edge) continue;
+                ++clear;
+                clear_err += b.error;
+                if (b.error)
+                    ADD_FAILURE() << "clear air, seed " << seed << " t " << s.time_s << " beam " << i << " on " << name
+                                  << " at " << b.hit.t_m << " m: " << b.cause;
+            }
+        }
+        EXPECT_NEAR(first_blue, 97.0, 5.0) << "seed " << seed;
+    }
+    std::printf("blue strip below 0.9 x 0.007: %lld of %lld beams err; clear air away from edges: %lld of %lld\n",
+                below_err, below, clear_err, clear);
+    EXPECT_GT(below, 5000);
+    EXPECT_LE(double(below_err), 0.005 * double(below));
+    EXPECT_GT(clear, 20000);
+}
+
 TEST(PhysicalModel, DarkTargetDropsOutBeforeWhitePaperByTheTwoWayLoss)
 {
     // A 10 %-reflective paper (the datasheets' dark target) against white (80 %) at 2.5 m. The lidar

@@ -54,25 +54,11 @@ TEST(Render, WhiteFurnaceGreyMedium)
 {
     // Albedo-1 smoke in a uniform environment of radiance 1: every path returns 1 but for Russian
     // roulette's reweighting, so the mean is 1.
-    const RenderResult r = renderScene(R"(
-[[lights]]
-name = "sky"
-kind = "ambient"
-radiance = 1.0
-[[cameras]]
-name = "cam"
-width = 8
-height = 6
-hfov_deg = 90
-[[smoke]]
-name = "fog"
-type = "box"
-min = [-1.025, -1.025, -1.025]
-max = [1.025, 1.025, 1.025]
-density = 0.01
-voxel = 0.05
-medium = { preset = "theatrical_fog", albedo = 1.0 }
-)",
+    const RenderResult r = renderScene(test::SceneText()
+                                           .ambient(1.0)
+                                           .camera({0, 0, 0}, {1, 0, 0}, 8, 6, 90)
+                                           .boxSmoke({-1.025, -1.025, -1.025}, {1.025, 1.025, 1.025}, 0.01, 0.05,
+                                                     "{ preset = \"theatrical_fog\", albedo = 1.0 }"),
                                        config(64));
     for (int k = 0; k < 3; ++k) {
         const auto [m, se] = imageMean(r, k);
@@ -85,25 +71,11 @@ TEST(Render, WhiteFurnaceHeterogeneousSpectralMedium)
     // The fog ball (volumes/) with a wavelength-dependent extinction (Ångström 2) and albedo 1:
     // spectral tracking must keep every channel at 1 in expectation. Thin enough (σ_t ≤ 40 /m over
     // 0.4 m) that paths escape in well under the depth limit, which would otherwise remove energy.
-    const RenderResult r = renderScene(R"(
-[[lights]]
-name = "sky"
-kind = "ambient"
-radiance = 1.0
-[[cameras]]
-name = "cam"
-position = [0.0, -0.8, 0.0]
-look_at = [0.0, 0.0, 0.0]
-width = 12
-height = 8
-hfov_deg = 45
-[[smoke]]
-name = "ball"
-type = "vdb"
-file = "volumes/fog_ball_float.vdb"
-scale = 0.4
-medium = { sigma_t_550 = 100.0, angstrom = 2.0, albedo = 1.0, g = 0.6 }
-)",
+    const RenderResult r = renderScene(test::SceneText()
+                                           .ambient(1.0)
+                                           .camera({0, -0.8, 0}, {0, 0, 0}, 12, 8, 45)
+                                           .vdbSmoke("volumes/fog_ball_float.vdb", 0.4,
+                                                     "{ sigma_t_550 = 100.0, angstrom = 2.0, albedo = 1.0, g = 0.6 }"),
                                        config(256, 1000000));
     for (int k = 0; k < 3; ++k) {
         const auto [m, se] = imageMean(r, k);
@@ -167,40 +139,17 @@ TEST(Render, KoschmiederBlackAndWhiteTargets)
     // A white Lambertian target stays at 1; a black one, 1 cm wide, reads L_h·(1 − e^{−σx}).
     for (double x : {1.0, 3.0}) {
         for (const char* target : {"black", "white"}) {
-            const std::string toml = std::string(R"(
-[[materials]]
-name = "black"
-albedo = [0.0, 0.0, 0.0]
-[[materials]]
-name = "white"
-albedo = [1.0, 1.0, 1.0]
-[[surfaces]]
-name = "target"
-material = ")") +
-                target + R"("
-type = "quad"
-corner = [)" + std::to_string(x) +
-                R"(, -0.005, -0.005]
-u = [0.0, 0.01, 0.0]
-v = [0.0, 0.0, 0.01]
-[[lights]]
-name = "sky"
-kind = "ambient"
-radiance = 1.0
-[[cameras]]
-name = "cam"
-width = 1
-height = 1
-hfov_deg = 0.05
-[[smoke]]
-name = "fog"
-type = "box"
-min = [-20.0, -20.0, -20.0]
-max = [20.0, 20.0, 20.0]
-voxel = 0.5
-density = 0.003
-medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo = 1.0 }
-)";
+            const std::string toml =
+                test::SceneText()
+                    .raw(
+                        "[[materials]]\nname = \"black\"\nalbedo = [0.0, 0.0, 0.0]\n"
+                        "[[materials]]\nname = \"white\"\nalbedo = [1.0, 1.0, 1.0]\n"
+                        "[[surfaces]]\nname = \"target\"\nmaterial = \"" +
+                        std::string(target) + "\"\ntype = \"quad\"\ncorner = " + test::tomlVec({x, -0.005, -0.005}) +
+                        "\nu = [0.0, 0.01, 0.0]\nv = [0.0, 0.0, 0.01]\n")
+                    .ambient(1.0)
+                    .camera({0, 0, 0}, {1, 0, 0}, 1, 1, 0.05)
+                    .boxSmoke({-20, -20, -20}, {20, 20, 20}, 0.003, 0.5, test::greyMedium(200, 1.0));
             const RenderResult r = renderScene(toml, config(20000));
             const auto [m, se] = imageMean(r, 1);
             const double T = std::exp(-0.6 * x), L0 = std::string(target) == "white" ? 1.0 : 0.0;
@@ -274,29 +223,11 @@ TEST(Render, SingleScatteringInASlab)
     // looks up at angle θ from the vertical. Single scattering only:
     //   L_ss = σ_s·p(cos θ)·E·e^{−σL}·(1 − e^{−σL(1−cos θ)/cos θ}) / (σ(1 − cos θ)).
     const double theta = 30 * M_PI / 180, sigma = 1.0, albedo = 0.8, g = 0.5, E = 2.0, L = 1.0;
-    const std::string toml = R"(
-[[lights]]
-name = "sun"
-kind = "directional"
-rpy_deg = [0.0, 90.0, 0.0]
-irradiance = 2.0
-[[cameras]]
-name = "cam"
-position = [0.0, 0.0, -0.45]
-look_at = [)" +
-        std::to_string(std::sin(theta)) + ", 0.0, " + std::to_string(-0.45 + std::cos(theta)) + R"(]
-width = 1
-height = 1
-hfov_deg = 0.05
-[[smoke]]
-name = "slab"
-type = "box"
-min = [-40.05, -40.05, 0.05]
-max = [40.05, 40.05, 1.05]
-voxel = 0.1
-density = 0.005
-medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo = 0.8, g = 0.5 }
-)";
+    const std::string toml =
+        test::SceneText()
+            .raw("[[lights]]\nname = \"sun\"\nkind = \"directional\"\nrpy_deg = [0.0, 90.0, 0.0]\nirradiance = 2.0\n")
+            .camera({0, 0, -0.45}, {std::sin(theta), 0, -0.45 + std::cos(theta)}, 1, 1, 0.05)
+            .boxSmoke({-40.05, -40.05, 0.05}, {40.05, 40.05, 1.05}, 0.005, 0.1, test::greyMedium(200, 0.8, 0.5));
     const RenderResult r = renderScene(toml, config(40000, 1));
     const double mu = std::cos(theta), d = 1 + g * g - 2 * g * mu, p = (1 - g * g) / (4 * M_PI * d * std::sqrt(d));
     const double want =
@@ -333,29 +264,10 @@ TEST(Render, SingleScatteringNearAPointLight)
     // (next-event estimation at collisions), and at the same samples its error must be several
     // times smaller.
     const double sigma = 1.0, albedo = 0.8, g = 0.3, I = 10.0 / (4 * M_PI), D = 0.05, x_light = 1.0;
-    const std::string toml = R"(
-[[lights]]
-name = "bulb"
-kind = "point"
-position = [1.0, 0.05, 0.0]
-power_w = 10.0
-efficiency = 1.0
-[[cameras]]
-name = "cam"
-position = [0.0, 0.0, 0.0]
-look_at = [1.0, 0.0, 0.0]
-width = 1
-height = 1
-hfov_deg = 0.001
-[[smoke]]
-name = "box"
-type = "box"
-min = [-0.05, -1.0, -1.0]
-max = [2.05, 1.0, 1.0]
-voxel = 0.05
-density = 0.005
-medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo = 0.8, g = 0.3 }
-)";
+    const std::string toml = test::SceneText()
+                                 .point({1.0, 0.05, 0.0}, 10.0)
+                                 .camera({0, 0, 0}, {1, 0, 0}, 1, 1, 0.001)
+                                 .boxSmoke({-0.05, -1, -1}, {2.05, 1, 1}, 0.005, 0.05, test::greyMedium(200, 0.8, 0.3));
     const double want = singleScatteringNearAPoint(sigma, albedo, g, I, D, x_light);
     RenderConfig plain = config(20000, 1), split = plain;
     plain.segment_lighting = plain.split_primary = false;
@@ -376,32 +288,14 @@ TEST(Render, SingleScatteringNearAPointLightInAColouredMedium)
     // quadrature, with either estimator.
     const double albedo = 0.8, g = 0.3, I = 10.0 / (4 * M_PI), D = 0.05, x_light = 1.0, rho = 0.005;
     const Medium m = Medium::fromAngstrom("coloured", 200.0, 2.0, albedo, g);
-    const std::string toml = R"(
-[[lights]]
-name = "bulb"
-kind = "point"
-position = [1.0, 0.05, 0.0]
-power_w = 10.0
-efficiency = 1.0
-[[cameras]]
-name = "cam"
-position = [0.0, 0.0, 0.0]
-look_at = [1.0, 0.0, 0.0]
-width = 1
-height = 1
-hfov_deg = 0.001
-[[smoke]]
-name = "box"
-type = "box"
-min = [-0.05, -1.0, -1.0]
-max = [2.05, 1.0, 1.0]
-voxel = 0.05
-density = 0.005
-medium = { sigma_t_550 = )" +
-        test::tomlNumber(m.sigma_t_550) + ", sigma_t_785 = " + test::tomlNumber(m.sigma_t_785) +
-        ", sigma_t_905 = " + test::tomlNumber(m.sigma_t_905) +
-        R"(, albedo = 0.8, g = 0.3 }
-)";
+    const std::string toml =
+        test::SceneText()
+            .point({1.0, 0.05, 0.0}, 10.0)
+            .camera({0, 0, 0}, {1, 0, 0}, 1, 1, 0.001)
+            .boxSmoke({-0.05, -1, -1}, {2.05, 1, 1}, 0.005, 0.05,
+                      "{ sigma_t_550 = " + test::tomlNumber(m.sigma_t_550) +
+                          ", sigma_t_785 = " + test::tomlNumber(m.sigma_t_785) +
+                          ", sigma_t_905 = " + test::tomlNumber(m.sigma_t_905) + ", albedo = 0.8, g = 0.3 }");
     RenderConfig plain = config(20000, 1), split = plain;
     plain.segment_lighting = plain.split_primary = false;
     const RenderResult r1 = renderScene(toml, plain), r2 = renderScene(toml, split);
@@ -426,32 +320,13 @@ TEST(Render, SingleScatteringNearAnAreaLight)
     //   L = ∫∫ e^{−σt}·σ_s·p(cos θ)·Le·cos θ_l·e^{−σd}/d² dA dt.
     const double sigma = 1.0, albedo = 0.8, g = 0.3, W = 0.6, H = 0.04, x_l = 0.5, z_l = -0.05;
     const double Le = 10.0 / (M_PI * W * H);
-    const std::string toml = R"(
-[[lights]]
-name = "tube"
-kind = "area"
-position = [0.5, 0.0, -0.05]
-look_at = [2.0, 0.0, -0.05]
-width = 0.6
-height = 0.04
-power_w = 10.0
-efficiency = 1.0
-[[cameras]]
-name = "cam"
-position = [0.0, 0.0, 0.0]
-look_at = [1.0, 0.0, 0.0]
-width = 1
-height = 1
-hfov_deg = 0.001
-[[smoke]]
-name = "box"
-type = "box"
-min = [-0.05, -1.0, -1.0]
-max = [2.05, 1.0, 1.0]
-voxel = 0.05
-density = 0.005
-medium = { sigma_t_550 = 200.0, sigma_t_785 = 200.0, sigma_t_905 = 200.0, albedo = 0.8, g = 0.3 }
-)";
+    const std::string toml = test::SceneText()
+                                 .raw(
+                                     "[[lights]]\nname = \"tube\"\nkind = \"area\"\nposition = [0.5, 0.0, -0.05]\n"
+                                     "look_at = [2.0, 0.0, -0.05]\nwidth = 0.6\nheight = 0.04\npower_w = 10.0\n"
+                                     "efficiency = 1.0\n")
+                                 .camera({0, 0, 0}, {1, 0, 0}, 1, 1, 0.001)
+                                 .boxSmoke({-0.05, -1, -1}, {2.05, 1, 1}, 0.005, 0.05, test::greyMedium(200, 0.8, 0.3));
     double want = 0;
     const int nt = 8000, nu = 120, nv = 8;
     const double ht = 2.05 / nt, dA = W * H / (nu * nv);

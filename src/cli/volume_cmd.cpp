@@ -97,7 +97,10 @@ void addVolume(CLI::App& app, Runner& run)
     auto* info = v->add_subcommand("info", "Describe a .vdb file's grid, or a scene's smoke volumes at a time");
     info->add_option("input", a->input, "A .vdb file, a scene file or a built-in scene")->required();
     info->add_option("--grid", a->grid, "Grid name in a .vdb file (\"\" = first scalar grid)")->capture_default_str();
-    info->add_option("--scale", a->scale, "Stored value × scale = density")->capture_default_str()->check(positive());
+    info->add_option("--scale", a->scale, "Stored value × scale = density, in (0, 1e6]")
+        ->capture_default_str()
+        ->check(positive())
+        ->check(range(0, 1e6));
     info->add_option("--time", a->time_s, "Scene time [s]")->capture_default_str()->check(finite());
     info->callback([a, &run] { run = [a] { return runInfo(*a); }; });
 
@@ -111,7 +114,10 @@ void addVolume(CLI::App& app, Runner& run)
         v->add_subcommand("export", "Read a grid made elsewhere, validate it, write it as a float density grid");
     exp->add_option("input", a->input, "Input .vdb")->required();
     exp->add_option("--grid", a->grid, "Grid name (\"\" = first scalar grid)")->capture_default_str();
-    exp->add_option("--scale", a->scale, "Stored value × scale = density")->capture_default_str()->check(positive());
+    exp->add_option("--scale", a->scale, "Stored value × scale = density, in (0, 1e6]")
+        ->capture_default_str()
+        ->check(positive())
+        ->check(range(0, 1e6));
     exp->add_option("--out", a->out, "Output .vdb")->required();
     exp->callback([a, &run] { run = [a] { return runExport(*a); }; });
 }

@@ -32,8 +32,27 @@ nlohmann::json figuresJson(const std::vector<ModelFigures>& figs)
     return j;
 }
 
+/// What the residuals are binned by: parsed once from its name, switched on per observation.
+enum class Covariate { Surface, IncidenceDeg, RangeM, BeamAngleDeg, Column, Saturation, SmokeTrend, TimeS };
+struct CovariateName {
+    Covariate covariate;
+    const char* name;
+};
+constexpr CovariateName kCovariateNames[] = {
+    {Covariate::Surface, "surface"},        {Covariate::IncidenceDeg, "incidence_deg"},
+    {Covariate::RangeM, "range_m"},         {Covariate::BeamAngleDeg, "beam_angle_deg"},
+    {Covariate::Column, "column"},          {Covariate::Saturation, "saturation"},
+    {Covariate::SmokeTrend, "smoke_trend"}, {Covariate::TimeS, "time_s"}};
+
+Covariate parseCovariate(const std::string& name)
+{
+    for (const auto& c : kCovariateNames)
+        if (name == c.name) return c.covariate;
+    throw Error("diagnose", "unknown covariate '" + name + "'");
+}
+
 /// The covariate's bin label of observation (k, b), and a sort key.
-std::pair<std::string, double> binOf(const Replay& r, const Extensions& m, const std::string& cov, size_t k, size_t b)
+std::pair<std::string, double> binOf(const Replay& r, const Extensions& m, Covariate cov, size_t k, size_t b)
 {
     const ReplayBeam& beam = r.beams[b];
     const ReplayScan& scan = r.scans[k];
@@ -41,20 +60,29 @@ std::pair<std::string, double> binOf(const Replay& r, const Extensions& m, const
         const double lo = std::floor(v / w) * w;
         return std::make_pair(fmt(f, lo, lo + w), lo);
     };
-    if (cov == "surface") return {r.surface_names[size_t(beam.surface)], double(beam.surface)};
-    if (cov == "incidence_deg") return bucket(beam.incidence_rad * 180 / M_PI, 15, "%.0f-%.0f");
-    if (cov == "range_m") return bucket(beam.range_m, 0.5, "%.1f-%.1f");
-    if (cov == "beam_angle_deg") return bucket(beam.angle_rad * 180 / M_PI, 15, "%.0f-%.0f");
-    if (cov == "column") {
+    switch (cov) {
+    case Covariate::Surface:
+        return {r.surface_names[size_t(beam.surface)], double(beam.surface)};
+    case Covariate::IncidenceDeg:
+        return bucket(beam.incidence_rad * 180 / M_PI, 15, "%.0f-%.0f");
+    case Covariate::RangeM:
+        return bucket(beam.range_m, 0.5, "%.1f-%.1f");
+    case Covariate::BeamAngleDeg:
+        return bucket(beam.angle_rad * 180 / M_PI, 15, "%.0f-%.0f");
+    case Covariate::Column: {
         const double c = detail::baseTerms<double>(r, m, {int(k), int(b)}).column;
         const double P = r.config.paper.penetration_power;
         const double x = std::min(c / P, 2.0);
         return bucket(x, 0.25, "%.2f-%.2f");  // in units of the penetration power
     }
-    if (cov == "saturation") return bucket(std::isnan(scan.saturation) ? -1.0 : scan.saturation, 0.05, "%.2f-%.2f");
-    if (cov == "smoke_trend") return {scan.rising ? "rising" : "falling or steady", scan.rising ? 0.0 : 1.0};
-    if (cov == "time_s") return bucket(scan.time_s, 30, "%.0f-%.0f");
-    throw Error("diagnose", "unknown covariate '" + cov + "'");
+    case Covariate::Saturation:
+        return bucket(std::isnan(scan.saturation) ? -1.0 : scan.saturation, 0.05, "%.2f-%.2f");
+    case Covariate::SmokeTrend:
+        return {scan.rising ? "rising" : "falling or steady", scan.rising ? 0.0 : 1.0};
+    case Covariate::TimeS:
+        return bucket(scan.time_s, 30, "%.0f-%.0f");
+    }
+    return {"", 0.0};
 }
 
 /// How a cause shows in the residuals: the covariate that names it, and the residual to plot.
@@ -163,8 +191,9 @@ int surfaceIndex(const Replay& r, const std::string& name)
 
 }  // namespace
 
-std::vector<ResidualRow> residualsBy(const Replay& r, const Extensions& m, const std::string& cov, int surface)
+std::vector<ResidualRow> residualsBy(const Replay& r, const Extensions& m, const std::string& covariate, int surface)
 {
+    const Covariate cov = parseCovariate(covariate);
     struct Sums {
         ResidualRow row;
         long long ranges = 0;

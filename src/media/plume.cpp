@@ -31,15 +31,21 @@ void PlumeConfig::validate() const
     // Bounded work: each live puff is rasterised over a cube of 6σ a side (σ up to radius_m +
     // growth_m_s·lifetime_s), and its voxel indices must fit the grid's integer coordinates.
     const double sigma_max = radius_m + growth_m_s * lifetime_s;
-    const double side = 6 * sigma_max / voxel_m + 2, live = std::ceil(rate_per_s * lifetime_s) + 1;
-    if (live * side * side * side > 5e8)
+    if (voxelBound() > limits::kPlumeVoxels)
         throw Error("",
-                    "plume puffs would cover about " + limits::count(live * side * side * side) +
+                    "plume puffs would cover about " + limits::count(voxelBound()) +
                         " voxels at once (at most 5e8): raise voxel or lower radius_m, growth_m_s or rate_per_s");
     const double reach =
         source_m.norm() + (wind_m_s.norm() + std::abs(rise_m_s) + 8 * spread_m_s) * lifetime_s + 3 * sigma_max;
     if (reach / voxel_m > 1e8)
         throw Error("", "plume reaches " + std::to_string(reach) + " m from the origin, over 1e8 voxels");
+}
+
+double PlumeConfig::voxelBound() const
+{
+    const double sigma_max = radius_m + growth_m_s * lifetime_s;
+    const double side = 6 * sigma_max / voxel_m + 2, live = std::ceil(rate_per_s * lifetime_s) + 1;
+    return live * side * side * side;
 }
 
 std::vector<DensityGrid::Blob> plumeBlobs(const PlumeConfig& c, double t)

@@ -475,7 +475,15 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
     for (auto& t : top.tables("sensors")) s.sensors.push_back(readSensor(t, base_dir, s.robots));
     for (auto& t : top.tables("lights")) s.lights.push_back(readLight(t));
     for (auto& t : top.tables("cameras")) s.cameras.push_back(readCamera(t, s.robots));
-    for (auto& t : top.tables("smoke")) s.volumes.push_back(readSmoke(t, base_dir));
+    double plume_voxels = 0;
+    for (auto& t : top.tables("smoke")) {
+        s.volumes.push_back(readSmoke(t, base_dir));
+        if (const auto* p = std::get_if<PlumeConfig>(&s.volumes.back().source)) plume_voxels += p->voxelBound();
+        if (plume_voxels > limits::kPlumeVoxels)
+            t.error("the scene's plumes would cover about " + limits::count(plume_voxels) +
+                    " voxels at once (at most 5e8 over all of them): raise their voxel or lower radius_m, "
+                    "growth_m_s or rate_per_s");
+    }
     top.finish();
     return s;
 }
@@ -507,7 +515,7 @@ Scene loadScene(const std::string& name_or_path)
                     return s;
                 }() +
                 ")");
-    return parseScene(readTextInput(name_or_path, "scene file"), name_or_path,
+    return parseScene(readTextInput(name_or_path, "scene file", limits::kTomlInputBytes), name_or_path,
                       fs::path(name_or_path).parent_path().string());
 }
 

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "sensor_tables.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/text_input.hpp"
 
@@ -11,7 +12,7 @@ namespace smokescan {
 
 void applySensorFile(const std::string& path, SensorConfig& c)
 {
-    applySensorText(readTextInput(path, "sensor file"), path, c);
+    applySensorText(readTextInput(path, "sensor file", limits::kTomlInputBytes), path, c);
 }
 
 void applySensorText(const std::string& text, const std::string& path, SensorConfig& c)
@@ -58,7 +59,7 @@ void writeSensorFile(const std::string& path, const SensorConfig& c, const std::
 
 OmniSensorFile readOmniSensorFile(const std::string& path)
 {
-    const toml::table root = parseToml(readTextInput(path, "sensor file"), path);
+    const toml::table root = parseToml(readTextInput(path, "sensor file", limits::kTomlInputBytes), path);
     TomlTable t(root, path, "");
     const std::string type = t.strReq("type");
     if (type != "omnicam") t.error("type", "is '" + type + "' but an omnicam's file is needed (type = \"omnicam\")");

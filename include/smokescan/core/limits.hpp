@@ -12,6 +12,8 @@ namespace smokescan::limits {
 
 /// Bytes of one text input (laser log, CSV, scene, sensor file, calibration, beam groups).
 inline constexpr size_t kTextInputBytes = size_t(512) << 20;
+/// Bytes of a scene or sensor file (TOML): its parsed tables take about 15 times the text's size.
+inline constexpr size_t kTomlInputBytes = size_t(32) << 20;
 /// Scans in one `scan` run.
 inline constexpr int64_t kScans = 1'000'000;
 /// Rows of `scan`'s summary table (--bin).
@@ -43,6 +45,9 @@ inline constexpr double kDensity = 1e6;
 /// How far from the scene's origin a position may lie [m] (sensors, cameras, lights, robots'
 /// keyframes, smoke areas): 1000 km. Beyond about 1e18 m Embree's ray set-up asserts.
 inline constexpr double kSceneReach_m = 1e6;
+/// Voxels the live puffs of all of a scene's plumes may cover at once (each rasterised at every
+/// instant a beam or camera needs): the bound is the scene's, not each plume's.
+inline constexpr double kPlumeVoxels = 5e8;
 /// Voxels a side of a box or mesh smoke area.
 inline constexpr double kGridSide = 4000;
 /// Density bins of `fit-plume`.

@@ -44,6 +44,9 @@ struct PlumeConfig {
 
     /// @throw Error naming the bad parameter.
     void validate() const;
+    /// @brief Voxels its live puffs may cover at once (each a cube of 6σ a side at its widest):
+    /// the work of rasterising it at one instant, which validate() and a scene bound.
+    double voxelBound() const;
 };
 
 /// @brief The puffs alive at time t_s (centre, σ, peak density).

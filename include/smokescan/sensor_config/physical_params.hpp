@@ -16,9 +16,9 @@
 /// | overlap_full_m      | 3.0        | 1.5      | m    | full overlap; O rises as a smoothstep in between           |
 /// | overlap_floor       | 0.03       | 0.01     | –    | defocused light below the overlap, itself falling as r² (assumed) |
 /// | overlap_blur_m      | 0          | 0        | m    | the floor falls as r² nearer than this; 0 = overlap_start_m (assumed) |
-/// | noise_floor         | 5.4e-4     | 5e-5     | –    | r.m.s. receiver noise (normalised power), calibrated       |
+/// | noise_floor         | 1.728e-4   | 5e-5     | –    | r.m.s. receiver noise (normalised power), calibrated       |
 /// | saturation_power    | 40         | 40       | –    | received power that dazzles (URG code 18, Sick 8191), assumed |
-/// | snr_min             | 8          | –        | –    | AMCW: amplitude/noise below which the step is invalid (code 1) |
+/// | snr_min             | 25         | –        | –    | AMCW: amplitude/noise below which the step is invalid (code 1), calibrated with noise_floor |
 /// | mod_freq_lo_hz      | 6.8e6      | –        | Hz   | AMCW coarse frequency: unambiguous to 22 m (cf. code 0 "possibly at 22 m"), assumed |
 /// | mod_freq_hi_hz      | 46.5e6     | –        | Hz   | AMCW fine frequency (ambiguity 3.2 m), assumed              |
 /// | two_wave_tolerance  | 0.15       | –        | –    | AMCW: relative amplitude difference of the two waves allowed (code 8), calibrated |
