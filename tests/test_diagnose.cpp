@@ -171,6 +171,7 @@ FoundStats expectFound(int which, int n, uint64_t first = 0, bool each = true)
         const uint64_t seed = 100 * uint64_t(which + 1) + first + uint64_t(s);
         TrueRun r = simulateBocas(seed);
         const Planted p = plantCause(which, r, seed);
+        EXPECT_EQ(p.cause, causeName(kPlanted[which])) << "the planter and the list of causes are out of step";
         const DiagnosisResult d = diagnoseRun(r);
         ++st.runs;
         bool extra = false;

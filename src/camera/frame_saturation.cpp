@@ -45,7 +45,8 @@ std::vector<double> readFrameTimestamps(const std::string& path, const std::vect
         const std::string t = comma == std::string::npos ? line : line.substr(comma + 1);
         char* end = nullptr;
         const double v = std::strtod(t.c_str(), &end);
-        if (end == t.c_str() || !std::isfinite(v)) {
+        while (end && (*end == ' ' || *end == '\t' || *end == '\r')) ++end;  // trailing blanks only
+        if (end == t.c_str() || *end || !std::isfinite(v)) {
             if (ln == 1) continue;  // a header
             throw Error(path + ":" + std::to_string(ln), "time is not a finite number: '" + t + "'");
         }

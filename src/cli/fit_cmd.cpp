@@ -357,9 +357,10 @@ void addFit(CLI::App& app, Runner& run)
         ->capture_default_str();
     c->add_option("--patch", a->patch, "Use this patch's saturation column and calibration curve");
     c->add_option("--offset", a->offset,
-                  "Clock offset camera - laser [s]: the search centre, or the value with --fixed-offset")
+                  "Clock offset camera - laser [s], within +/-1e5: the search centre, or the value with "
+                  "--fixed-offset")
         ->capture_default_str()
-        ->check(finite());
+        ->check(range(-1e5, 1e5));
     c->add_flag("--fixed-offset", a->fixed_offset, "Do not estimate the offset");
     c->add_option("--offset-window", a->cfg.offset_window_s, "Offset search half-width [s]")
         ->capture_default_str()

@@ -3,10 +3,12 @@
 
 #include <iostream>
 #include <new>
+#include <string>
 
 #include "commands.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/version.hpp"
+#include "smokescan/io/atomic_file.hpp"
 
 namespace {
 
@@ -21,11 +23,28 @@ void quietGlog(const char* argv0)
     FLAGS_logtostderr = false;
 }
 
+/// True when an argument names the program's standard output as a file (`--out /dev/stdout`).
+bool writesToStdout(int argc, char** argv)
+{
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        for (const char* alias : {"/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"}) {
+            const std::string s = alias;
+            if (a == s || (a.size() > s.size() && a.compare(a.size() - s.size() - 1, std::string::npos, "=" + s) == 0))
+                return true;
+        }
+    }
+    return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
 {
     quietGlog(argc > 0 ? argv[0] : "smokescan");
+    // A file written to standard output holds only the file: what the program prints goes to
+    // standard error instead (docs/limits.md).
+    if (writesToStdout(argc, argv)) smokescan::divertStdout();
     CLI::App app{"smokescan: laser range finders and cameras in smoke, simulated physically"};
     app.set_version_flag("--version", std::string("smokescan ") + smokescan::version());
     app.require_subcommand(1);

@@ -8,6 +8,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
+#include "smokescan/io/recorded.hpp"
 #include "smokescan/io/text_input.hpp"
 
 namespace smokescan {
@@ -25,9 +26,10 @@ double number(const std::string& tok, const std::string& where)
     return v;
 }
 
-void addInterval(BeamGroup& g, double a0_deg, double a1_deg)
+void addInterval(BeamGroup& g, double a0_deg, double a1_deg, const std::string& where)
 {
-    if (a1_deg < a0_deg) std::swap(a0_deg, a1_deg);
+    if (!(std::abs(a0_deg) <= 360 && std::abs(a1_deg) <= 360 && a0_deg < a1_deg))
+        throw Error(where, "interval of '" + g.name + "' must run from A0 to a larger A1, both within +/-360 degrees");
     g.intervals_rad.emplace_back(a0_deg * kDeg, a1_deg * kDeg);
 }
 
@@ -47,6 +49,7 @@ BeamGroup parseBeamGroup(const std::string& spec, const std::string& what)
         throw Error(what, "expects NAME=A0:A1[,A2:A3][@RANGE_M] (degrees), got '" + spec + "'");
     BeamGroup g;
     g.name = spec.substr(0, eq);
+    checkColumnName(g.name, what);  // a group's name heads columns of the aligned CSV
     std::string rest = spec.substr(eq + 1);
     if (const auto at = rest.find('@'); at != std::string::npos) {
         g.range_m = number(rest.substr(at + 1), what);
@@ -59,7 +62,7 @@ BeamGroup parseBeamGroup(const std::string& spec, const std::string& what)
     while (std::getline(ss, iv, ',')) {
         const auto colon = iv.find(':');
         if (colon == std::string::npos) throw Error(what, "interval '" + iv + "' of '" + g.name + "' is not A0:A1");
-        addInterval(g, number(iv.substr(0, colon), what), number(iv.substr(colon + 1), what));
+        addInterval(g, number(iv.substr(0, colon), what), number(iv.substr(colon + 1), what), what);
     }
     if (g.intervals_rad.empty()) throw Error(what, "'" + g.name + "' has no angle interval");
     return g;
@@ -80,10 +83,11 @@ std::vector<BeamGroup> readBeamGroupFile(const std::string& path)
         if (f.empty()) continue;
         if (f.size() != 3 && f.size() != 4)
             throw Error(where, "expected NAME A0_DEG A1_DEG [RANGE_M], got " + std::to_string(f.size()) + " fields");
+        checkColumnName(f[0], where);  // a group's name heads columns of the aligned CSV
         auto [it, added] = index.emplace(f[0], out.size());
         if (added) out.push_back(BeamGroup{f[0], {}, 0, ""});
         BeamGroup& g = out[it->second];
-        addInterval(g, number(f[1], where), number(f[2], where));
+        addInterval(g, number(f[1], where), number(f[2], where), where);
         if (f.size() == 4) {
             g.range_m = number(f[3], where);
             if (!(g.range_m > 0 && g.range_m <= kMaxGroupRange_m)) throw Error(where, "range must be in (0, 1000] m");

@@ -131,9 +131,11 @@ void copyInto(const std::string& from, int fd, const std::string& target)
     ::close(in);
 }
 
-/// The descriptor of /dev/stdout, /dev/stderr, /dev/fd/N or /proc/self/fd/N (the process's own
-/// open streams), or −1 for any other path.
-int ownStreamFd(const std::string& path)
+/// Where the outputs naming the process's standard output write, once divertStdout() moved it.
+std::atomic<int> g_stdout_fd{1};
+
+/// The descriptor number a path of the process's own streams names, or −1.
+int streamNumber(const std::string& path)
 {
     if (path == "/dev/stdout") return 1;
     if (path == "/dev/stderr") return 2;
@@ -148,6 +150,25 @@ int ownStreamFd(const std::string& path)
 bool isOwnStream(const std::string& path) { return ownStreamFd(path) >= 0; }
 
 }  // namespace
+
+int ownStreamFd(const std::string& path)
+{
+    const int n = streamNumber(path);
+    return n == 1 ? g_stdout_fd.load() : n;
+}
+
+bool divertStdout()
+{
+    std::fflush(stdout);
+    const int kept = ::fcntl(1, F_DUPFD_CLOEXEC, 3);
+    if (kept < 0) return false;
+    if (::dup2(2, 1) < 0) {
+        ::close(kept);
+        return false;
+    }
+    g_stdout_fd = kept;
+    return true;
+}
 
 void registerTemporary(const std::string& path)
 {
@@ -180,12 +201,16 @@ bool checkOutputPath(const std::string& path)
     struct stat st {};
     if (::lstat(path.c_str(), &st) == 0) {
         if (S_ISLNK(st.st_mode)) {
-            // A link to a device or pipe is written into, like the device; so is the file a
-            // process's own output stream was redirected to (/dev/stdout > FILE, appended to).
+            // A link to a device or pipe is written into, like the device; so is whatever one of
+            // the process's own streams leads to (/dev/stdout > FILE: appended to).
             struct stat to {};
-            if (::stat(path.c_str(), &to) == 0 &&
-                (S_ISCHR(to.st_mode) || S_ISFIFO(to.st_mode) || (S_ISREG(to.st_mode) && isOwnStream(path))))
+            if (isOwnStream(path)) {
+                if (::fstat(ownStreamFd(path), &to) != 0)
+                    throw Error(path, "is not open (the program's stream was closed)");
+                if (S_ISDIR(to.st_mode)) throw Error(path, "leads to a directory");
                 return true;
+            }
+            if (::stat(path.c_str(), &to) == 0 && (S_ISCHR(to.st_mode) || S_ISFIFO(to.st_mode))) return true;
             throw Error(path, "is a symbolic link; smokescan does not replace links (name the file it points to)");
         }
         if (S_ISDIR(st.st_mode)) throw Error(path, "is a directory");

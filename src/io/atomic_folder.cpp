@@ -28,7 +28,10 @@ AtomicFolder::AtomicFolder(std::string dir, std::string what, const std::string&
     }
     const fs::path parent = fs::path(dir_).parent_path();
     if (!parent.empty() && !fs::is_directory(parent)) throw Error(dir_, "cannot write (no such directory)");
-    std::string tmpl = dir_ + ".tmpXXXXXX";
+    // The temporary's name: the target's, cut so that its suffix still fits in 255 bytes.
+    std::string base = fs::path(dir_).filename().string();
+    if (base.size() > 245) base.resize(245);
+    std::string tmpl = (parent.empty() ? fs::path(base) : parent / base).string() + ".tmpXXXXXX";
     if (!::mkdtemp(tmpl.data())) throw Error(dir_, "cannot create " + what_ + ": " + std::string(std::strerror(errno)));
     tmp_ = tmpl;
     registerTemporary(tmp_);

@@ -230,10 +230,10 @@ void checkColumnName(const std::string& name, const std::string& where)
     bool ok = !name.empty() && name.size() <= 64;
     for (char c : name) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
     if (!ok)
-        throw Error(where, "patch name '" + name + "' must be 1-64 letters, digits, '_', '-' or '.' (a CSV column)");
+        throw Error(where, "name '" + name + "' must be 1-64 letters, digits, '_', '-' or '.' (it heads a CSV column)");
     if (name == "time_s" || name == "time" || name == "saturation" || name == "pixels" || endsWith(name, "_median") ||
         endsWith(name, "_sd"))
-        throw Error(where, "patch name '" + name + "' is one of the CSV's own columns");
+        throw Error(where, "name '" + name + "' is one of the CSV's own columns");
 }
 
 void writeSaturationCsv(const std::string& path, const SaturationSeries& s, const std::vector<std::string>& header)

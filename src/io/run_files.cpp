@@ -30,7 +30,8 @@ struct FileId {
 bool identify(const std::string& path, FileId& id)
 {
     struct stat st {};
-    if (::stat(path.c_str(), &st) == 0) {
+    const int own = ownStreamFd(path);  // /dev/stdout: the file behind the stream, wherever it went
+    if (own >= 0 ? ::fstat(own, &st) == 0 : ::stat(path.c_str(), &st) == 0) {
         id = {st.st_dev, st.st_ino, "", S_ISCHR(st.st_mode)};
         return true;
     }

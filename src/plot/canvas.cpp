@@ -34,10 +34,13 @@ void Canvas::text(int x, int y, const std::string& s, int size, const Col& c)
 {
     // OpenImageIO asserts on text drawn past the image's edge (a long legend, a crowded key):
     // text that does not fit whole is left out, so that a plot never aborts a run.
+    if (s.empty()) return;
     const OIIO::ROI ext = OIIO::ImageBufAlgo::text_size(s, size, "DejaVuSans");
-    if (!ext.defined()) return;
+    if (!ext.defined() || ext.xend <= ext.xbegin || ext.yend <= ext.ybegin) return;  // no glyphs (or no font)
     const OIIO::ImageSpec& sp = impl_->buf.spec();
-    if (x + ext.xbegin < 0 || y + ext.ybegin < 0 || x + ext.xend > sp.width || y + ext.yend > sp.height) return;
+    const long long x0 = (long long)x + ext.xbegin, x1 = (long long)x + ext.xend;
+    const long long y0 = (long long)y + ext.ybegin, y1 = (long long)y + ext.yend;
+    if (x0 < 0 || y0 < 0 || x1 > sp.width || y1 > sp.height) return;
     OIIO::ImageBufAlgo::render_text(impl_->buf, x, y, s, size, "DejaVuSans", c);
 }
 

@@ -90,18 +90,20 @@ Surface readSurface(TomlTable t, const std::map<std::string, int>& materials, co
         s.pose = readPose(t);
         BoxShape b;
         b.size_m = t.vec3Req("size");
-        if ((b.size_m.array() <= 0).any()) t.error("size", "must be > 0 on every axis");
+        if ((b.size_m.array() <= 0).any() || !(b.size_m.maxCoeff() <= 2 * limits::kSceneReach_m))
+            t.error("size", "must be > 0 on every axis and at most 2000 km");
         s.shape = b;
     } else if (type == "quad") {
-        QuadShape q{t.vec3Req("corner"), t.vec3Req("u"), t.vec3Req("v")};
+        QuadShape q{placed(t, "corner", Vec3::Zero()), placed(t, "u", Vec3::Zero()), placed(t, "v", Vec3::Zero())};
+        if (!t.has("corner") || !t.has("u") || !t.has("v")) t.error("quad needs corner, u and v");
         if (q.edge_u_m.cross(q.edge_v_m).norm() < 1e-12) t.error("u", "and v must span a parallelogram");
         s.shape = q;
     } else if (type == "cylinder") {
         s.pose = readPose(t);
-        s.shape = CylinderShape{t.positive("radius", 0.05), t.positive("height", 1.0)};
+        s.shape = CylinderShape{t.between("radius", 0.05, 1e-6, 1e3), t.between("height", 1.0, 1e-6, 1e3)};
     } else if (type == "mesh") {
         s.pose = readPose(t);
-        MeshShape m{resolve(base_dir, t.strReq("file")), t.positive("scale", 1.0)};
+        MeshShape m{resolve(base_dir, t.strReq("file")), t.between("scale", 1.0, 1e-9, 1e6)};
         s.shape = m;
     } else {
         t.error("type", "must be box, quad, cylinder or mesh, got '" + type + "'");
@@ -254,6 +256,9 @@ Camera readCamera(TomlTable t, const std::vector<Robot>& robots)
         if (c.hfov_deg >= 180) t.error("hfov_deg", "must be < 180");
         c.fx_px = t.between("fx_px", 0.0, 0, 1e7);
         c.fy_px = t.between("fy_px", 0.0, 0, 1e7);
+        for (const char* k : {"fx_px", "fy_px"})
+            if (t.has(k) && t.num(k, 0.0) != 0 && t.num(k, 0.0) < 1e-3)
+                t.error(k, "must be 0 (from hfov_deg) or >= 1e-3 px");
     } else {
         c.mirror_radius_px = t.positive("mirror_radius_px", c.mirror_radius_px);
         if (c.mirror_radius_px > 1e6) t.error("mirror_radius_px", "must be at most 1e6");
@@ -312,6 +317,17 @@ void checkGridExtent(TomlTable& t, const Vec3& lo, const Vec3& hi, double voxel_
         t.error(what == "box" ? "max" : "file", "the " + what + " must lie within 1000 km of the origin");
 }
 
+/// The memory a box or mesh area's grid is estimated to take [bytes]: its interior is constant
+/// tiles, its surface a shell of dense 8³ leaves (about 2.3 KB each) as thick as the soft edge
+/// (both sides) plus a voxel, the area taken as its bounding box's.
+double gridBytes(const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m)
+{
+    const Vec3 n = (hi - lo) / voxel_m + Vec3::Constant(2 * edge_m / voxel_m + 2);
+    const double area = 2 * (n.x() * n.y() + n.y() * n.z() + n.z() * n.x());
+    const double layers = std::ceil((2 * edge_m / voxel_m + 2) / 8);
+    return area / 64 * layers * 2.3e3;
+}
+
 /// A smoke area's density [engine units], within limits::kDensity.
 double density(TomlTable& t)
 {
@@ -364,8 +380,18 @@ DensityTimeline readTimeline(TomlTable& parent)
     t.error("kind", "must be constant, keyframes or machine, got '" + kind + "'");
 }
 
-SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
+/// One [[smoke]] table; `grid_bytes` (the scene's boxes' grids, counted before any was made) adds
+/// each mesh's grid, bounded (limits::kGridBytes) before it is made.
+SmokeVolume readSmoke(TomlTable t, const std::string& base_dir, double& grid_bytes)
 {
+    auto addGrid = [&](const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m) {
+        grid_bytes += gridBytes(lo, hi, voxel_m, edge_m);
+        if (grid_bytes > limits::kGridBytes)
+            t.error("voxel",
+                    "makes the scene's box and mesh smoke take about " + fmt("%.1f", grid_bytes / 1e9) +
+                        " GB of grid (at most " + fmt("%.1f", limits::kGridBytes / 1e9) +
+                        " over all of them): raise voxel or narrow edge_m");
+    };
     SmokeVolume v;
     v.name = t.strReq("name");
     const std::string type = t.strReq("type");
@@ -383,7 +409,7 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
             const Vec3 lo = t.vec3Req("min"), hi = t.vec3Req("max");
             if (!(hi.array() > lo.array()).all()) t.error("max", "must exceed min on every axis");
             const double rho = density(t), h = t.positive("voxel", 0.05), edge = t.nonneg("edge_m", 0.0);
-            checkGridExtent(t, lo, hi, h, edge, "box");
+            checkGridExtent(t, lo, hi, h, edge, "box");  // its grid was counted before any was made
             v.source = std::make_shared<const DensityGrid>(DensityGrid::box(lo, hi, rho, h, edge));
         } else if (type == "mesh") {
             const std::string file = resolve(base_dir, t.strReq("file"));
@@ -395,7 +421,10 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir)
             for (Vec3& p : mesh.points_m) p = pose.apply(scale * p);
             Aabb box;
             for (const Vec3& p : mesh.points_m) box.extend(p);
-            if (!box.empty()) checkGridExtent(t, box.lo, box.hi, h, edge, "mesh");
+            if (!box.empty()) {
+                checkGridExtent(t, box.lo, box.hi, h, edge, "mesh");
+                addGrid(box.lo, box.hi, h, edge);
+            }
             if (const size_t open = openEdges(mesh))
                 t.error("file",
                         "'" + file + "' is not a closed mesh (" + std::to_string(open) +
@@ -475,9 +504,26 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
     for (auto& t : top.tables("sensors")) s.sensors.push_back(readSensor(t, base_dir, s.robots));
     for (auto& t : top.tables("lights")) s.lights.push_back(readLight(t));
     for (auto& t : top.tables("cameras")) s.cameras.push_back(readCamera(t, s.robots));
-    double plume_voxels = 0;
+    // The boxes' grids are counted together before the first is made (a mesh's, whose extent
+    // needs its file, as it is read).
+    double plume_voxels = 0, grid_bytes = 0;
     for (auto& t : top.tables("smoke")) {
-        s.volumes.push_back(readSmoke(t, base_dir));
+        if (!t.has("type") || t.str("type", "") != "box" || !t.has("min") || !t.has("max")) continue;
+        const Vec3 lo = t.vec3Req("min"), hi = t.vec3Req("max");
+        const double h = t.num("voxel", 0.05), edge = t.num("edge_m", 0.0);
+        // A box refused on its own (its extent, its keys) is refused with its key below.
+        if (!((hi.array() > lo.array()).all() && h > 0 && edge >= 0 &&
+              ((hi - lo).maxCoeff() + 2 * edge) / h <= limits::kGridSide))
+            continue;
+        grid_bytes += gridBytes(lo, hi, h, edge);
+        if (grid_bytes > limits::kGridBytes)
+            t.error("voxel",
+                    "makes the scene's box and mesh smoke take about " + fmt("%.1f", grid_bytes / 1e9) +
+                        " GB of grid (at most " + fmt("%.1f", limits::kGridBytes / 1e9) +
+                        " over all of them): raise voxel or narrow edge_m");
+    }
+    for (auto& t : top.tables("smoke")) {
+        s.volumes.push_back(readSmoke(t, base_dir, grid_bytes));
         if (const auto* p = std::get_if<PlumeConfig>(&s.volumes.back().source)) plume_voxels += p->voxelBound();
         if (plume_voxels > limits::kPlumeVoxels)
             t.error("the scene's plumes would cover about " + limits::count(plume_voxels) +

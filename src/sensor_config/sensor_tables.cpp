@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 
 namespace smokescan {
@@ -60,9 +61,9 @@ void readPhysicalTable(TomlTable t, PhysicalParams& p, SensorType type)
 void writePhysicalTable(std::ostream& o, const PhysicalParams& p, SensorType type)
 {
     for (const Field& f : kFields)
-        if (has(type, f)) o << f.name << " = " << p.*f.member << "\n";
+        if (has(type, f)) o << f.name << " = " << shortest(p.*f.member) << "\n";
     o << "sub_rays = " << p.sub_rays << "\n";
-    if (p.overlap_blur_m > 0) o << "overlap_blur_m = " << p.overlap_blur_m << "\n";
+    if (p.overlap_blur_m > 0) o << "overlap_blur_m = " << shortest(p.overlap_blur_m) << "\n";
 }
 
 void readPaperTable(TomlTable t, PaperModelConfig& p)
@@ -74,8 +75,8 @@ void readPaperTable(TomlTable t, PaperModelConfig& p)
 
 void writePaperTable(std::ostream& o, const PaperModelConfig& p)
 {
-    o << "penetration_power = " << p.penetration_power << "  # density·m\n"
-      << "local_threshold = " << p.local_threshold << "  # density\n";
+    o << "penetration_power = " << shortest(p.penetration_power) << "  # density·m\n"
+      << "local_threshold = " << shortest(p.local_threshold) << "  # density\n";
 }
 
 void readExtensionsTable(TomlTable t, ModelExtensions& e)
@@ -121,20 +122,20 @@ void readExtensionsTable(TomlTable t, ModelExtensions& e)
 
 void writeExtensionsTable(std::ostream& o, const ModelExtensions& e)
 {
-    const auto precision = o.precision(12);  // learned values: 12 digits, a round trip to 1e-11
     o << "[extensions]  # learned by smokescan diagnose (docs/diagnosis.md)\n"
-      << "clock_offset_s = " << e.clock_offset_s << "  # camera clock - laser clock [s]\n"
-      << "threshold_width = " << e.threshold_width << "  # the onset's spread [ln column]\n"
-      << "range_noise_growth_m = " << e.range_noise_growth_m << "  # range noise per density·m of smoke [m]\n"
-      << "smoke_obstacle_return = " << e.smoke_obstacle_return << "  # share of smoke-stopped beams reading short\n"
-      << "hysteresis = " << e.hysteresis << "  # ln P(falling) - ln P(rising)\n";
+      << "clock_offset_s = " << shortest(e.clock_offset_s) << "  # camera clock - laser clock [s]\n"
+      << "threshold_width = " << shortest(e.threshold_width) << "  # the onset's spread [ln column]\n"
+      << "range_noise_growth_m = " << shortest(e.range_noise_growth_m) << "  # range noise per density·m of smoke [m]\n"
+      << "smoke_obstacle_return = " << shortest(e.smoke_obstacle_return)
+      << "  # share of smoke-stopped beams reading short\n"
+      << "hysteresis = " << shortest(e.hysteresis) << "  # ln P(falling) - ln P(rising)\n";
     for (const auto& [name, x] : e.surfaces)
-        o << "\n[[extensions.surface]]\nname = \"" << name << "\"\nthreshold_factor = " << x.threshold_factor
-          << "  # ln(P_surface / P)\nrange_bias = " << x.range_bias << "  # reads L(1 + bias·column) [1/(density·m)]\n";
+        o << "\n[[extensions.surface]]\nname = \"" << name << "\"\nthreshold_factor = " << shortest(x.threshold_factor)
+          << "  # ln(P_surface / P)\nrange_bias = " << shortest(x.range_bias)
+          << "  # reads L(1 + bias·column) [1/(density·m)]\n";
     for (const SectorExtension& x : e.sectors)
-        o << "\n[[extensions.sector]]\nfrom_deg = " << x.from_deg << "\nto_deg = " << x.to_deg
-          << "\ndropout = " << x.dropout << "  # probability that a beam in the sector fails\n";
-    o.precision(precision);
+        o << "\n[[extensions.sector]]\nfrom_deg = " << shortest(x.from_deg) << "\nto_deg = " << shortest(x.to_deg)
+          << "\ndropout = " << shortest(x.dropout) << "  # probability that a beam in the sector fails\n";
 }
 
 SensorModel readSensorModel(TomlTable& t, const char* key, SensorModel def)

@@ -48,6 +48,9 @@ inline constexpr double kSceneReach_m = 1e6;
 /// Voxels the live puffs of all of a scene's plumes may cover at once (each rasterised at every
 /// instant a beam or camera needs): the bound is the scene's, not each plume's.
 inline constexpr double kPlumeVoxels = 5e8;
+/// Memory the grids of a scene's box and mesh smoke areas may take, as estimated from their
+/// bounding boxes and soft edges before they are made [bytes].
+inline constexpr double kGridBytes = 2.0e9;
 /// Voxels a side of a box or mesh smoke area.
 inline constexpr double kGridSide = 4000;
 /// Density bins of `fit-plume`.

@@ -49,6 +49,16 @@ private:
 /// @return true when `path` is a character device or FIFO (written into, not replaced)
 bool checkOutputPath(const std::string& path);
 
+/// @brief The descriptor an output path of the process's own streams writes to (/dev/stdout,
+/// /dev/stderr, /dev/fd/N, /proc/self/fd/N; after divertStdout() /dev/stdout is the kept
+/// standard output), or −1 for any other path.
+int ownStreamFd(const std::string& path);
+/// @brief For a program whose output file is its own standard output: keeps that stream for the
+/// outputs that name it and points descriptor 1 at standard error, so that what the program
+/// prints (summaries, "wrote ...") does not mix into the file. Call before anything is printed.
+/// @return false when the streams could not be moved (nothing changed)
+bool divertStdout();
+
 /// @brief Removes `path` (a file or a folder tree) on SIGINT, SIGTERM, SIGHUP or SIGPIPE until it is
 /// released; for temporaries. Installs the signal handlers on first use.
 void registerTemporary(const std::string& path);

@@ -67,7 +67,7 @@ struct SaturationSeries {
 /// `*_sd` and `pixels` are statistics, other extra columns are patches), '#' comments. Problems:
 /// too few fields, non-numeric, NaN, saturation outside [0, 1], time going backwards.
 /// @throw Error "FILE:LINE: …" unless `lenient`; also when no row is left.
-/// @brief Refuses (Error naming `where`) a patch name that cannot be a CSV column of its own:
+/// @brief Refuses (Error naming `where`) a patch or beam-group name that cannot head a CSV column:
 /// empty, over 64 bytes, anything but letters, digits, '_', '-' and '.', or a name the CSV's
 /// own columns use (time_s, time, saturation, pixels, ..._median, ..._sd).
 void checkColumnName(const std::string& name, const std::string& where);
