@@ -201,6 +201,9 @@ TEST(Hardening, OptionValuesBeyondMeaningAreOneLineErrors)
     const CliRun r = cli("frobnicate");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("unknown command 'frobnicate' (scan, "), std::string::npos) << r.err;
+    const CliRun v = cli("volume frob");
+    EXPECT_EQ(v.status, 2);
+    EXPECT_NE(v.err.find("unknown subcommand of volume 'frob' (info, build, export"), std::string::npos) << v.err;
 }
 
 // ---- output that reads back ----
@@ -444,4 +447,15 @@ TEST(SensorFile, WrittenValuesReadBackExactly)
     applySensorFile(path, back);
     EXPECT_EQ(back.physical.mod_freq_hi_hz, c.physical.mod_freq_hi_hz);
     EXPECT_EQ(back.physical.noise_floor, c.physical.noise_floor);
+}
+
+TEST(Hardening, WhatTheProgramPrintsIsEscapedAsItsErrorsAre)
+{
+    // An output named with a right-to-left override (U+202E) was printed raw in "wrote ...", and a
+    // group name with an escape sequence reached the terminal from fit's table.
+    const std::string bidi = file("o\xE2\x80\xAEgol.log");
+    const CliRun r = cli("scan bocas --to 1 --quiet --out '" + bidi + "'");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("o\\u202Egol.log"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("\xE2\x80\xAE"), std::string::npos) << r.out;
 }

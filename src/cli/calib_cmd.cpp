@@ -71,20 +71,18 @@ int runCalibrate(const CalibArgs& a)
     if (!a.plot.empty()) writeCalibrationPlot(files.stage(a.plot), r, cfg);
     files.commit();
     const auto& f = r.fit;
-    std::printf("fit: S0 = %.4f ± %.4f, a = %.4f ± %.4f, b = %.1f ± %.1f /density; chi2/dof = %s, R² = %.5f%s\n",
-                f.curve.S0, f.std_error[0], f.curve.a, f.std_error[1], f.curve.b, f.std_error[2],
-                chi2PerDof(f.chi2, f.dof).c_str(), f.r2, f.converged ? "" : " (NOT CONVERGED)");
-    std::printf(
-        "saturation %.2f at density %.5f ± %.5f; penetration power over %.2f m = %.5f ± %.5f density·m "
+    say("fit: S0 = %.4f ± %.4f, a = %.4f ± %.4f, b = %.1f ± %.1f /density; chi2/dof = %s, R² = %.5f%s\n", f.curve.S0,
+        f.std_error[0], f.curve.a, f.std_error[1], f.curve.b, f.std_error[2], chi2PerDof(f.chi2, f.dof).c_str(), f.r2,
+        f.converged ? "" : " (NOT CONVERGED)");
+    say("saturation %.2f at density %.5f ± %.5f; penetration power over %.2f m = %.5f ± %.5f density·m "
         "(paper: 0.0028, 0.007); engine unit factor %.3f\n",
         cfg.threshold_saturation, r.threshold_density, r.threshold_density_se, cfg.path_m, r.penetration_power,
         r.penetration_power_se, r.engine_unit_factor);
     if (r.mix.curve.target.empty() || r.mix.std_error.empty())
-        std::printf("colour-mixing curve: not fitted (%s)\n",
-                    r.mix.message.empty() ? "its covariance is not identified" : r.mix.message.c_str());
+        say("colour-mixing curve: not fitted (%s)\n",
+            r.mix.message.empty() ? "its covariance is not identified" : r.mix.message.c_str());
     else {
-        std::printf(
-            "colour-mixing curve%s, all patches, one extinction: b = %.1f ± %.1f /density, scattered light RGB 1 : "
+        say("colour-mixing curve%s, all patches, one extinction: b = %.1f ± %.1f /density, scattered light RGB 1 : "
             "%.3f : %.3f; chi2/dof = %s (%d dof); saturation %.2f at density %s\n",
             r.mix.converged ? "" : " (NOT CONVERGED)", r.mix.curve.b, r.mix.std_error[0], r.mix.curve.airlight[1],
             r.mix.curve.airlight[2], chi2PerDof(r.mix.chi2, r.mix.dof).c_str(), r.mix.dof, cfg.threshold_saturation,
@@ -93,8 +91,7 @@ int runCalibrate(const CalibArgs& a)
                 : "not reached in the sweep");
     }
     if (!r.drift.std_error.empty())
-        std::printf(
-            "  with a light that drifts from warm to grey%s: chi2/dof = %s (%d dof); saturation %.2f at density %s\n",
+        say("  with a light that drifts from warm to grey%s: chi2/dof = %s (%d dof); saturation %.2f at density %s\n",
             r.drift.converged ? "" : " (NOT CONVERGED)", chi2PerDof(r.drift.chi2, r.drift.dof).c_str(), r.drift.dof,
             cfg.threshold_saturation,
             r.drift_threshold_density > 0
@@ -102,12 +99,11 @@ int runCalibrate(const CalibArgs& a)
                 : "not reached in the sweep");
     const PatchExtinctions& pe = r.patch_mix;
     for (const auto& [name, f] : pe.fits)
-        std::printf("  %s alone, under the joint fit's %s light: b = %.1f ± %.1f, chi2/dof = %s\n", name.c_str(),
-                    r.patch_mix_light.c_str(), f.curve.b, f.std_error[0], chi2PerDof(f.chi2, f.dof).c_str());
+        say("  %s alone, under the joint fit's %s light: b = %.1f ± %.1f, chi2/dof = %s\n", name.c_str(),
+            r.patch_mix_light.c_str(), f.curve.b, f.std_error[0], chi2PerDof(f.chi2, f.dof).c_str());
     if (pe.dof > 0)
-        std::printf("  the patches' b's about their mean %.1f: chi2 = %.2f (%d dof), p = %.3g: %s\n", pe.b_mean,
-                    pe.chi2, pe.dof, pe.p_value,
-                    pe.p_value < 0.01 ? "NOT one extinction" : "consistent with one extinction");
+        say("  the patches' b's about their mean %.1f: chi2 = %.2f (%d dof), p = %.3g: %s\n", pe.b_mean, pe.chi2,
+            pe.dof, pe.p_value, pe.p_value < 0.01 ? "NOT one extinction" : "consistent with one extinction");
     if (!r.mixing.empty()) {
         const auto at = [&](double rho) {  // the measured density in smoke nearest rho
             const LightMixing* best = &r.mixing.back();
@@ -119,19 +115,17 @@ int runCalibrate(const CalibArgs& a)
         auto ratio = [](const LightMixing& q) {
             return fmt("%.3f", q.scattered[1] / q.scattered[0]) + " : " + fmt("%.3f", q.scattered[2] / q.scattered[0]);
         };
-        std::printf(
-            "measured from the patches' colours: b = %.1f ± %.1f /density; scattered light RGB 1 : %s at "
+        say("measured from the patches' colours: b = %.1f ± %.1f /density; scattered light RGB 1 : %s at "
             "density %.4f, 1 : %s at %.4f\n",
             r.mixing_b, r.mixing_b_se, ratio(thin).c_str(), thin.density, ratio(dense).c_str(), dense.density);
     }
     double worst = 0;
     for (double e : r.rel_error) worst = std::max(worst, e);
     if (worst > cfg.field.rel_error)
-        std::printf(
-            "note: the target radiance reached a relative error of %.3f, not the %.3f asked (--max-batches %d)\n",
+        say("note: the target radiance reached a relative error of %.3f, not the %.3f asked (--max-batches %d)\n",
             worst, cfg.field.rel_error, cfg.field.max_batches);
-    std::printf("wrote %s%s%s (%zu frames, %.1f s)\n", a.out.c_str(), a.plot.empty() ? "" : " and ", a.plot.c_str(),
-                cfg.densities.size(), r.seconds);
+    say("wrote %s%s%s (%zu frames, %.1f s)\n", a.out.c_str(), a.plot.empty() ? "" : " and ", a.plot.c_str(),
+        cfg.densities.size(), r.seconds);
     return 0;
 }
 
@@ -183,7 +177,7 @@ int runSaturation(const SatArgs& a)
         regions);
     writeSaturationCsv(files.stage(a.out), s);
     files.commit();
-    std::printf("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), frames.size(), s.patch_names.size());
+    say("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), frames.size(), s.patch_names.size());
     return 0;
 }
 

@@ -67,6 +67,11 @@ CLI::Option* addChoice(CLI::App* c, const std::string& name, E& target, std::vec
 /// sensor files) as inputs of the run, so that no output replaces them.
 void recordSceneInputs(RunFiles& files, const std::string& path, const Scene& scene);
 
+/// @brief printf to standard output, each line made printable (control characters, C1 controls
+/// and bidirectional overrides escaped, as in errors): what the program prints quotes the user's
+/// file names, surface names and groups. Every line the CLI prints goes through it.
+void say(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
 void addScan(CLI::App& app, Runner& run);
 void addVolume(CLI::App& app, Runner& run);
 void addScene(CLI::App& app, Runner& run);

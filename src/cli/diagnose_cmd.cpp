@@ -52,19 +52,18 @@ void finishDiagnosis(const DiagnoseArgs& a, AtomicFolder& out, const Replay& rep
     writeDiagnosisJson(out.path("diagnosis.json"), r, src);
     writeDiagnosisReport(out.path("report.md"), replay, r, src);
     out.commit();
-    std::printf("verdict: %s\n", r.verdict.c_str());
+    say("verdict: %s\n", r.verdict.c_str());
     for (const auto& f : r.findings) {
-        std::printf("  %s%s%s:", f.cause.c_str(), f.target.empty() ? "" : " on ", f.target.c_str());
-        for (const auto& [name, e] : f.parameters) std::printf(" %s = %.5g +/- %.2g;", name.c_str(), e.value, e.se);
-        std::printf(" held-out gain %.4g nats, p = %.2g\n", f.loglik_gain, f.p_value);
+        say("  %s%s%s:", f.cause.c_str(), f.target.empty() ? "" : " on ", f.target.c_str());
+        for (const auto& [name, e] : f.parameters) say(" %s = %.5g +/- %.2g;", name.c_str(), e.value, e.se);
+        say(" held-out gain %.4g nats, p = %.2g\n", f.loglik_gain, f.p_value);
     }
     const ModelFigures& b = r.baseline.front();
     const ModelFigures& e = r.extended.front();
-    std::printf("log-likelihood per beam %.4f -> %.4f (held out); missed errors %.3f -> %.3f; invented %.3f -> %.3f\n",
-                b.loglik_per_beam, e.loglik_per_beam, b.missed_error_rate, e.missed_error_rate, b.invented_error_rate,
-                e.invented_error_rate);
-    std::printf("wrote %s/diagnosis.json, %s/report.md and %s/sensor.toml\n", a.out.c_str(), a.out.c_str(),
-                a.out.c_str());
+    say("log-likelihood per beam %.4f -> %.4f (held out); missed errors %.3f -> %.3f; invented %.3f -> %.3f\n",
+        b.loglik_per_beam, e.loglik_per_beam, b.missed_error_rate, e.missed_error_rate, b.invented_error_rate,
+        e.invented_error_rate);
+    say("wrote %s/diagnosis.json, %s/report.md and %s/sensor.toml\n", a.out.c_str(), a.out.c_str(), a.out.c_str());
 }
 
 /// The omnicam's log against its truth, from the onset its sensor file holds.

@@ -68,7 +68,7 @@ void writeFitOutputs(const FitArgs& a, RunFiles& files, const SensorFitResult& r
         writeFitTimePlot(files.stage(a.plots + "_fig5.png"), r, std::max(0, r.reference));
         writeFitSaturationPlot(files.stage(a.plots + "_fig9.png"), r, a.cfg);
     }
-    std::fputs(fitSummaryText(r, sources.skipped.size()).c_str(), stdout);
+    say("%s", fitSummaryText(r, sources.skipped.size()).c_str());
     if (!r.ok())
         throw Error(a.laser,
                     "no threshold could be fitted: " +
@@ -137,8 +137,7 @@ int runFitOmni(const FitArgs& a, const FitInputsConfig& ic, RunFiles& files)
             cfg.sigma_t_per_density = v.medium.sigmaT(550.0);  // the camera sees visible light: green's
             break;
         }
-    std::printf(
-        "omnicam '%s', viewpoint %.3f m above the floor: %lld of %lld readings more than %.2f m off the "
+    say("omnicam '%s', viewpoint %.3f m above the floor: %lld of %lld readings more than %.2f m off the "
         "truth (%lld short, %lld long)\n",
         o.camera.c_str(), o.height_m, o.shorter + o.longer, o.readings, a.omni.tolerance_m, o.shorter, o.longer);
     SensorFitResult r = fitSensor(o.in.log, o.in.saturation, o.in.groups, o.spec, &o.in.calibration, cfg, o.failed);
@@ -162,9 +161,9 @@ int runFitOmni(const FitArgs& a, const FitInputsConfig& ic, RunFiles& files)
             a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
             a.omni.tolerance_m, ref.penetration_power.value, ref.penetration_power.se, a.report.c_str()));
     files.commit();
-    std::printf("wrote %s (the omnicam's onset, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s\n", a.out.c_str(),
-                ref.group.c_str(), a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ",
-                a.aligned.c_str());
+    say("wrote %s (the omnicam's onset, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s\n", a.out.c_str(),
+        ref.group.c_str(), a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ",
+        a.aligned.c_str());
     return 0;
 }
 
@@ -245,17 +244,16 @@ int runFit(const FitArgs& a0)
         if (!phys->ok)
             throw Error(a.laser, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
         fitted.physical.noise_floor = phys->noise_floor.value;
-        std::printf("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n",
-                    phys->group.c_str(), phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value,
-                    phys->onset_column.se);
+        say("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n",
+            phys->group.c_str(), phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value,
+            phys->onset_column.se);
         comment += fmt("; physical noise_floor = %.4g +/- %.2g", phys->noise_floor.value, phys->noise_floor.se);
     }
     writeSensorFile(files.stage(a.out), fitted, comment + " (report: " + a.report + ")");
     files.commit();
-    std::printf("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(),
-                a.model.c_str(), ref.group.c_str(), a.report.c_str(), a.plots.c_str(), a.plots.c_str(),
-                a.aligned.empty() ? "" : ", ", a.aligned.c_str(), a.covariates.empty() ? "" : ", ",
-                a.covariates.c_str());
+    say("wrote %s (%s model, from '%s'), %s, %s_fig5.png, %s_fig9.png%s%s%s%s\n", a.out.c_str(), a.model.c_str(),
+        ref.group.c_str(), a.report.c_str(), a.plots.c_str(), a.plots.c_str(), a.aligned.empty() ? "" : ", ",
+        a.aligned.c_str(), a.covariates.empty() ? "" : ", ", a.covariates.c_str());
     return 0;
 }
 
@@ -288,24 +286,24 @@ int runFitPlume(const PlumeArgs& a)
                         " (a log of another sensor?)");
     const PlumeFitResult r = fitSickPlume(log, scene, surfaces, mount, a.cfg);
     writePlumeFitJson(files.stage(a.out), r, a.cfg, a.laser, a.scene);
-    std::printf("%zu beams crossed a plume (%zu bad lines skipped)\n", r.obs.size(), log.skipped.size());
-    std::printf("%-22s %6s %6s %6s %6s %12s\n", "peak density", "beams", "echo", "wall", "error", "depth [m]");
+    say("%zu beams crossed a plume (%zu bad lines skipped)\n", r.obs.size(), log.skipped.size());
+    say("%-22s %6s %6s %6s %6s %12s\n", "peak density", "beams", "echo", "wall", "error", "depth [m]");
     for (const auto& b : r.bins)
         if (b.n)
-            std::printf("%9.3g - %9.3g  %6d %6d %6d %6d %12.3f\n", b.rho_lo, b.rho_hi, b.n, b.echo, b.surface, b.error,
-                        b.mean_depth_m);
-    for (const auto& d : r.diagnoses) std::printf("diagnosis: %s\n", d.c_str());
+            say("%9.3g - %9.3g  %6d %6d %6d %6d %12.3f\n", b.rho_lo, b.rho_hi, b.n, b.echo, b.surface, b.error,
+                b.mean_depth_m);
+    for (const auto& d : r.diagnoses) say("diagnosis: %s\n", d.c_str());
     if (!r.ok)
         throw Error(a.laser,
                     "no plume penetration could be fitted: " +
                         (r.diagnoses.empty() ? std::string("see ") + a.out : r.diagnoses.front()));
-    std::printf("penetration depth D = %.3f +/- %.3f m at density %.5f, falling as density^-k, k = %.2f +/- %.2f\n",
-                r.depth_m.value, r.depth_m.se, r.rho_ref, r.exponent.value, r.exponent.se);
+    say("penetration depth D = %.3f +/- %.3f m at density %.5f, falling as density^-k, k = %.2f +/- %.2f\n",
+        r.depth_m.value, r.depth_m.se, r.rho_ref, r.exponent.value, r.exponent.se);
     if (std::isfinite(r.rho_50.value))
-        std::printf("half the beams echo from the plume at peak density %.5f +/- %.5f (slope %.2f +/- %.2f)\n",
-                    r.rho_50.value, r.rho_50.se, r.slope.value, r.slope.se);
+        say("half the beams echo from the plume at peak density %.5f +/- %.5f (slope %.2f +/- %.2f)\n", r.rho_50.value,
+            r.rho_50.se, r.slope.value, r.slope.se);
     files.commit();
-    std::printf("wrote %s\n", a.out.c_str());
+    say("wrote %s\n", a.out.c_str());
     return 0;
 }
 

@@ -58,18 +58,24 @@ int main(int argc, char** argv)
     smokescan::cli::addFitPlume(app, run);
     smokescan::cli::addDiagnose(app, run);
     smokescan::cli::addOmnirange(app, run);
-    if (argc > 1 && argv[1][0] != '-') {  // CLI11 would say only that an argument was not expected
+    // CLI11 would say only that an argument was not expected, or that a subcommand is required:
+    // an unknown command (or a command's unknown subcommand, `volume frob`) is named.
+    CLI::App* level = &app;
+    for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
+        const auto subs = level->get_subcommands([](CLI::App*) { return true; });
+        if (subs.empty()) break;
+        CLI::App* next = nullptr;
         std::string names;
-        bool known = false;
-        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
-            known = known || sub->get_name() == argv[1];
+        for (CLI::App* sub : subs) {
+            if (sub->get_name() == argv[i]) next = sub;
             names += (names.empty() ? "" : ", ") + sub->get_name();
         }
-        if (!known) {
-            std::cerr << "smokescan: unknown command '" << smokescan::printable(argv[1]) << "' (" << names
-                      << "; see --help)\n";
+        if (!next) {
+            std::cerr << "smokescan: unknown " << (level == &app ? "command" : "subcommand of " + level->get_name())
+                      << " '" << smokescan::printable(argv[i]) << "' (" << names << "; see --help)\n";
             return 2;
         }
+        level = next;
     }
     try {
         app.parse(argc, argv);

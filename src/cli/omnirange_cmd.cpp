@@ -145,21 +145,19 @@ int runOmnirange(const OmniArgs& a)
                              "each sensor against the truth, by the smoke it looks through: " + scene.source);
     files.commit();
     if (versus) {
-        std::printf("against the truth, by the smoke column along each line of sight:\n");
-        for (const RangeTally& t : versus->tallies()) std::printf("%s", t.table().c_str());
+        say("against the truth, by the smoke column along each line of sight:\n");
+        for (const RangeTally& t : versus->tallies()) say("%s", t.table().c_str());
     }
     if (cmp.pairs == 0)
-        std::printf(
-            "omnicam against the laser: no scanline to compare (the omnicam read no hit where the laser "
+        say("omnicam against the laser: no scanline to compare (the omnicam read no hit where the laser "
             "read a range); %lld outliers over %.2f m\n",
             cmp.outliers, cmp.outlier_m);
     else
-        std::printf(
-            "omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
+        say("omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
             "(laser - omnicam) %+.4f m; %lld outliers over %.2f m left out\n",
             cmp.pairs, cmp.meanAbsM(), cmp.meanPercent(), cmp.meanSignedM(), cmp.outliers, cmp.outlier_m);
-    std::printf("wrote %s (%zu scans, exposure %.4g)%s%s\n", a.out.c_str(), times.size(), run.exposure(),
-                a.laser_out.empty() ? "" : ", ", a.laser_out.c_str());
+    say("wrote %s (%zu scans, exposure %.4g)%s%s\n", a.out.c_str(), times.size(), run.exposure(),
+        a.laser_out.empty() ? "" : ", ", a.laser_out.c_str());
     return 0;
 }
 

@@ -109,8 +109,8 @@ int runRender(const RenderArgs& a)
             writeImage(files.stage(expand(a.birdseye, int(k), times[k])),
                        birdseye(frame, dynamic_cast<const OmniCamera&>(*omni), bc));
         }
-        std::printf("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
-                    r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);
+        say("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
+            r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);
     }
     files.commit();
     return 0;

@@ -196,10 +196,10 @@ int runScan(const ScanArgs& a0)
     }
     files.commit();
     if (frames) frames->commit();
-    if (!a.quiet) std::fputs(summary.text().c_str(), stdout);
-    std::printf("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), times.size(), a.tau_csv.empty() ? "" : ", ",
-                a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str(), a.saturation_out.empty() ? "" : ", ",
-                a.saturation_out.c_str());
+    if (!a.quiet) say("%s", summary.text().c_str());
+    say("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), times.size(), a.tau_csv.empty() ? "" : ", ",
+        a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str(), a.saturation_out.empty() ? "" : ", ",
+        a.saturation_out.c_str());
     return 0;
 }
 

@@ -1,6 +1,8 @@
 // Option checks shared by the subcommands (commands.hpp).
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 
@@ -94,6 +96,25 @@ SensorModel sensorModelOption(const std::string& option, const std::string& valu
 {
     if (const auto m = parseSensorModel(value)) return *m;
     throw Error(option, "unknown sensor model '" + value + "' (paper, physical)");
+}
+
+void say(const char* format, ...)
+{
+    va_list args, again;
+    va_start(args, format);
+    va_copy(again, args);
+    const int n = std::vsnprintf(nullptr, 0, format, args);
+    va_end(args);
+    std::string text(size_t(std::max(n, 0)) + 1, '\0');
+    std::vsnprintf(text.data(), text.size(), format, again);
+    va_end(again);
+    text.resize(size_t(std::max(n, 0)));
+    for (size_t start = 0; start < text.size();) {
+        const size_t end = std::min(text.find('\n', start), text.size());
+        std::fputs(printable(text.substr(start, end - start), size_t(1) << 20).c_str(), stdout);
+        if (end < text.size()) std::fputc('\n', stdout);
+        start = end + 1;
+    }
 }
 
 void recordSceneInputs(RunFiles& files, const std::string& path, const Scene& scene)

@@ -22,22 +22,21 @@ bool isVdb(const std::string& p) { return std::filesystem::path(p).extension() =
 
 void printInfo(const std::string& label, const GridInfo& i, double scale)
 {
-    std::printf("%s\n", label.c_str());
-    std::printf("  grid '%s' (stored as %s), voxel %.6g m", i.name.c_str(), i.source_type.c_str(), i.voxel_size_m);
-    if (scale >= 0) std::printf(", timeline scale %.6g at this time", scale);
-    std::printf("\n");
-    std::printf("  %lld active voxels in %lld leaves, %lld active tiles, %.1f MB\n", i.active_voxels, i.leaf_nodes,
-                i.active_tiles, i.memory_bytes / 1e6);
+    say("%s\n", label.c_str());
+    say("  grid '%s' (stored as %s), voxel %.6g m", i.name.c_str(), i.source_type.c_str(), i.voxel_size_m);
+    if (scale >= 0) say(", timeline scale %.6g at this time", scale);
+    say("\n");
+    say("  %lld active voxels in %lld leaves, %lld active tiles, %.1f MB\n", i.active_voxels, i.leaf_nodes,
+        i.active_tiles, i.memory_bytes / 1e6);
     if (i.world_bounds.empty()) {
-        std::printf("  empty (no non-zero density)\n");
+        say("  empty (no non-zero density)\n");
         return;
     }
-    std::printf("  index support [%d,%d,%d] -> [%d,%d,%d]\n", i.index_min[0], i.index_min[1], i.index_min[2],
-                i.index_max[0], i.index_max[1], i.index_max[2]);
-    std::printf("  world bounds [%.4g, %.4g, %.4g] -> [%.4g, %.4g, %.4g] m\n", i.world_bounds.lo.x(),
-                i.world_bounds.lo.y(), i.world_bounds.lo.z(), i.world_bounds.hi.x(), i.world_bounds.hi.y(),
-                i.world_bounds.hi.z());
-    std::printf("  density %.6g … %.6g\n", i.min_value, i.max_value);
+    say("  index support [%d,%d,%d] -> [%d,%d,%d]\n", i.index_min[0], i.index_min[1], i.index_min[2], i.index_max[0],
+        i.index_max[1], i.index_max[2]);
+    say("  world bounds [%.4g, %.4g, %.4g] -> [%.4g, %.4g, %.4g] m\n", i.world_bounds.lo.x(), i.world_bounds.lo.y(),
+        i.world_bounds.lo.z(), i.world_bounds.hi.x(), i.world_bounds.hi.y(), i.world_bounds.hi.z());
+    say("  density %.6g … %.6g\n", i.min_value, i.max_value);
 }
 
 int runInfo(const VolumeArgs& a)
@@ -50,7 +49,7 @@ int runInfo(const VolumeArgs& a)
         return 0;
     }
     const Scene scene = loadScene(a.input);
-    std::printf("%s: %zu smoke volumes at t = %g s\n", scene.source.c_str(), scene.volumes.size(), a.time_s);
+    say("%s: %zu smoke volumes at t = %g s\n", scene.source.c_str(), scene.volumes.size(), a.time_s);
     for (const auto& v : scene.volumes)
         printInfo(v.name + (v.role == SmokeRole::Regional ? " (regional, " : " (local, ") + v.medium.name + ")",
                   v.gridAt(a.time_s)->info(), v.timeline.at(a.time_s));
@@ -68,7 +67,7 @@ int runBuild(const VolumeArgs& a)
     for (const auto& v : scene.volumes) grids.emplace_back(v.name, v.gridAt(a.time_s)->scaled(v.timeline.at(a.time_s)));
     DensityGrid::writeVdb(files.stage(a.out), grids);
     files.commit();
-    std::printf("wrote %s: %zu grids (density at t = %g s)\n", a.out.c_str(), grids.size(), a.time_s);
+    say("wrote %s: %zu grids (density at t = %g s)\n", a.out.c_str(), grids.size(), a.time_s);
     return 0;
 }
 
@@ -83,7 +82,7 @@ int runExport(const VolumeArgs& a)
     const DensityGrid g = DensityGrid::loadVdb(a.input, c);
     DensityGrid::writeVdb(files.stage(a.out), {{"density", g}});
     files.commit();
-    std::printf("wrote %s: float grid 'density' (stored values × %g)\n", a.out.c_str(), a.scale);
+    say("wrote %s: float grid 'density' (stored values × %g)\n", a.out.c_str(), a.scale);
     return 0;
 }
 
@@ -130,7 +129,7 @@ void addScene(CLI::App& app, Runner& run)
     auto* list = s->add_subcommand("list", "List built-in scenes");
     list->callback([&run] {
         run = [] {
-            for (const auto& n : builtinSceneNames()) std::printf("%s\n", n.c_str());
+            for (const auto& n : builtinSceneNames()) say("%s\n", n.c_str());
             return 0;
         };
     });
