@@ -62,4 +62,21 @@ inline void expectBad(const std::string& args, const std::string& needle, const 
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left a temporary " << e.path();
 }
 
+/// A small recorded run for the fit commands (scan's own laser log and camera saturation, bocas
+/// 80–130 s at 2 Hz), made once per test process.
+struct RecordedRun {
+    std::string log, sat;
+};
+inline const RecordedRun& recordedRun()
+{
+    static const RecordedRun r = [] {
+        RecordedRun x{file("run.log"), file("run_sat.csv")};
+        const CliRun c =
+            cli("scan bocas --from 80 --to 130 --rate 2 --quiet --out " + x.log + " --saturation-out " + x.sat);
+        EXPECT_EQ(c.status, 0) << c.err;
+        return x;
+    }();
+    return r;
+}
+
 }  // namespace smokescan::test

@@ -36,22 +36,6 @@ constexpr bool kAsan = false;
 constexpr bool kAsan = false;
 #endif
 
-/// A small recorded run (laser log and camera saturation) for the fit commands, made once.
-struct RecordedRun {
-    std::string log, sat;
-};
-const RecordedRun& smallRun()
-{
-    static const RecordedRun r = [] {
-        RecordedRun x{file("run.log"), file("run_sat.csv")};
-        const CliRun c =
-            cli("scan bocas --from 80 --to 130 --rate 2 --quiet --out " + x.log + " --saturation-out " + x.sat);
-        EXPECT_EQ(c.status, 0) << c.err;
-        return x;
-    }();
-    return r;
-}
-
 bool isCharDevice(const std::string& p)
 {
     struct stat st {};
@@ -109,7 +93,7 @@ TEST(Hardening, LinksAndPlantedTemporariesAreNeverFollowed)
 
 TEST(Hardening, AnOutputThatIsAnInputIsRefusedByIdentity)
 {
-    const RecordedRun& run = smallRun();
+    const RecordedRun& run = recordedRun();
     const std::string scene = file("s.toml", slurp(std::string(SMOKESCAN_SOURCE_DIR) + "/scenes/bocas.toml"));
     const std::string hard = (dir() / "hardlink.log").string();
     fs::create_hard_link(run.log, hard);
@@ -155,7 +139,7 @@ TEST(Hardening, AnOutputThatIsAnInputIsRefusedByIdentity)
 
 TEST(Hardening, InputsThatCrashedAreOneLineErrors)
 {
-    const RecordedRun& run = smallRun();
+    const RecordedRun& run = recordedRun();
     const std::string out = file("crash.toml");
     for (const char* smooth : {"3e9", "1e10", "inf"})
         expectBad("fit --laser " + run.log + " --saturation " + run.sat + " --scene bocas --out " + out + " --smooth " +
@@ -252,7 +236,7 @@ TEST(Hardening, UnboundedRequestsAreRefusedBeforeWork)
     expectBad("render bocas --spp 65536 --width 8000 --height 8000 --out " + png, "samples a frame", png);
     // Endless or binary text inputs.
     expectBad("scan /dev/zero --out " + out, "is not text", out);
-    const RecordedRun& run = smallRun();
+    const RecordedRun& run = recordedRun();
     expectBad("fit --laser /dev/zero --saturation " + run.sat + " --scene bocas --out " + file("z.toml"), "is not text",
               file("z.toml"));
     expectBad("fit --laser " + run.log + " --saturation /dev/zero --scene bocas --out " + file("z.toml"), "is not text",
@@ -280,7 +264,7 @@ TEST(Hardening, ScanMemoryDoesNotGrowWithTheRunsLength)
 
 TEST(Hardening, BadOptionValuesAreOneLineErrors)
 {
-    const RecordedRun& run = smallRun();
+    const RecordedRun& run = recordedRun();
     const std::string out = file("b.log"), png = file("b.png");
     const std::string fit = "fit --laser " + run.log + " --saturation " + run.sat + " --scene bocas --out " + out;
     struct Case {
@@ -340,7 +324,7 @@ TEST(Hardening, BadSceneAndMeshValuesAreOneLineErrorsNamingFileAndKey)
 
 TEST(Hardening, ImplausibleLaserLogsAreRefused)
 {
-    const RecordedRun& run = smallRun();
+    const RecordedRun& run = recordedRun();
     const std::string out = file("l.toml");
     const std::string fit = " --saturation " + run.sat + " --scene bocas --out " + out;
     expectBad("fit --laser " + file("neg.log", "0 0.1 2500 0.2 -5000\n") + fit, "neg.log:1: beam 1: range -5000", out);
@@ -421,7 +405,7 @@ TEST(Hardening, InterruptedRunsRemoveTheirTemporaries)
 
 TEST(Hardening, MessagesAreOneReadableLine)
 {
-    const RecordedRun& run = smallRun();
+    const RecordedRun& run = recordedRun();
     // Raw bytes are escaped; the message is valid UTF-8 on one line.
     const std::string bin = file("bin.log", std::string("0 0.1 \x01\xff\n"));
     const CliRun r = cli("fit --laser " + bin + " --saturation " + run.sat + " --scene bocas --out " + file("m.toml"));

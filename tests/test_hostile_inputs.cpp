@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,22 +24,6 @@ using namespace smokescan::test;
 
 namespace {
 
-/// A recorded run for the fit commands (scan's own log and camera saturation), made once.
-struct RecordedPair {
-    std::string log, sat;
-};
-const RecordedPair& recorded()
-{
-    static const RecordedPair r = [] {
-        RecordedPair x{file("hostile.log"), file("hostile_sat.csv")};
-        const CliRun c =
-            cli("scan bocas --from 80 --to 130 --rate 2 --quiet --out " + x.log + " --saturation-out " + x.sat);
-        EXPECT_EQ(c.status, 0) << c.err;
-        return x;
-    }();
-    return r;
-}
-
 /// A scene file with one URG-04LX and `extra` TOML after it.
 std::string sceneWith(const std::string& name, const std::string& sensor_keys, const std::string& extra = "")
 {
@@ -54,7 +39,7 @@ std::string sceneWith(const std::string& name, const std::string& sensor_keys, c
 TEST(Hardening, ASaturationSeriesTooShortToFitIsNamed)
 {
     // One row and --smooth 0: movingAverage ran with a window from a NaN frame time (SIGSEGV).
-    const RecordedPair& run = recorded();
+    const RecordedRun& run = recordedRun();
     const std::string one = file("one_row.csv", "time_s,saturation\n80,0.25\n"), out = file("one.toml");
     expectBad("fit --laser " + run.log + " --saturation " + one + " --scene bocas --smooth 0 --out " + out,
               one + ": holds 1 saturation rows: a fit needs at least 3", out);
@@ -63,7 +48,7 @@ TEST(Hardening, ASaturationSeriesTooShortToFitIsNamed)
 TEST(Hardening, TheOffsetSearchIsBoundedBeforeWork)
 {
     // 1e6 s took minutes and 446 MB; 1e9 overflowed an int and skipped the search.
-    const RecordedPair& run = recorded();
+    const RecordedRun& run = recordedRun();
     const std::string out = file("ow.toml");
     for (const char* w : {"1e6", "1e9"})
         expectBad("fit --laser " + run.log + " --saturation " + run.sat + " --scene bocas --offset-window " + w +
@@ -74,7 +59,7 @@ TEST(Hardening, TheOffsetSearchIsBoundedBeforeWork)
 TEST(Hardening, APlotWithMoreGroupsThanItsKeyHoldsDoesNotAbort)
 {
     // 40 one-degree groups: the fit's legend ran off its image and OpenImageIO asserted.
-    const RecordedPair& run = recorded();
+    const RecordedRun& run = recordedRun();
     std::string groups;
     for (int g = 0; g < 40; ++g)
         groups +=
@@ -170,7 +155,7 @@ TEST(Hardening, SceneValuesBeyondMeaningAreOneLineErrorsNamingTheKey)
 
 TEST(Hardening, OptionValuesBeyondMeaningAreOneLineErrors)
 {
-    const RecordedPair& run = recorded();
+    const RecordedRun& run = recordedRun();
     const std::string out = file("opt.out"), png = file("opt.png"), dir_out = (dir() / "diag_out").string();
     const std::string diag =
         "diagnose --laser " + run.log + " --saturation " + run.sat + " --scene bocas --out " + dir_out;
@@ -284,7 +269,7 @@ TEST(Hardening, EveryCommandProtectsTheFilesItsSceneReads)
              "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
              "[[cameras]]\nname = \"c\"\nlook_at = [2.0, 0.0, 0.5]\nposition = [0.0, 0.0, 0.5]\n"
              "[[smoke]]\nname = \"s\"\ntype = \"box\"\nmin = [0.5, -1.0, 0.0]\nmax = [1.5, 1.0, 1.0]\n");
-    const RecordedPair& run = recorded();
+    const RecordedRun& run = recordedRun();
     const std::string frame = file("frame.png");
     ASSERT_EQ(cli("render " + scene + " --width 16 --height 12 --spp 1 --out " + frame).status, 0);
     for (const std::string& args : {
@@ -309,45 +294,38 @@ TEST(RunFiles, AnOutputThatCannotBePlacedPutsBackWhatTheEarlierOnesReplaced)
     // fails puts back what was replaced.
     const fs::path d = scratch("all_or_nothing");
     const std::string a = (d / "a.log").string(), b = (d / "b.csv").string();
-    {
+    // Both files hold their old content; both outputs are staged with new content, `meddle` runs
+    // (given b's temporary), then the run commits. True when the commit threw.
+    auto run = [&](const std::function<void(const std::string&)>& meddle) {
         std::ofstream(a) << "old a";
-        std::ofstream(b) << "old b";
-        RunFiles files;
-        files.output(a, "--out");
-        files.output(b, "--tau");
-        std::ofstream(files.stage(a)) << "new a";
-        std::ofstream(files.stage(b)) << "new b";
-        fs::remove(b);
-        fs::create_directory(b);
-        EXPECT_THROW(files.commit(), Error);
-    }
-    EXPECT_EQ(slurp(a), "old a");
-    EXPECT_TRUE(fs::is_directory(b));
-    fs::remove(b);
-    {
-        // The pre-check passes, then the second rename fails (its temporary is gone): the first
-        // output, already in place, is put back.
-        std::ofstream(b) << "old b";
+        if (!fs::is_directory(b)) std::ofstream(b) << "old b";
         RunFiles files;
         files.output(a, "--out");
         files.output(b, "--tau");
         std::ofstream(files.stage(a)) << "new a";
         const std::string tb = files.stage(b);
         std::ofstream(tb) << "new b";
-        fs::remove(tb);
-        EXPECT_THROW(files.commit(), Error);
-    }
+        meddle(tb);
+        try {
+            files.commit();
+            return false;
+        } catch (const Error&) {
+            return true;
+        }
+    };
+    EXPECT_TRUE(run([&](const std::string&) {
+        fs::remove(b);
+        fs::create_directory(b);
+    }));
+    EXPECT_EQ(slurp(a), "old a");
+    EXPECT_TRUE(fs::is_directory(b));
+    fs::remove(b);
+    // The pre-check passes, then the second rename fails (its temporary is gone): the first
+    // output, already in place, is put back.
+    EXPECT_TRUE(run([](const std::string& tb) { fs::remove(tb); }));
     EXPECT_EQ(slurp(a), "old a");
     EXPECT_EQ(slurp(b), "old b");
-    {
-        std::ofstream(b) << "old b";
-        RunFiles files;
-        files.output(a, "--out");
-        files.output(b, "--tau");
-        std::ofstream(files.stage(a)) << "new a";
-        std::ofstream(files.stage(b)) << "new b";
-        files.commit();
-    }
+    EXPECT_FALSE(run([](const std::string&) {}));
     EXPECT_EQ(slurp(a), "new a");
     EXPECT_EQ(slurp(b), "new b");
     for (const auto& e : fs::directory_iterator(d)) EXPECT_TRUE(e.path() == a || e.path() == b) << "left " << e.path();

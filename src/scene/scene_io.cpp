@@ -328,6 +328,18 @@ double gridBytes(const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m)
     return area / 64 * layers * 2.3e3;
 }
 
+/// Adds a grid's estimated memory to the scene's total, refusing (on the table's `voxel`) a total
+/// beyond limits::kGridBytes.
+void addGridBytes(TomlTable& t, double& total, const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m)
+{
+    total += gridBytes(lo, hi, voxel_m, edge_m);
+    if (total > limits::kGridBytes)
+        t.error("voxel",
+                "makes the scene's box and mesh smoke take about " + fmt("%.1f", total / 1e9) +
+                    " GB of grid (at most " + fmt("%.1f", limits::kGridBytes / 1e9) +
+                    " over all of them): raise voxel or narrow edge_m");
+}
+
 /// A smoke area's density [engine units], within limits::kDensity.
 double density(TomlTable& t)
 {
@@ -384,14 +396,6 @@ DensityTimeline readTimeline(TomlTable& parent)
 /// each mesh's grid, bounded (limits::kGridBytes) before it is made.
 SmokeVolume readSmoke(TomlTable t, const std::string& base_dir, double& grid_bytes)
 {
-    auto addGrid = [&](const Vec3& lo, const Vec3& hi, double voxel_m, double edge_m) {
-        grid_bytes += gridBytes(lo, hi, voxel_m, edge_m);
-        if (grid_bytes > limits::kGridBytes)
-            t.error("voxel",
-                    "makes the scene's box and mesh smoke take about " + fmt("%.1f", grid_bytes / 1e9) +
-                        " GB of grid (at most " + fmt("%.1f", limits::kGridBytes / 1e9) +
-                        " over all of them): raise voxel or narrow edge_m");
-    };
     SmokeVolume v;
     v.name = t.strReq("name");
     const std::string type = t.strReq("type");
@@ -423,7 +427,7 @@ SmokeVolume readSmoke(TomlTable t, const std::string& base_dir, double& grid_byt
             for (const Vec3& p : mesh.points_m) box.extend(p);
             if (!box.empty()) {
                 checkGridExtent(t, box.lo, box.hi, h, edge, "mesh");
-                addGrid(box.lo, box.hi, h, edge);
+                addGridBytes(t, grid_bytes, box.lo, box.hi, h, edge);
             }
             if (const size_t open = openEdges(mesh))
                 t.error("file",
@@ -515,12 +519,7 @@ Scene parseScene(const std::string& text, const std::string& source, const std::
         if (!((hi.array() > lo.array()).all() && h > 0 && edge >= 0 &&
               ((hi - lo).maxCoeff() + 2 * edge) / h <= limits::kGridSide))
             continue;
-        grid_bytes += gridBytes(lo, hi, h, edge);
-        if (grid_bytes > limits::kGridBytes)
-            t.error("voxel",
-                    "makes the scene's box and mesh smoke take about " + fmt("%.1f", grid_bytes / 1e9) +
-                        " GB of grid (at most " + fmt("%.1f", limits::kGridBytes / 1e9) +
-                        " over all of them): raise voxel or narrow edge_m");
+        addGridBytes(t, grid_bytes, lo, hi, h, edge);
     }
     for (auto& t : top.tables("smoke")) {
         s.volumes.push_back(readSmoke(t, base_dir, grid_bytes));
