@@ -43,7 +43,8 @@ bool identify(const std::string& path, FileId& id)
 }
 
 /// A second name for `path`'s file in its folder (".smokescan-keep-PID-N"), removed on a signal
-/// until released.
+/// until released; "" where the file system makes no hard links (the file is then replaced
+/// without a way back, as before).
 std::string keepLink(const std::string& path)
 {
     const fs::path dir = fs::path(path).parent_path();
@@ -56,7 +57,7 @@ std::string keepLink(const std::string& path)
         }
         if (errno != EEXIST) break;
     }
-    throw Error(path, std::string("cannot keep the file being replaced (") + std::strerror(errno) + ")");
+    return "";
 }
 
 }  // namespace
@@ -138,7 +139,7 @@ void RunFiles::commit()
             struct stat st {};
             if (::lstat(f->path().c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
                 const std::string keep = keepLink(f->path());
-                kept.emplace_back(f->path(), keep);
+                if (!keep.empty()) kept.emplace_back(f->path(), keep);
             }
             f->commit();
             placed.push_back(f->path());
