@@ -23,16 +23,16 @@ void quietGlog(const char* argv0)
     FLAGS_logtostderr = false;
 }
 
-/// True when an argument names the program's standard output as a file (`--out /dev/stdout`).
+/// True when an argument (or an `--option=value`'s value) names the program's standard output as
+/// a file (`--out /dev/stdout`), as the writers read such names (smokescan::ownStreamFd).
 bool writesToStdout(int argc, char** argv)
 {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        for (const char* alias : {"/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"}) {
-            const std::string s = alias;
-            if (a == s || (a.size() > s.size() && a.compare(a.size() - s.size() - 1, std::string::npos, "=" + s) == 0))
-                return true;
-        }
+        const size_t eq = a.rfind('=');
+        if (smokescan::ownStreamFd(a) == 1 ||
+            (eq != std::string::npos && smokescan::ownStreamFd(a.substr(eq + 1)) == 1))
+            return true;
     }
     return false;
 }

@@ -42,6 +42,25 @@ bool identify(const std::string& path, FileId& id)
     return true;
 }
 
+using Named = std::vector<std::pair<std::string, std::string>>;  // (path, the option that named it)
+
+/// The entry of `files` that is the file `me`, or null.
+const std::pair<std::string, std::string>* sameFile(const FileId& me, const Named& files)
+{
+    for (const auto& f : files) {
+        FileId other;
+        if (identify(f.first, other) && other == me) return &f;
+    }
+    return nullptr;
+}
+
+/// The error of an output that is an input.
+Error destroys(const std::string& out, const std::string& out_option, const std::string& in,
+               const std::string& in_option)
+{
+    return Error(out, "is the input of " + in_option + " (" + in + "); " + out_option + " would destroy it");
+}
+
 /// A second name for `path`'s file in its folder (".smokescan-keep-PID-N"), removed on a signal
 /// until released; "" where the file system makes no hard links (the file is then replaced
 /// without a way back, as before).
@@ -73,11 +92,7 @@ void RunFiles::input(const std::string& path, const std::string& option)
     // checked against them as an output is checked against the inputs.
     FileId me;
     if (identify(path, me) && !me.device)
-        for (const auto& [out, opt] : outputs_) {
-            FileId other;
-            if (identify(out, other) && other == me)
-                throw Error(out, "is the input of " + option + " (" + path + "); " + opt + " would destroy it");
-        }
+        if (const auto* out = sameFile(me, outputs_)) throw destroys(out->first, out->second, path, option);
     inputs_.emplace_back(path, option);
 }
 
@@ -99,11 +114,7 @@ void RunFiles::record(const std::string& path, const std::string& option)
 {
     FileId me;
     if (!identify(path, me)) throw Error(path, "cannot write (no such directory)");
-    for (const auto& [p, opt] : inputs_) {
-        FileId other;
-        if (identify(p, other) && other == me)
-            throw Error(path, "is the input of " + opt + " (" + p + "); " + option + " would destroy it");
-    }
+    if (const auto* in = sameFile(me, inputs_)) throw destroys(path, option, in->first, in->second);
     if (!me.device) {
         const auto [it, fresh] =
             output_ids_.emplace(std::make_tuple(uint64_t(me.dev), uint64_t(me.ino), me.name), option);
@@ -131,8 +142,14 @@ void RunFiles::commit()
         if (!f->isDevice()) checkOutputPath(f->path());
     // ... and each file it replaces is kept (a hard link beside it) until all are in place, so
     // that a rename that still fails puts back what the earlier ones replaced.
-    std::vector<std::pair<std::string, std::string>> kept;  // (target, its old content's link)
+    Named kept;  // (target, its old content's link)
     std::vector<std::string> placed;
+    auto releaseKept = [&] {
+        for (const auto& [target, keep] : kept) {
+            std::remove(keep.c_str());
+            releaseTemporary(keep);
+        }
+    };
     try {
         for (auto& f : staged_) {
             if (f->isDevice()) continue;
@@ -152,16 +169,10 @@ void RunFiles::commit()
             else
                 std::remove(p.c_str());
         }
-        for (const auto& [target, keep] : kept) {
-            std::remove(keep.c_str());
-            releaseTemporary(keep);
-        }
+        releaseKept();
         throw;
     }
-    for (const auto& [target, keep] : kept) {
-        std::remove(keep.c_str());
-        releaseTemporary(keep);
-    }
+    releaseKept();
 }
 
 }  // namespace smokescan

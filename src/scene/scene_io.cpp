@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "sensor_tables.hpp"
@@ -23,10 +24,11 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Pose from `position` and either `rpy_deg` or `look_at` (local +x towards it, +z up).
-/// A point within limits::kSceneReach_m of the origin.
-Vec3 placed(TomlTable& t, const std::string& key, const Vec3& def)
+/// A point (or an extent) within limits::kSceneReach_m of the origin; `def` when the key is absent,
+/// required when there is no `def`.
+Vec3 placed(TomlTable& t, const std::string& key, const std::optional<Vec3>& def = std::nullopt)
 {
-    const Vec3 p = t.vec3(key, def);
+    const Vec3 p = def ? t.vec3(key, *def) : t.vec3Req(key);
     if (!(p.cwiseAbs().maxCoeff() <= limits::kSceneReach_m)) t.error(key, "must lie within 1000 km of the origin");
     return p;
 }
@@ -94,8 +96,7 @@ Surface readSurface(TomlTable t, const std::map<std::string, int>& materials, co
             t.error("size", "must be > 0 on every axis and at most 2000 km");
         s.shape = b;
     } else if (type == "quad") {
-        QuadShape q{placed(t, "corner", Vec3::Zero()), placed(t, "u", Vec3::Zero()), placed(t, "v", Vec3::Zero())};
-        if (!t.has("corner") || !t.has("u") || !t.has("v")) t.error("quad needs corner, u and v");
+        QuadShape q{placed(t, "corner"), placed(t, "u"), placed(t, "v")};
         if (q.edge_u_m.cross(q.edge_v_m).norm() < 1e-12) t.error("u", "and v must span a parallelogram");
         s.shape = q;
     } else if (type == "cylinder") {
@@ -202,7 +203,7 @@ Light readLight(TomlTable t)
         l.radiance = t.between("radiance", l.radiance, 0, 1e6);
         break;
     }
-    t.finish("a" + std::string(kind == "area" || kind == "ambient" ? "n " : " ") + kind + " light");
+    t.finish((l.kind == LightKind::Area || l.kind == LightKind::Ambient ? "an " : "a ") + kind + " light");
     return l;
 }
 
@@ -256,9 +257,8 @@ Camera readCamera(TomlTable t, const std::vector<Robot>& robots)
         if (c.hfov_deg >= 180) t.error("hfov_deg", "must be < 180");
         c.fx_px = t.between("fx_px", 0.0, 0, 1e7);
         c.fy_px = t.between("fy_px", 0.0, 0, 1e7);
-        for (const char* k : {"fx_px", "fy_px"})
-            if (t.has(k) && t.num(k, 0.0) != 0 && t.num(k, 0.0) < 1e-3)
-                t.error(k, "must be 0 (from hfov_deg) or >= 1e-3 px");
+        for (const auto& [key, f] : {std::pair<const char*, double>{"fx_px", c.fx_px}, {"fy_px", c.fy_px}})
+            if (f != 0 && f < 1e-3) t.error(key, "must be 0 (from hfov_deg) or >= 1e-3 px");
     } else {
         c.mirror_radius_px = t.positive("mirror_radius_px", c.mirror_radius_px);
         if (c.mirror_radius_px > 1e6) t.error("mirror_radius_px", "must be at most 1e6");
