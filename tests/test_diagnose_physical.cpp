@@ -63,7 +63,7 @@ TEST(DiagnosePhysical, CleanRunsNameNothingAndThePlantedGoldBiasIsFound)
     // Round trip: the extended file, rescanned by the physical model under another seed, and
     // diagnosed with it: none; diagnosed without it: the bias again.
     SensorConfig extended = gold.replay.config;
-    extended.extensions = sensorExtensions(gold.replay, gold.result.model);
+    extended.extensions = gold.result.model;
     const std::string file = (dir / "extended.toml").string();
     writeSensorFile(file, extended);
     const TrueRun again = simulatePhysical(42, file);

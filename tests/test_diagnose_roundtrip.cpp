@@ -44,7 +44,7 @@ TEST(DiagnoseRoundTrip, RescannedExtendedRunDiagnosesAsNone)
 
     // The extended sensor file, as `smokescan diagnose` writes it.
     SensorConfig extended = first.replay.config;
-    extended.extensions = sensorExtensions(first.replay, first.result.model);
+    extended.extensions = first.result.model;
     const std::string file = (dir / "sensor.toml").string();
     writeSensorFile(file, extended, "round trip");
     ASSERT_EQ(extended.extensions.surfaces.count("target_gold"), 1u);

@@ -75,8 +75,8 @@ void expectPlanted(const DiagnosisResult& r, double sector_from_deg, double sect
     ASSERT_NE(smudge, nullptr) << r.verdict;
     EXPECT_NEAR(smudge->parameters.at(0).second.value, 0.5, 0.05);
     ASSERT_EQ(r.model.sectors.size(), 1u);
-    EXPECT_NEAR(r.model.sectors[0].from_rad * 180 / M_PI, sector_from_deg, 2.0);
-    EXPECT_NEAR(r.model.sectors[0].to_rad * 180 / M_PI, sector_to_deg, 2.0);
+    EXPECT_NEAR(r.model.sectors[0].from_deg, sector_from_deg, 2.0);
+    EXPECT_NEAR(r.model.sectors[0].to_deg, sector_to_deg, 2.0);
     EXPECT_EQ(r.findings.size(), 3u) << r.verdict;
     EXPECT_GT(r.extended.front().loglik_per_beam, r.baseline.front().loglik_per_beam + 0.5);
 }

@@ -98,7 +98,7 @@ int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out, RunFiles& files)
     const DiagnosisResult r = diagnoseWithProgress(replay, a.diag);
     OmniSensorFile extended = file;
     extended.camera = o.camera;
-    extended.extensions = sensorExtensions(replay, r.model);
+    extended.extensions = r.model;
     writeOmniSensorFile(out.path("sensor.toml"), extended,
                         "the omnicam's onset from " + a.sensor_file + " with what `smokescan diagnose` learned from " +
                             a.in.laser + " (verdict: " + r.verdict + ")");
@@ -133,7 +133,7 @@ int runDiagnose(const DiagnoseArgs& a0)
     const Replay replay = replayRun(in, config, a.replay);
     const DiagnosisResult r = diagnoseWithProgress(replay, a.diag);
     SensorConfig extended = config;
-    extended.extensions = sensorExtensions(replay, r.model);
+    extended.extensions = r.model;
     writeSensorFile(out.path("sensor.toml"), extended,
                     "the " + std::string(sensorModelName(config.model)) + " model of " + a.in.scene +
                         "'s sensor with what `smokescan diagnose` learned from " + a.in.laser +

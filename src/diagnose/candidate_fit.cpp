@@ -37,7 +37,7 @@ void chunkedSum(size_t n, double* value, double* grad, F&& term)
 /// The candidate's negative log-likelihood over a set of observations, for Ceres.
 class CandidateNll : public ceres::FirstOrderFunction {
 public:
-    CandidateNll(const Replay& r, const Extensions& m, const Candidate& c, const std::vector<Obs>& obs)
+    CandidateNll(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs)
         : r_(r), m_(m), c_(c), obs_(obs)
     {
     }
@@ -54,19 +54,19 @@ public:
 
 private:
     const Replay& r_;
-    const Extensions& m_;
+    const ReplayModel& m_;
     const Candidate& c_;
     const std::vector<Obs>& obs_;
 };
 
 }  // namespace
 
-ThetaFit fitCandidate(const Replay& r, const Extensions& m, const Candidate& c, const std::vector<Obs>& obs)
+ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs)
 {
     ThetaFit f;
     if (obs.empty()) return f;
     ceres::GradientProblem problem(new CandidateNll(r, m, c, obs));
-    double theta = c.theta_start, best = kInf;
+    double theta = c.starts().front(), best = kInf;
     for (double t : c.starts()) {
         double cost = kInf;
         if (problem.Evaluate(&t, &cost, nullptr) && cost < best) {
@@ -81,7 +81,7 @@ ThetaFit fitCandidate(const Replay& r, const Extensions& m, const Candidate& c, 
     opt.gradient_tolerance = 1e-8;
     ceres::GradientProblemSolver::Summary summary;
     ceres::Solve(opt, problem, &theta, &summary);
-    if (!summary.IsSolutionUsable() || !std::isfinite(theta) || !c.plausible(theta, m)) return f;
+    if (!summary.IsSolutionUsable() || !std::isfinite(theta) || !c.plausible(r, theta, m)) return f;
     // Observed information by central differences of the analytic gradient; scores per block.
     auto gradAt = [&](double t) {
         double cost = 0, g = 0;

@@ -15,7 +15,7 @@ struct ThetaFit {
 
 /// @brief The maximum-likelihood θ of candidate c on top of model m over `obs`, from the best
 /// of its start values.
-ThetaFit fitCandidate(const Replay& r, const Extensions& m, const Candidate& c, const std::vector<Obs>& obs);
+ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs);
 
 /// @brief The observations candidate c touches in fold `fold` (−1: all).
 std::vector<Obs> touched(const Replay& r, const Candidate& c, int fold);

@@ -3,80 +3,36 @@
 #include <algorithm>
 #include <cmath>
 
+#include "causes.hpp"
+#include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
 
 namespace smokescan::detail {
-namespace {
-
-double sigmoid(double z) { return 1 / (1 + std::exp(-z)); }
-J sigmoid(const J& z) { return J(1.0) / (J(1.0) + exp(-z)); }
-
-double sectorDropout(const Extensions& m, double angle)
-{
-    double keep = 1;
-    // On the circle: a sector of the omnicam's may be given anywhere round it (300…360° or
-    // −60…0°); a laser's sectors lie within its field, where this is the plain interval.
-    for (const auto& s : m.sectors) {
-        const double from_start = angle - s.from_rad - 2 * M_PI * std::floor((angle - s.from_rad) / (2 * M_PI));
-        if (from_start <= s.to_rad - s.from_rad + 1e-12) keep *= 1 - s.dropout;
-    }
-    return 1 - keep;
-}
 
 template <class T>
-T valueOr(const std::map<int, double>& m, int key)
-{
-    const auto it = m.find(key);
-    return T(it == m.end() ? 0.0 : it->second);
-}
-
-}  // namespace
-
-const char* causeName(Cause c)
-{
-    switch (c) {
-    case Cause::ClockOffset:
-        return "clock_offset";
-    case Cause::SurfaceThreshold:
-        return "surface_threshold";
-    case Cause::ThresholdWidth:
-        return "threshold_width";
-    case Cause::SurfaceRangeBias:
-        return "surface_range_bias";
-    case Cause::RangeNoiseGrowth:
-        return "range_noise_growth";
-    case Cause::SmokeObstacleReturn:
-        return "smoke_obstacle_return";
-    case Cause::SectorDropout:
-        return "sector_dropout";
-    case Cause::Hysteresis:
-        return "hysteresis";
-    }
-    return "?";
-}
-
-template <class T>
-BeamTerms<T> baseTerms(const Replay& r, const Extensions& m, const Obs& o)
+BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& m, const Obs& o)
 {
     const ReplayBeam& beam = r.beams[size_t(o.b)];
     const ReplayScan& scan = r.scans[size_t(o.k)];
+    const ModelExtensions& e = m.ext;
     BeamTerms<T> x;
-    if (r.from_saturation && m.clock_offset_s != 0)
-        x.column = T(r.densityAt(scan.time_s + m.clock_offset_s) / r.density_ref * beam.column_ref);
+    if (r.from_saturation && m.offset_change_s != 0)
+        x.column = T(r.densityAt(scan.time_s + m.offset_change_s) / r.density_ref * beam.column_ref);
     else
         x.column = T(r.columnAt(size_t(o.k), size_t(o.b)));
+    const SurfaceExtension* own = beam.surface >= 0 ? &m.surface[size_t(beam.surface)] : nullptr;
     // The paper model's threshold is ln P; the physical model's is its own, shifted by 0.
-    x.lnP = T(r.isPhysical() ? 0.0 : std::log(r.config.paper.penetration_power)) +
-        valueOr<T>(m.threshold_factor, beam.surface) + T(scan.rising ? -0.5 * m.hysteresis : 0.5 * m.hysteresis);
-    x.width = T(std::hypot(m.width, scan.ln_density_sd));
-    x.beta = valueOr<T>(m.range_bias, beam.surface);
-    x.gamma = T(m.noise_growth_m);
-    x.q = T(m.obstacle_return);
-    x.d = T(sectorDropout(m, beam.angle_rad));
+    x.lnP =
+        T(r.isPhysical() ? 0.0 : std::log(r.config.paper.penetration_power)) + T(e.thresholdShift(own, scan.rising));
+    x.width = T(std::hypot(e.threshold_width, scan.ln_density_sd));
+    x.beta = T(own ? own->range_bias : 0.0);
+    x.gamma = T(e.range_noise_growth_m);
+    x.q = T(e.smoke_obstacle_return);
+    x.d = T(m.dropout[size_t(o.b)]);
     return x;
 }
-template BeamTerms<double> baseTerms<double>(const Replay&, const Extensions&, const Obs&);
-template BeamTerms<J> baseTerms<J>(const Replay&, const Extensions&, const Obs&);
+template BeamTerms<double> baseTerms<double>(const Replay&, const ReplayModel&, const Obs&);
+template BeamTerms<J> baseTerms<J>(const Replay&, const ReplayModel&, const Obs&);
 
 namespace {
 
@@ -135,7 +91,7 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
     using std::log;
     const ReplayBeam& beam = r.beams[size_t(o.b)];
     if (!r.isPhysical()) {
-        x.ps = x.column > T(0.0) ? T(0.5) * erfc(-(log(x.column) - x.lnP) / x.width / T(M_SQRT2)) : T(0.0);
+        x.ps = extended::stopProbability(x.column, x.lnP, x.width);
         x.mu0 = T(beam.range_m);
         x.sd0 = T(beam.sigma_m > 0 ? beam.sigma_m : r.spec.rangeSigma(beam.range_m));
         return;
@@ -166,151 +122,61 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
 template void finishTerms<double>(const Replay&, const Obs&, BeamTerms<double>&);
 template void finishTerms<J>(const Replay&, const Obs&, BeamTerms<J>&);
 
-std::vector<double> Candidate::starts() const
-{
-    switch (cause) {
-    case Cause::ClockOffset: {  // the likelihood in an offset is rugged (one step per camera frame)
-        std::vector<double> t;
-        for (int i = -48; i <= 48; ++i) t.push_back(0.25 * i);
-        return t;
-    }
-    case Cause::SurfaceThreshold:
-        return {-0.7, -0.35, 0, 0.35, 0.7};
-    case Cause::ThresholdWidth:
-        return {std::log(0.05), std::log(0.1), std::log(0.2), std::log(0.4)};
-    case Cause::SurfaceRangeBias:
-        return {-20, -10, -5, 0, 5, 10, 20, 40};
-    case Cause::RangeNoiseGrowth:
-        return {0.5, 2, 5, 10};
-    case Cause::SmokeObstacleReturn:
-        return {-4, -2, -1, 0};
-    case Cause::SectorDropout:
-        return {-3, -1.5, 0, 1};
-    case Cause::Hysteresis:
-        return {-0.8, -0.4, 0, 0.4, 0.8};
-    }
-    return {theta_start};
-}
+const std::vector<double>& Candidate::starts() const { return causeRow(cause).starts; }
 
 std::string Candidate::target(const Replay& r) const
 {
-    switch (cause) {
-    case Cause::SurfaceThreshold:
-    case Cause::SurfaceRangeBias:
+    switch (causeRow(cause).target) {
+    case Target::Surface:
         return r.surface_names[size_t(surface)];
-    case Cause::SectorDropout:
+    case Target::Sector:
         return fmt("sector %.1f..%.1f deg", from_rad * 180 / M_PI, to_rad * 180 / M_PI);
-    default:
-        return "";
+    case Target::Global:
+        break;
     }
+    return "";
 }
 
 bool Candidate::touches(const Replay& r, int b) const
 {
     const ReplayBeam& beam = r.beams[size_t(b)];
     if (beam.surface < 0) return false;
-    switch (cause) {
-    case Cause::SurfaceThreshold:
-    case Cause::SurfaceRangeBias:
+    switch (causeRow(cause).target) {
+    case Target::Surface:
         return beam.surface == surface;
-    case Cause::SectorDropout:
+    case Target::Sector:
         return beam.angle_rad >= from_rad && beam.angle_rad <= to_rad;
-    default:
-        return true;
+    case Target::Global:
+        break;
     }
+    return true;
 }
 
-void Candidate::apply(const Replay& r, const Extensions& m, const Obs& o, const J& theta, BeamTerms<J>& x) const
+void Candidate::apply(const Replay& r, const ReplayModel& m, const Obs& o, const J& theta, BeamTerms<J>& x) const
 {
-    const ReplayBeam& beam = r.beams[size_t(o.b)];
-    const ReplayScan& scan = r.scans[size_t(o.k)];
-    switch (cause) {
-    case Cause::ClockOffset:
-        x.column = r.densityAt(J(scan.time_s + m.clock_offset_s) + theta) / J(r.density_ref) * J(beam.column_ref);
-        break;
-    case Cause::SurfaceThreshold:
-        x.lnP += theta;
-        break;
-    case Cause::ThresholdWidth: {
-        const J w = exp(theta);
-        x.width = sqrt(w * w + J(scan.ln_density_sd * scan.ln_density_sd));
-        break;
-    }
-    case Cause::SurfaceRangeBias:
-        x.beta += theta;
-        break;
-    case Cause::RangeNoiseGrowth:
-        // γ enters squared: added in quadrature to the model's own (θ alone when it has none, so
-        // that the derivative at θ = 0 stays finite).
-        x.gamma = m.noise_growth_m == 0 ? theta : sqrt(x.gamma * x.gamma + theta * theta);
-        break;
-    case Cause::SmokeObstacleReturn:
-        x.q = J(1.0) - (J(1.0) - x.q) * (J(1.0) - sigmoid(theta));
-        break;
-    case Cause::SectorDropout:
-        x.d = J(1.0) - (J(1.0) - x.d) * (J(1.0) - sigmoid(theta));
-        break;
-    case Cause::Hysteresis:
-        x.lnP += (scan.rising ? J(-0.5) : J(0.5)) * theta;
-        break;
-    }
+    causeRow(cause).apply(r, m, *this, o, theta, x);
 }
 
-void Candidate::commit(double theta, Extensions& m) const
+void Candidate::commit(const Replay& r, double theta, ReplayModel& m) const
 {
-    switch (cause) {
-    case Cause::ClockOffset:
-        m.clock_offset_s += theta;
-        break;
-    case Cause::SurfaceThreshold:
-        m.threshold_factor[surface] += theta;
-        break;
-    case Cause::ThresholdWidth:
-        m.width = std::exp(theta);
-        break;
-    case Cause::SurfaceRangeBias:
-        m.range_bias[surface] += theta;
-        break;
-    case Cause::RangeNoiseGrowth:
-        m.noise_growth_m = std::hypot(m.noise_growth_m, theta);
-        break;
-    case Cause::SmokeObstacleReturn:
-        m.obstacle_return = 1 - (1 - m.obstacle_return) * (1 - sigmoid(theta));
-        break;
-    case Cause::SectorDropout:
-        m.sectors.push_back({from_rad, to_rad, sigmoid(theta)});
-        break;
-    case Cause::Hysteresis:
-        m.hysteresis += theta;
-        break;
-    }
+    ModelExtensions e = m.ext;
+    causeRow(cause).commit(r, *this, theta, e);
+    m = ReplayModel(r, std::move(e));
+}
+
+bool Candidate::plausible(const Replay& r, double theta, const ReplayModel& m) const
+{
+    ModelExtensions e = m.ext;
+    causeRow(cause).commit(r, *this, theta, e);
+    return e.withinBounds();
 }
 
 std::vector<std::pair<std::string, Estimate>> Candidate::report(double theta, double se) const
 {
-    switch (cause) {
-    case Cause::ClockOffset:
-        return {{"offset_s", {theta, se}}};
-    case Cause::SurfaceThreshold:
-        return {{"ln_threshold_factor", {theta, se}}, {"threshold_factor", {std::exp(theta), std::exp(theta) * se}}};
-    case Cause::ThresholdWidth:
-        return {{"width_ln_column", {std::exp(theta), std::exp(theta) * se}}};
-    case Cause::SurfaceRangeBias:
-        return {{"bias_per_column_per_density_m", {theta, se}}};
-    case Cause::RangeNoiseGrowth:
-        return {{"noise_growth_m_per_density_m", {std::abs(theta), se}}};
-    case Cause::SmokeObstacleReturn:
-    case Cause::SectorDropout: {
-        const double p = sigmoid(theta);
-        return {{cause == Cause::SectorDropout ? "dropout" : "short_return_share", {p, p * (1 - p) * se}}};
-    }
-    case Cause::Hysteresis:
-        return {{"ln_threshold_falling_over_rising", {theta, se}}};
-    }
-    return {};
+    return causeRow(cause).report(theta, se);
 }
 
-J candidateLogLik(const Replay& r, const Extensions& m, const Candidate& c, const Obs& o, const J& theta)
+J candidateLogLik(const Replay& r, const ReplayModel& m, const Candidate& c, const Obs& o, const J& theta)
 {
     BeamTerms<J> x = baseTerms<J>(r, m, o);
     c.apply(r, m, o, theta, x);
@@ -319,7 +185,7 @@ J candidateLogLik(const Replay& r, const Extensions& m, const Candidate& c, cons
     return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.range_max_m);
 }
 
-double modelLogLik(const Replay& r, const Extensions& m, const Obs& o)
+double modelLogLik(const Replay& r, const ReplayModel& m, const Obs& o)
 {
     const ReplayBeam& beam = r.beams[size_t(o.b)];
     BeamTerms<double> x = baseTerms<double>(r, m, o);
@@ -327,15 +193,16 @@ double modelLogLik(const Replay& r, const Extensions& m, const Obs& o)
     return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.range_max_m);
 }
 
-Prediction modelPrediction(const Replay& r, const Extensions& m, const Obs& o)
+Prediction modelPrediction(const Replay& r, const ReplayModel& m, const Obs& o)
 {
     BeamTerms<double> x = baseTerms<double>(r, m, o);
     finishTerms(r, o, x);
-    const double err = 0.5 * kLapse + (1 - kLapse) * (x.d + (1 - x.d) * x.ps * (1 - x.q));
-    return {err, x.mu0 * (1 + x.beta * x.column), std::sqrt(x.sd0 * x.sd0 + x.gamma * x.gamma * x.column * x.column)};
+    const double err = 0.5 * kLapse + (1 - kLapse) * extended::errorShare(x.d, x.ps, x.q);
+    return {err, extended::rangeMean(x.mu0, x.beta, x.column),
+            std::sqrt(extended::rangeVariance(x.sd0, x.gamma, x.column))};
 }
 
-bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& from_rad, double& to_rad)
+bool findDropoutSector(const Replay& r, const ReplayModel& m, int fold, double& from_rad, double& to_rad)
 {
     const size_t B = r.beams.size();
     std::vector<int> clear(B, 0), errs(B, 0);
@@ -381,29 +248,6 @@ bool findDropoutSector(const Replay& r, const Extensions& m, int fold, double& f
     from_rad = std::min(a0, a1) - half;
     to_rad = std::max(a0, a1) + half;
     return true;
-}
-
-bool Candidate::plausible(double theta, const Extensions& m) const
-{
-    // The model's value once θ is committed, within a sensor file's bounds (sensor_tables.cpp).
-    switch (cause) {
-    case Cause::ClockOffset:
-        return std::abs(m.clock_offset_s + theta) <= 60;
-    case Cause::SurfaceThreshold:
-        return std::abs(valueOr<double>(m.threshold_factor, surface) + theta) <= 5;
-    case Cause::Hysteresis:
-        return std::abs(m.hysteresis + theta) <= 5;
-    case Cause::ThresholdWidth:
-        return theta <= std::log(5.0);
-    case Cause::SurfaceRangeBias:
-        return std::abs(valueOr<double>(m.range_bias, surface) + theta) <= 1e4;
-    case Cause::RangeNoiseGrowth:
-        return std::hypot(m.noise_growth_m, theta) <= 1e3;
-    case Cause::SmokeObstacleReturn:
-    case Cause::SectorDropout:
-        return true;
-    }
-    return false;
 }
 
 }  // namespace smokescan::detail

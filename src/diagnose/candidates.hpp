@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "replay_model.hpp"
 #include "smokescan/core/estimate.hpp"
 #include "smokescan/core/quadrature.hpp"
 #include "smokescan/diagnose/predictive.hpp"
@@ -15,7 +16,8 @@ namespace smokescan::detail {
 
 using J = ceres::Jet<double, 1>;
 
-/// The causes, in the order they are tried (their names are a public interface).
+/// The causes, in the order they are tried (their names are a public interface). Each is one row
+/// of the table in causes.cpp.
 enum class Cause {
     ClockOffset,
     SurfaceThreshold,
@@ -37,33 +39,33 @@ struct Obs {
     int k, b;
 };
 
-/// One candidate extension: a cause, its target, one parameter θ (null: today's model).
+/// One candidate extension: a cause and its target, one parameter θ (0 or −∞ in θ's own
+/// transform: today's model). What θ does is the cause's row of the table (causes.cpp).
 struct Candidate {
     Cause cause = Cause::ThresholdWidth;
     int surface = -1;  ///< SurfaceThreshold, SurfaceRangeBias
     double from_rad = 0, to_rad = 0;  ///< SectorDropout
-    double theta_null = 0, theta_start = 0;
 
     /// @brief Starting values to try (the fit starts from the best): the likelihood of a range
     /// bias or an offset is flat far from its optimum, where the outlier share takes the readings.
-    std::vector<double> starts() const;
+    const std::vector<double>& starts() const;
     std::string target(const Replay& r) const;
     /// @brief Whether the candidate changes beam b's prediction at all.
     bool touches(const Replay& r, int b) const;
     /// @brief The candidate's change to a beam's terms at parameter θ.
-    void apply(const Replay& r, const Extensions& model, const Obs& o, const J& theta, BeamTerms<J>& x) const;
+    void apply(const Replay& r, const ReplayModel& model, const Obs& o, const J& theta, BeamTerms<J>& x) const;
     /// @brief θ into the extension model (the accepted finding).
-    void commit(double theta, Extensions& model) const;
-    /// @brief Whether θ on top of `model` gives a value the cause can take (a sensor file's
-    /// bounds, sensor_tables.cpp): a fit beyond them is refused, not reported.
-    bool plausible(double theta, const Extensions& model) const;
+    void commit(const Replay& r, double theta, ReplayModel& model) const;
+    /// @brief Whether θ on top of `model` gives values the extensions can take (their bounds,
+    /// shared with a sensor file's): a fit beyond them is refused, not reported.
+    bool plausible(const Replay& r, double theta, const ReplayModel& model) const;
     /// @brief The reported parameters: θ and its standard error in the cause's own units.
     std::vector<std::pair<std::string, Estimate>> report(double theta, double se) const;
 };
 
 /// @brief The terms of today's model plus `model`'s extensions at observation o (no candidate).
 template <class T>
-BeamTerms<T> baseTerms(const Replay& r, const Extensions& model, const Obs& o);
+BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& model, const Obs& o);
 
 /// @brief The stop probability and noise-free range of observation o's terms (after any
 /// candidate's change): the paper model's Φ((ln C − ln P)/w) and L, or the physical model's
@@ -73,9 +75,9 @@ template <class T>
 void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x);
 
 /// @brief ln L of observation o with candidate c at θ.
-J candidateLogLik(const Replay& r, const Extensions& model, const Candidate& c, const Obs& o, const J& theta);
+J candidateLogLik(const Replay& r, const ReplayModel& model, const Candidate& c, const Obs& o, const J& theta);
 /// @brief ln L of observation o under `model` alone.
-double modelLogLik(const Replay& r, const Extensions& model, const Obs& o);
+double modelLogLik(const Replay& r, const ReplayModel& model, const Obs& o);
 /// What `model` predicts for one observation.
 struct Prediction {
     double p_err;  ///< P(error value)
@@ -83,7 +85,7 @@ struct Prediction {
     double sd_m;  ///< and its standard deviation [m]
 };
 /// @brief The prediction of observation o under `model`.
-Prediction modelPrediction(const Replay& r, const Extensions& model, const Obs& o);
+Prediction modelPrediction(const Replay& r, const ReplayModel& model, const Obs& o);
 
 /// @brief The sector where beams fail in clear air (error share > 15 % over ≥ 5 clear scans, the
 /// longest run of such beams with gaps of at most two, at least 2 beams and at most 60° wide),
@@ -91,6 +93,6 @@ Prediction modelPrediction(const Replay& r, const Extensions& model, const Obs& 
 /// Returns false when there is none.
 /// The widest sector a dropout is looked for in [rad].
 constexpr double kMaxSector_rad = 60 * M_PI / 180;
-bool findDropoutSector(const Replay& r, const Extensions& model, int fold, double& from_rad, double& to_rad);
+bool findDropoutSector(const Replay& r, const ReplayModel& model, int fold, double& from_rad, double& to_rad);
 
 }  // namespace smokescan::detail

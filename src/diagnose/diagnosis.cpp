@@ -18,6 +18,7 @@ using detail::Cause;
 using detail::fitCandidate;
 using detail::J;
 using detail::Obs;
+using detail::ReplayModel;
 using detail::signFlipP;
 using detail::ThetaFit;
 using detail::touched;
@@ -26,8 +27,11 @@ using detail::touched;
 /// f's blocks only (it predicts fold 1 − f): each round scores its candidates on top of the model
 /// of the fold it was fitted on, so no block's gain depends on a fit that saw it.
 struct Models {
-    Extensions all, fold[2];
-    explicit Models(const Extensions& prior) : all(prior), fold{prior, prior} {}
+    ReplayModel all, fold[2];
+    Models(const Replay& r, const ModelExtensions& prior)
+        : all(r, prior), fold{ReplayModel(r, prior), ReplayModel(r, prior)}
+    {
+    }
 };
 
 /// A candidate's cross-fitted held-out gains per block, with each fold's fit and target.
@@ -47,7 +51,7 @@ Scored scoreCandidate(const Replay& r, const Models& m, Candidate c, const Diagn
     s.block_gain.assign(size_t(r.blocks()), 0.0);
     for (int fold = 0; fold < 2; ++fold) {
         Candidate cf = c;
-        const Extensions& base = m.fold[fold];
+        const ReplayModel& base = m.fold[fold];
         s.fold_c[fold] = cf;
         if (c.cause == Cause::SectorDropout && !detail::findDropoutSector(r, base, fold, cf.from_rad, cf.to_rad))
             continue;
@@ -70,7 +74,7 @@ Scored scoreCandidate(const Replay& r, const Models& m, Candidate c, const Diagn
 }
 
 /// The round's candidates: every cause, each surface for the per-surface ones.
-std::vector<Candidate> candidates(const Replay& r, const Extensions& m, const DiagnosisConfig& cfg,
+std::vector<Candidate> candidates(const Replay& r, const ReplayModel& m, const DiagnosisConfig& cfg,
                                   const std::vector<Finding>& found)
 {
     auto taken = [&](const Candidate& c) {
@@ -85,17 +89,17 @@ std::vector<Candidate> candidates(const Replay& r, const Extensions& m, const Di
     auto add = [&](Candidate c) {
         if (!taken(c)) out.push_back(c);
     };
-    if (r.from_saturation) add({Cause::ClockOffset, -1, 0, 0, 0.0, 0.0});
+    if (r.from_saturation) add({Cause::ClockOffset});
     for (const auto& [s, n] : beams_on)
-        if (n >= cfg.min_beams) add({Cause::SurfaceThreshold, s, 0, 0, 0.0, 0.0});
-    add({Cause::ThresholdWidth, -1, 0, 0, std::log(m.width), std::log(std::max(m.width, 0.1))});
+        if (n >= cfg.min_beams) add({Cause::SurfaceThreshold, s});
+    add({Cause::ThresholdWidth});
     for (const auto& [s, n] : beams_on)
-        if (n >= cfg.min_beams) add({Cause::SurfaceRangeBias, s, 0, 0, 0.0, 0.0});
-    add({Cause::RangeNoiseGrowth, -1, 0, 0, 0.0, 1.0});
-    add({Cause::SmokeObstacleReturn, -1, 0, 0, -40.0, -3.0});
-    Candidate sector{Cause::SectorDropout, -1, 0, 0, -40.0, -2.0};
+        if (n >= cfg.min_beams) add({Cause::SurfaceRangeBias, s});
+    add({Cause::RangeNoiseGrowth});
+    add({Cause::SmokeObstacleReturn});
+    Candidate sector{Cause::SectorDropout};
     if (detail::findDropoutSector(r, m, -1, sector.from_rad, sector.to_rad)) add(sector);
-    add({Cause::Hysteresis, -1, 0, 0, 0.0, 0.0});
+    add({Cause::Hysteresis});
     return out;
 }
 
@@ -109,11 +113,11 @@ struct Accepted {
 
     /// Its θ into the models: the all-data fit, and each fold's own (a fold whose fit failed, or
     /// that found no sector, keeps its model: the all-data θ would carry the other fold's data).
-    void commit(Models& m) const
+    void commit(const Replay& r, Models& m) const
     {
-        s.c.commit(all.theta, m.all);
+        s.c.commit(r, all.theta, m.all);
         for (int fold = 0; fold < 2; ++fold)
-            if (s.fold_fit[fold].ok) s.fold_c[fold].commit(s.fold_fit[fold].theta, m.fold[fold]);
+            if (s.fold_fit[fold].ok) s.fold_c[fold].commit(r, s.fold_fit[fold].theta, m.fold[fold]);
     }
 };
 
@@ -127,7 +131,7 @@ Accepted accept(const Replay& r, const Models& m, const Scored& s, double level)
     a.f.target = s.c.target(r);
     a.f.parameters = s.c.report(a.all.theta, a.all.se);
     if (s.c.cause == Cause::ClockOffset)  // reported as the clocks' whole difference, not the change
-        a.f.parameters.front().second.value += r.offset_s + m.all.clock_offset_s;
+        a.f.parameters.front().second.value += m.all.ext.clock_offset_s;
     a.f.loglik_gain = s.gain;
     a.f.loglik_gain_per_beam = s.obs > 0 ? s.gain / double(s.obs) : 0.0;
     a.f.p_value = s.p;
@@ -136,7 +140,7 @@ Accepted accept(const Replay& r, const Models& m, const Scored& s, double level)
 }
 
 /// The figures with model m_f predicting the scans of fold f (held out from its fit).
-std::vector<ModelFigures> foldFigures(const Replay& r, const Extensions& m0, const Extensions& m1)
+std::vector<ModelFigures> foldFigures(const Replay& r, const ReplayModel& m0, const ReplayModel& m1)
 {
     std::map<std::string, ModelFigures> per;
     ModelFigures all;
@@ -164,7 +168,7 @@ std::vector<ModelFigures> foldFigures(const Replay& r, const Extensions& m0, con
         for (size_t b = 0; b < r.beams.size(); ++b) {
             if (r.beams[b].surface < 0) continue;
             const Obs o{int(k), int(b)};
-            const Extensions& m = r.scans[k].block % 2 == 0 ? m0 : m1;
+            const ReplayModel& m = r.scans[k].block % 2 == 0 ? m0 : m1;
             const double ll = detail::modelLogLik(r, m, o);
             const detail::Prediction pred = detail::modelPrediction(r, m, o);
             const double p_err = pred.p_err, mu = pred.mean_m;
@@ -194,7 +198,11 @@ std::vector<ModelFigures> foldFigures(const Replay& r, const Extensions& m0, con
 
 }  // namespace
 
-std::vector<ModelFigures> modelFigures(const Replay& r, const Extensions& m) { return foldFigures(r, m, m); }
+std::vector<ModelFigures> modelFigures(const Replay& r, const ModelExtensions& m)
+{
+    const ReplayModel model(r, m);
+    return foldFigures(r, model, model);
+}
 
 DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
 {
@@ -210,7 +218,7 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
     for (const auto& b : r.beams)
         if (b.surface >= 0) res.observations += (long long)r.scans.size();
     res.baseline = modelFigures(r, r.prior);
-    Models models(r.prior);
+    Models models(r, r.prior);
     std::vector<Accepted> acc;
     for (int round = 1; round <= cfg.max_findings; ++round) {
         const std::vector<Candidate> cands = candidates(r, models.all, cfg, res.findings);
@@ -240,7 +248,7 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
         if (!best) break;
         Accepted a = accept(r, models, *best, best_level);
         if (!a.all.ok) break;
-        a.commit(models);
+        a.commit(r, models);
         res.findings.push_back(a.f);
         acc.push_back(a);
     }
@@ -250,28 +258,28 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
     for (bool dropped = true; dropped && acc.size() > 1;) {
         dropped = false;
         for (size_t i = 0; i < acc.size() && !dropped; ++i) {
-            Models others(r.prior);
+            Models others(r, r.prior);
             for (size_t j = 0; j < acc.size(); ++j)
-                if (j != i) acc[j].commit(others);
+                if (j != i) acc[j].commit(r, others);
             const Scored s = scoreCandidate(r, others, acc[i].s.c, cfg);
             if (s.p < acc[i].level && s.obs > 0 && s.gain >= cfg.min_gain * double(s.obs)) continue;
             acc.erase(acc.begin() + long(i));
             dropped = true;
         }
         if (!dropped) break;
-        models = Models(r.prior);
+        models = Models(r, r.prior);
         res.findings.clear();
         std::vector<Accepted> kept;
         for (const Accepted& prev : acc) {
             Accepted a = accept(r, models, scoreCandidate(r, models, prev.s.c, cfg), prev.level);
             if (!a.all.ok) continue;  // a refit that fails drops the finding rather than commit a null θ
-            a.commit(models);
+            a.commit(r, models);
             res.findings.push_back(a.f);
             kept.push_back(a);
         }
         acc = kept;
     }
-    res.model = models.all;
+    res.model = models.all.ext;
     // Held out: fold f's scans predicted by the model fitted on the other fold.
     res.extended = foldFigures(r, models.fold[1], models.fold[0]);
     for (const auto& f : res.findings)

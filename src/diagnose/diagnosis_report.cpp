@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "candidates.hpp"
+#include "causes.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_file.hpp"
@@ -52,7 +53,7 @@ Covariate parseCovariate(const std::string& name)
 }
 
 /// The covariate's bin label of observation (k, b), and a sort key.
-std::pair<std::string, double> binOf(const Replay& r, const Extensions& m, Covariate cov, size_t k, size_t b)
+std::pair<std::string, double> binOf(const Replay& r, const detail::ReplayModel& m, Covariate cov, size_t k, size_t b)
 {
     const ReplayBeam& beam = r.beams[b];
     const ReplayScan& scan = r.scans[k];
@@ -85,21 +86,7 @@ std::pair<std::string, double> binOf(const Replay& r, const Extensions& m, Covar
     return {"", 0.0};
 }
 
-/// How a cause shows in the residuals: the covariate that names it, and the residual to plot.
-enum class Shown { ErrorShare, RangeMean, RangeSpread };
-struct CauseView {
-    const char* covariate;
-    Shown shown;
-};
-CauseView viewOf(const std::string& cause)
-{
-    if (cause == "clock_offset") return {"time_s", Shown::ErrorShare};
-    if (cause == "surface_range_bias") return {"column", Shown::RangeMean};
-    if (cause == "range_noise_growth") return {"column", Shown::RangeSpread};
-    if (cause == "sector_dropout") return {"beam_angle_deg", Shown::ErrorShare};
-    if (cause == "hysteresis") return {"smoke_trend", Shown::ErrorShare};
-    return {"column", Shown::ErrorShare};  // surface_threshold, threshold_width, smoke_obstacle_return
-}
+using detail::Shown;
 
 double shownValue(const ResidualRow& row, Shown s)
 {
@@ -191,9 +178,11 @@ int surfaceIndex(const Replay& r, const std::string& name)
 
 }  // namespace
 
-std::vector<ResidualRow> residualsBy(const Replay& r, const Extensions& m, const std::string& covariate, int surface)
+std::vector<ResidualRow> residualsBy(const Replay& r, const ModelExtensions& model, const std::string& covariate,
+                                     int surface)
 {
     const Covariate cov = parseCovariate(covariate);
+    const detail::ReplayModel m(r, model), prior(r, r.prior);
     struct Sums {
         ResidualRow row;
         long long ranges = 0;
@@ -203,7 +192,7 @@ std::vector<ResidualRow> residualsBy(const Replay& r, const Extensions& m, const
     for (size_t k = 0; k < r.scans.size(); ++k)
         for (size_t b = 0; b < r.beams.size(); ++b) {
             if (r.beams[b].surface < 0 || (surface >= 0 && r.beams[b].surface != surface)) continue;
-            const auto [label, key] = binOf(r, r.prior, cov, k, b);  // the same bins for every model
+            const auto [label, key] = binOf(r, prior, cov, k, b);  // the same bins for every model
             Sums& s = rows[{key, label}];
             s.row.bin = label;
             const detail::Prediction p = detail::modelPrediction(r, m, {int(k), int(b)});
@@ -294,7 +283,7 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
     }
     for (size_t i = 0; i < r.findings.size(); ++i) {
         const Finding& fd = r.findings[i];
-        const CauseView v = viewOf(fd.cause);
+        const detail::CauseRow& v = *detail::causeRow(fd.cause);  // a finding's cause is one of the table's
         const int surface = fd.target.empty() ? -1 : surfaceIndex(replay, fd.target);
         const auto before = residualsBy(replay, replay.prior, v.covariate, surface);
         const auto after = residualsBy(replay, r.model, v.covariate, surface);

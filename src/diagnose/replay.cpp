@@ -1,5 +1,7 @@
 #include "smokescan/diagnose/replay.hpp"
 
+#include "replay_model.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -277,6 +279,16 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
     return r;
 }
 
+/// The sensor file's extensions as the model diagnosed, with the clock offset the replay
+/// assumes. @throw Error for a surface the scene lacks.
+ModelExtensions priorOf(const Replay& r, const ModelExtensions& e)
+{
+    ModelExtensions m = e;
+    m.clock_offset_s = r.offset_s;
+    (void)detail::ReplayModel(r, m);  // refuses a surface the scene does not have
+    return m;
+}
+
 }  // namespace
 
 Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
@@ -288,7 +300,7 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
     r.offset_s = cfg.offset_s;
     checkBeams(in.log, r.spec, in.mount.name);
     for (const auto& s : in.scene->surfaces) r.surface_names.push_back(s.name);
-    r.prior = replayExtensions(r, config.extensions);
+    r.prior = priorOf(r, config.extensions);
     // Beams: what each one hits.
     std::vector<Ray> rays;
     for (int i = 0; i < r.spec.n_beams; ++i) {
@@ -320,7 +332,7 @@ Replay replayOmniRun(const OmniFitInputs& o, const OmniSensorFile& file, const R
     r.offset_s = cfg.offset_s;
     const Scene& scene = *o.in.scene;
     for (const auto& s : scene.surfaces) r.surface_names.push_back(s.name);
-    r.prior = replayExtensions(r, config.extensions);
+    r.prior = priorOf(r, config.extensions);
     const std::vector<double>& angle = o.in.log.scans.front().angle_rad;
     double unwrapped = angle.front();  // bearings on from the first: a sector may span ±180°
     for (size_t i = 0; i < angle.size(); ++i) {
@@ -338,41 +350,6 @@ Replay replayOmniRun(const OmniFitInputs& o, const OmniSensorFile& file, const R
     return replayScans(o.in, std::move(r), o.sight, cfg, [&o, n](size_t k, size_t b, double m) {
         return o.outcome[k * n + b] == ReadingOutcome::Long ? NAN : float(m);
     });
-}
-
-Extensions replayExtensions(const Replay& r, const ModelExtensions& e)
-{
-    Extensions m;
-    m.width = e.threshold_width;
-    m.noise_growth_m = e.range_noise_growth_m;
-    m.obstacle_return = e.smoke_obstacle_return;
-    m.hysteresis = e.hysteresis;
-    for (const auto& [name, x] : e.surfaces) {
-        const auto it = std::find(r.surface_names.begin(), r.surface_names.end(), name);
-        if (it == r.surface_names.end())
-            throw Error(r.config.sensor_file.empty() ? std::string("sensor") : r.config.sensor_file,
-                        "[extensions] name surface '" + name + "', which the scene does not have");
-        const int s = int(it - r.surface_names.begin());
-        if (x.threshold_factor != 0) m.threshold_factor[s] = x.threshold_factor;
-        if (x.range_bias != 0) m.range_bias[s] = x.range_bias;
-    }
-    for (const SectorExtension& x : e.sectors)
-        m.sectors.push_back({x.from_deg * M_PI / 180, x.to_deg * M_PI / 180, x.dropout});
-    return m;
-}
-
-ModelExtensions sensorExtensions(const Replay& r, const Extensions& m)
-{
-    ModelExtensions e;
-    e.clock_offset_s = r.offset_s + m.clock_offset_s;
-    e.threshold_width = m.width;
-    e.range_noise_growth_m = m.noise_growth_m;
-    e.smoke_obstacle_return = m.obstacle_return;
-    e.hysteresis = m.hysteresis;
-    for (const auto& [s, f] : m.threshold_factor) e.surfaces[r.surface_names[size_t(s)]].threshold_factor = f;
-    for (const auto& [s, b] : m.range_bias) e.surfaces[r.surface_names[size_t(s)]].range_bias = b;
-    for (const auto& x : m.sectors) e.sectors.push_back({x.from_rad * 180 / M_PI, x.to_rad * 180 / M_PI, x.dropout});
-    return e;
 }
 
 }  // namespace smokescan

@@ -81,39 +81,36 @@ void writePaperTable(std::ostream& o, const PaperModelConfig& p)
 
 void readExtensionsTable(TomlTable t, ModelExtensions& e)
 {
+    namespace eb = extension_bounds;  // shared with the diagnosis (diagnose/causes.cpp)
     e = ModelExtensions{};  // a learned model is one whole: the section replaces any earlier one
-    // Bounds: what a diagnosis can report (diagnose/candidates.cpp, Candidate::plausible).
-    e.clock_offset_s = t.num("clock_offset_s", e.clock_offset_s);
-    if (std::abs(e.clock_offset_s) > 1e5) t.error("clock_offset_s", "must lie in -1e5…1e5 s");
-    e.threshold_width = t.positive("threshold_width", e.threshold_width);
-    if (e.threshold_width > 5) t.error("threshold_width", "must be <= 5 (ln column)");
-    e.range_noise_growth_m = t.nonneg("range_noise_growth_m", e.range_noise_growth_m);
-    if (e.range_noise_growth_m > 1e3) t.error("range_noise_growth_m", "must be <= 1000 m per density·m");
-    e.smoke_obstacle_return = t.nonneg("smoke_obstacle_return", e.smoke_obstacle_return);
-    if (e.smoke_obstacle_return > 1) t.error("smoke_obstacle_return", "must be a share in [0, 1]");
-    e.hysteresis = t.num("hysteresis", e.hysteresis);
-    if (std::abs(e.hysteresis) > 10) t.error("hysteresis", "must lie in -10…10 (ln of a factor)");
+    auto read = [](TomlTable& tt, const char* key, double def, ExtensionBound bound) {
+        return tt.between(key, def, bound.lo, bound.hi);
+    };
+    auto required = [&read](TomlTable& tt, const char* key, ExtensionBound bound) {
+        tt.numReq(key);  // names a missing key
+        return read(tt, key, 0.0, bound);
+    };
+    e.clock_offset_s = read(t, "clock_offset_s", e.clock_offset_s, eb::kClockOffset_s);
+    e.threshold_width = read(t, "threshold_width", e.threshold_width, eb::kThresholdWidth);
+    e.range_noise_growth_m = read(t, "range_noise_growth_m", e.range_noise_growth_m, eb::kNoiseGrowth_m);
+    e.smoke_obstacle_return = read(t, "smoke_obstacle_return", e.smoke_obstacle_return, eb::kShare);
+    e.hysteresis = read(t, "hysteresis", e.hysteresis, eb::kLnFactor);
     for (TomlTable s : t.tables("surface")) {
         const std::string name = s.strReq("name");
         if (name.empty()) s.error("name", "must not be empty");
         if (e.surfaces.count(name)) s.error("name", "'" + name + "' appears twice");
         SurfaceExtension x;
-        x.threshold_factor = s.num("threshold_factor", 0.0);
-        x.range_bias = s.num("range_bias", 0.0);
-        if (std::abs(x.threshold_factor) > 10) s.error("threshold_factor", "must lie in -10…10 (ln of a factor)");
-        if (std::abs(x.range_bias) > 1e4) s.error("range_bias", "must lie in -1e4…1e4 per density·m");
+        x.threshold_factor = read(s, "threshold_factor", 0.0, eb::kLnFactor);
+        x.range_bias = read(s, "range_bias", 0.0, eb::kRangeBias);
         s.finish();
         e.surfaces[name] = x;
     }
     for (TomlTable s : t.tables("sector")) {
         SectorExtension x;
-        x.from_deg = s.numReq("from_deg");
-        x.to_deg = s.numReq("to_deg");
-        x.dropout = s.numReq("dropout");
-        if (!(x.dropout >= 0)) s.error("dropout", "must be a probability in [0, 1]");
+        x.from_deg = required(s, "from_deg", eb::kSectorAngle_deg);
+        x.to_deg = required(s, "to_deg", eb::kSectorAngle_deg);
+        x.dropout = required(s, "dropout", eb::kShare);
         if (!(x.to_deg >= x.from_deg)) s.error("to_deg", "must not be below from_deg");
-        if (std::abs(x.from_deg) > 360 || std::abs(x.to_deg) > 360) s.error("from_deg", "angles must lie in -360…360");
-        if (x.dropout > 1) s.error("dropout", "must be a probability in [0, 1]");
         s.finish();
         e.sectors.push_back(x);
     }

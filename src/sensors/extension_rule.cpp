@@ -14,20 +14,15 @@ namespace smokescan {
 
 BeamExtension extensionOf(const ModelExtensions& e, const BeamWorld& w, const LaserBeam& beam, const SurfaceHit& hit)
 {
-    BeamExtension x;
-    double keep = 1;
-    const double deg = beam.angle_rad * 180 / M_PI;
-    for (const SectorExtension& s : e.sectors)
-        if (deg >= s.from_deg && deg <= s.to_deg) keep *= 1 - s.dropout;
-    x.dropout = 1 - keep;
-    x.threshold_shift = (w.smoke_rising ? -0.5 : 0.5) * e.hysteresis;
+    const SurfaceExtension* own = nullptr;
     if (hit.surface >= 0 && !e.surfaces.empty()) {
         const auto it = e.surfaces.find(w.scene.surfaces[size_t(hit.surface)].name);
-        if (it != e.surfaces.end()) {
-            x.threshold_shift += it->second.threshold_factor;
-            x.range_bias = it->second.range_bias;
-        }
+        if (it != e.surfaces.end()) own = &it->second;
     }
+    BeamExtension x;
+    x.dropout = e.dropoutAt(beam.angle_rad * 180 / M_PI);
+    x.threshold_shift = e.thresholdShift(own, w.smoke_rising);
+    x.range_bias = own ? own->range_bias : 0.0;
     return x;
 }
 
@@ -77,7 +72,7 @@ BeamResult PhysicalBeamModel::readExtended(const BeamWorld& w, const LaserBeam& 
         return reportRange(spec(), std::max(u_short * L, spec().range_min_m), 0.0, r);
     }
     const double measured =
-        double(r.value) * spec().unit_m * (1 + x.range_bias * C) + e.range_noise_growth_m * C * noise;
+        extended::rangeMean(double(r.value) * spec().unit_m, x.range_bias, C) + e.range_noise_growth_m * C * noise;
     r.value = std::llround(std::max(measured, spec().range_min_m) / spec().unit_m);
     if (spec().isErrorValue(r.value)) return markError(r, spec().no_return_code, "out_of_range");
     return r;
@@ -95,7 +90,7 @@ double PhysicalBeamModel::errorProbabilityExtended(const BeamWorld& w, const Las
         const SmokeField scaled = w.field.scaledRegional(std::exp(-x.threshold_shift + e.threshold_width * z[i]));
         p += errorProbabilityPlain(BeamWorld{w.scene, w.surfaces, scaled, w.smoke_rising}, beam.ray) / kNormalNodes;
     }
-    return x.dropout + (1 - x.dropout) * p * (1 - e.smoke_obstacle_return);
+    return extended::errorShare(x.dropout, p, e.smoke_obstacle_return);
 }
 
 }  // namespace smokescan

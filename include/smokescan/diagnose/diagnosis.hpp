@@ -78,7 +78,7 @@ struct DiagnosisResult {
     std::vector<ModelFigures> baseline, extended;  ///< [0] = all surfaces, then per surface
     std::vector<Finding> findings;
     std::vector<Tried> tried;
-    Extensions model;  ///< the extended model (today's + the findings)
+    ModelExtensions model;  ///< the extended model (today's + the findings), as a sensor file keeps it
     std::string verdict;  ///< "none" or the causes found, comma separated
     int blocks = 0;
     long long observations = 0;
@@ -89,6 +89,6 @@ struct DiagnosisResult {
 DiagnosisResult diagnose(const Replay& replay, const DiagnosisConfig& cfg = {});
 
 /// @brief The figures of a model on the run (in-sample), all surfaces then each.
-std::vector<ModelFigures> modelFigures(const Replay& replay, const Extensions& model);
+std::vector<ModelFigures> modelFigures(const Replay& replay, const ModelExtensions& model);
 
 }  // namespace smokescan

@@ -38,7 +38,7 @@ struct ResidualRow {
 /// "beam_angle_deg", "column", "saturation", "smoke_trend" or "time_s".
 /// @param surface only the beams on this surface index (−1: all)
 /// @throw Error for an unknown covariate name.
-std::vector<ResidualRow> residualsBy(const Replay& replay, const Extensions& model, const std::string& covariate,
+std::vector<ResidualRow> residualsBy(const Replay& replay, const ModelExtensions& model, const std::string& covariate,
                                      int surface = -1);
 
 }  // namespace smokescan

@@ -20,6 +20,9 @@
 ///     probability η = 1e-3: no recorded value has probability zero, and no single beam costs
 ///     more than about 9 nats. These two are fixed, not fitted.
 ///
+/// The parameters are a sensor file's extensions (ModelExtensions, sensor_config/extensions.hpp),
+/// whose formulas (namespace extended) the simulation shares:
+///
 /// | parameter        | null (today's model) | unit          | extension                          |
 /// |------------------|----------------------|---------------|------------------------------------|
 /// | clock_offset_s   | 0                    | s             | clock_offset                        |
@@ -31,8 +34,6 @@
 /// | d                | 0 per sector         | –             | sector_dropout                      |
 /// | h                | 0                    | –             | hysteresis: ln P(falling) − ln P(rising) |
 #include <cmath>
-#include <map>
-#include <vector>
 
 #include "smokescan/sensor_config/extensions.hpp"
 
@@ -40,21 +41,6 @@ namespace smokescan {
 
 constexpr double kLapse = 1e-3;  ///< ε
 constexpr double kOutlier = 1e-3;  ///< η
-
-/// The extensions' parameters; default-constructed: today's model.
-struct Extensions {
-    double clock_offset_s = 0;
-    std::map<int, double> threshold_factor;  ///< surface index → ln(P_surface / P)
-    double width = kBaseWidth;
-    std::map<int, double> range_bias;  ///< surface index → β [1/(density·m)]
-    double noise_growth_m = 0;  ///< γ [m per density·m]
-    double obstacle_return = 0;  ///< q
-    struct Sector {
-        double from_rad = 0, to_rad = 0, dropout = 0;
-    };
-    std::vector<Sector> sectors;
-    double hysteresis = 0;  ///< h
-};
 
 /// One beam's terms of the predictive distribution; T a double or a Ceres Jet.
 template <class T>
@@ -83,11 +69,11 @@ T logLikelihood(const BeamTerms<T>& x, double recorded_m, double L_m, double rma
     const T& ps = x.ps;
     const T stop = x.d + (T(1.0) - x.d) * ps;  // P(no surface reading)
     if (std::isnan(recorded_m)) {
-        const T err = x.d + (T(1.0) - x.d) * ps * (T(1.0) - x.q);
+        const T err = extended::errorShare(x.d, ps, x.q);
         return log(T(0.5 * kLapse) + T(1.0 - kLapse) * err);
     }
-    const T mu = x.mu0 * (T(1.0) + x.beta * x.column);
-    const T var = x.sd0 * x.sd0 + x.gamma * x.gamma * x.column * x.column;
+    const T mu = extended::rangeMean(x.mu0, x.beta, x.column);
+    const T var = extended::rangeVariance(x.sd0, x.gamma, x.column);
     const T r = T(recorded_m) - mu;
     const T normal = exp(-r * r / (T(2.0) * var)) / sqrt(T(2.0 * M_PI) * var);
     const T surface = (T(1.0) - stop) * (T(1.0 - kOutlier) * normal + T(kOutlier / rmax_m));

@@ -74,7 +74,9 @@ struct Replay {
     double saturation_noise = 0;  ///< the smoothed saturation's noise σ
     double frame_s = 1;  ///< the camera's median frame interval [s]
     double offset_s = 0;  ///< the camera clock − laser clock the replay assumed [s]
-    Extensions prior;  ///< the config's extensions (its sensor file's): the model diagnosed
+    /// The model diagnosed: the config's extensions (its sensor file's), with offset_s as their
+    /// clock offset.
+    ModelExtensions prior;
     bool from_saturation = true;
     std::vector<std::vector<float>> column;  ///< without saturation: traced columns [scan][beam]
 
@@ -116,13 +118,6 @@ Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayCo
 struct OmniFitInputs;
 struct OmniSensorFile;
 Replay replayOmniRun(const OmniFitInputs& o, const OmniSensorFile& file, const ReplayConfig& cfg);
-
-/// @brief A sensor file's extensions on the replay's surfaces and beam angles (the clock offset
-/// stays out: the replay's offset_s holds it). @throw Error for a surface the scene lacks.
-Extensions replayExtensions(const Replay& r, const ModelExtensions& e);
-/// @brief The extensions in a sensor file's form: surfaces by name, sectors in degrees, the clock
-/// offset the replay assumed plus the model's.
-ModelExtensions sensorExtensions(const Replay& r, const Extensions& m);
 
 template <class T>
 T Replay::densityAt(const T& t) const

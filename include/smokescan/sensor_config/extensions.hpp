@@ -22,6 +22,7 @@
 /// | hysteresis                 | 0       | –             | ln P(falling) − ln P(rising)               |
 /// | [[extensions.surface]] name, threshold_factor, range_bias | 0, 0 | –, 1/(density·m) | ln(P_surface/P) and β of a named surface |
 /// | [[extensions.sector]] from_deg, to_deg, dropout | – | deg, deg, – | beams at angles in [from, to] fail with probability d |
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -30,6 +31,23 @@ namespace smokescan {
 
 /// The width of the paper model's step in ln(column) when extended: a 2 % blur, a step for the data.
 constexpr double kBaseWidth = 0.02;
+
+/// The values an extension can take: a sensor file's reader refuses values outside them
+/// (sensor_tables.cpp) and the diagnosis refuses to report a fit beyond them
+/// (diagnose/causes.cpp), so that every finding can be written and simulated.
+struct ExtensionBound {
+    double lo, hi;
+    bool contains(double v) const { return v >= lo && v <= hi; }
+};
+namespace extension_bounds {
+constexpr ExtensionBound kClockOffset_s{-1e5, 1e5};
+constexpr ExtensionBound kThresholdWidth{1e-9, 5};  ///< ln(column)
+constexpr ExtensionBound kNoiseGrowth_m{0, 1e3};  ///< m per density·m
+constexpr ExtensionBound kShare{0, 1};  ///< smoke_obstacle_return, a sector's dropout
+constexpr ExtensionBound kLnFactor{-10, 10};  ///< hysteresis, a surface's threshold_factor
+constexpr ExtensionBound kRangeBias{-1e4, 1e4};  ///< 1/(density·m)
+constexpr ExtensionBound kSectorAngle_deg{-360, 360};
+}  // namespace extension_bounds
 
 /// One surface's extensions.
 struct SurfaceExtension {
@@ -41,9 +59,19 @@ struct SurfaceExtension {
 struct SectorExtension {
     double from_deg = 0, to_deg = 0;  ///< beam angles in the sensor's convention [deg]
     double dropout = 0;  ///< probability that a beam in the sector fails
+
+    /// @brief Whether a beam at `angle_deg` lies in the sector, on the circle: a sector of the
+    /// omnicam's may be given anywhere round it (300…360° or −60…0°); a laser's sectors lie within
+    /// its field, where this is the plain interval.
+    bool contains(double angle_deg) const
+    {
+        const double from_start = angle_deg - from_deg - 360 * std::floor((angle_deg - from_deg) / 360);
+        return from_start <= to_deg - from_deg + 1e-10;
+    }
 };
 
-/// The learned extensions of a sensor's paper model.
+/// The learned extensions of a sensor's paper model: what `scan` simulates, what a sensor file
+/// keeps and what the diagnosis fits (its model, a finding at a time).
 struct ModelExtensions {
     double clock_offset_s = 0;
     double threshold_width = kBaseWidth;
@@ -59,6 +87,48 @@ struct ModelExtensions {
         return threshold_width != kBaseWidth || range_noise_growth_m != 0 || smoke_obstacle_return != 0 ||
             hysteresis != 0 || !surfaces.empty() || !sectors.empty();
     }
+    /// @brief Whether every value lies within its bound (extension_bounds).
+    bool withinBounds() const;
+    /// @brief The probability that a beam at `angle_deg` drops out: its sectors' together.
+    double dropoutAt(double angle_deg) const;
+    /// @brief ln(P'/P), the threshold's shift on a surface (null: none of its own) while the
+    /// smoke rises or not: the surface's factor and the hysteresis' half, − while it rises.
+    double thresholdShift(const SurfaceExtension* surface, bool rising) const
+    {
+        return (surface ? surface->threshold_factor : 0.0) + (rising ? -0.5 : 0.5) * hysteresis;
+    }
 };
+
+/// The extensions' effect on one beam, written once for the simulation (sensors) and the
+/// diagnosis's likelihood (diagnose/predictive.hpp); T a double or a Ceres Jet.
+namespace extended {
+/// @brief P(the smoke stops the beam) at column C under the paper model's threshold ln P' and
+/// onset width w: Φ((ln C − ln P')/w).
+template <class T>
+T stopProbability(const T& column, const T& lnP, const T& width)
+{
+    using std::erfc;
+    using std::log;
+    return column > T(0.0) ? T(0.5) * erfc(-(log(column) - lnP) / width / T(M_SQRT2)) : T(0.0);
+}
+/// @brief P(error value): the dropout d, else the smoke's stop p_s unless it reads short (q).
+template <class T>
+T errorShare(const T& d, const T& stop, const T& q)
+{
+    return d + (T(1.0) - d) * stop * (T(1.0) - q);
+}
+/// @brief The surface reading's mean [m]: L·(1 + β·C).
+template <class T>
+T rangeMean(const T& L_m, const T& beta, const T& column)
+{
+    return L_m * (T(1.0) + beta * column);
+}
+/// @brief Its variance [m²]: σ₀² + (γ·C)².
+template <class T>
+T rangeVariance(const T& sd0_m, const T& gamma, const T& column)
+{
+    return sd0_m * sd0_m + gamma * gamma * column * column;
+}
+}  // namespace extended
 
 }  // namespace smokescan

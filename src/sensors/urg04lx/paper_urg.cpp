@@ -21,16 +21,6 @@ BeamResult paperUrgBeam(const LrfSpec& spec, const PaperModelConfig& cfg, const 
     return reportRange(spec, hit.endOr(kInf), noise, r);
 }
 
-namespace {
-
-/// The probability that the smoke stops a beam at column C: Φ((ln C − ln P')/w).
-double stopProbability(double column, double lnP, double width)
-{
-    return column > 0 ? 0.5 * std::erfc(-(std::log(column) - lnP) / width / M_SQRT2) : 0.0;
-}
-
-}  // namespace
-
 BeamResult PaperUrgModel::rule(const BeamWorld& w, const LaserBeam& beam, const SurfaceHit& hit, const BeamSmoke& smoke,
                                const PaperDraws& d) const
 {
@@ -53,8 +43,8 @@ BeamResult PaperUrgModel::rule(const BeamWorld& w, const LaserBeam& beam, const 
     // The surface's range with its bias and the noise grown with the smoke; the window is the true
     // range's, as the plain model's (reportRange), so extensions do not move the range limits.
     if (reportRange(spec(), L, 0.0, r).error) return r;
-    const double sigma0 = spec().rangeSigma(L), grown = e.range_noise_growth_m * C;
-    const double measured = L * (1 + x.range_bias * C) + std::sqrt(sigma0 * sigma0 + grown * grown) * d.noise;
+    const double sd = std::sqrt(extended::rangeVariance(spec().rangeSigma(L), e.range_noise_growth_m, C));
+    const double measured = extended::rangeMean(L, x.range_bias, C) + sd * d.noise;
     r.value = std::llround(std::max(measured, spec().range_min_m) / spec().unit_m);
     if (spec().isErrorValue(r.value)) return markError(r, spec().no_return_code, "out_of_range");
     return r;
@@ -67,8 +57,8 @@ double PaperUrgModel::ruleErrorProbability(const BeamWorld& w, const LaserBeam& 
     if (std::isfinite(r.smoke.first_local_m) || r.hit.surface < 0) return 1.0;
     const BeamExtension x = extensionOf(e, w, beam, r.hit);
     const double lnP = std::log(config().paper.penetration_power) + x.threshold_shift;
-    const double ps = stopProbability(r.smoke.column_regional, lnP, e.threshold_width);
-    return x.dropout + (1 - x.dropout) * ps * (1 - e.smoke_obstacle_return);
+    const double ps = extended::stopProbability(r.smoke.column_regional, lnP, e.threshold_width);
+    return extended::errorShare(x.dropout, ps, e.smoke_obstacle_return);
 }
 
 }  // namespace smokescan

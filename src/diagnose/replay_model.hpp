@@ -1,0 +1,24 @@
+#pragma once
+// Internal: a model of the diagnosis on its replay.
+#include <vector>
+
+#include "smokescan/diagnose/replay.hpp"
+#include "smokescan/sensor_config/extensions.hpp"
+
+namespace smokescan::detail {
+
+/// A sensor's extensions (ModelExtensions, the one form a model has) resolved on the replay for
+/// the likelihood's inner loop: its surfaces' by surface index, its sectors' dropout by beam, and
+/// its clock offset as the change to the one the replay assumed. Built again after each change.
+struct ReplayModel {
+    ModelExtensions ext;
+    std::vector<SurfaceExtension> surface;  ///< by surface index (zeros: none of its own)
+    std::vector<double> dropout;  ///< by beam
+    double offset_change_s = 0;  ///< ext.clock_offset_s − the replay's offset_s
+
+    /// @brief Resolves `e` on the replay. @throw Error naming the sensor file for a surface the
+    /// scene lacks.
+    ReplayModel(const Replay& r, ModelExtensions e);
+};
+
+}  // namespace smokescan::detail
