@@ -1,6 +1,6 @@
 #pragma once
 // Planting effects in simulated recorded runs, through each effect's own mechanism (not the
-// diagnosis' fit forms): a BOCAS run is simulated with the paper model, every beam's true column
+// diagnosis' fit forms): a run (BOCAS, or a drawn room: random_room.hpp) is simulated with the paper model, every beam's true column
 // and surface kept, then the log is rewritten beam by beam — ranges scaled by the smoke column,
 // errors drawn from a shifted threshold, a sector failing, short returns, noise growing, a
 // hysteresis in the onset — and the camera's clock shifted.
@@ -21,36 +21,41 @@
 
 namespace smokescan::test {
 
-/// The built-in BOCAS room, its camera prediction and calibration (loaded once).
-struct BocasWorld {
-    Scene scene = loadScene("bocas");
+/// A room, its camera prediction and the calibration its camera's saturation goes through (the
+/// built-in BOCAS curve: a drawn room's saturation series is simulated through the same curve).
+struct World {
+    Scene scene;
     SurfaceSet surfaces{scene};
     CurveFitResult calib = readCalibrationJson("bocas");
     SaturationPredictor predictor{scene, surfaces, calib.curve};
+    std::string laser = "hokuyo";  ///< the URG's name in the scene
+    explicit World(Scene s) : scene(std::move(s)) {}
+    World(const World&) = delete;
 };
 
-inline BocasWorld& bocasWorld()
+/// The built-in BOCAS room (loaded once).
+inline World& bocasWorld()
 {
-    static BocasWorld w;
+    static World w(loadScene("bocas"));
     return w;
 }
 
-/// A simulated run: the scans with every beam's truth, the camera's saturation series.
+/// A simulated run: the scans with every beam's truth, the camera's saturation series, its room.
 struct TrueRun {
     std::vector<Scan> scans;
     LrfSpec spec;
     SaturationSeries sat;
+    const World* world = nullptr;
 };
 
-/// @brief The BOCAS run of the URG-04LX (paper model) from 0 to `to_s` at rate_hz, saturation at
-/// 5 Hz with noise sigma_S; the camera's clock runs `camera_offset_s` ahead of the laser's;
-/// `sensor_file` applied to the URG (its extensions simulated).
-inline TrueRun simulateBocas(uint64_t seed, double to_s = 360, double rate_hz = 1, double sigma_S = 0.01,
-                             double camera_offset_s = 0, const std::string& sensor_file = "")
+/// @brief A run of the room's URG (its scene model unless `sensor_file` says otherwise) from 0 to
+/// `to_s` at rate_hz, saturation at 5 Hz with noise sigma_S; the camera's clock runs
+/// `camera_offset_s` ahead of the laser's.
+inline TrueRun simulateRun(const World& w, uint64_t seed, double to_s, double rate_hz = 1, double sigma_S = 0.01,
+                           double camera_offset_s = 0, const std::string& sensor_file = "")
 {
-    BocasWorld& w = bocasWorld();
     ScanConfig sc;
-    sc.sensor = "hokuyo";
+    sc.sensor = w.laser;
     sc.from_s = 0;
     sc.to_s = to_s;
     sc.rate_hz = rate_hz;
@@ -58,6 +63,7 @@ inline TrueRun simulateBocas(uint64_t seed, double to_s = 360, double rate_hz = 
     sc.sensor_file = sensor_file;
     const Scanner scanner(w.scene, w.surfaces, sc);
     TrueRun r;
+    r.world = &w;
     r.spec = scanner.spec();
     const auto times = scanner.times();
     for (size_t k = 0; k < times.size(); ++k) r.scans.push_back(scanner.scanAt(times[k], k));
@@ -70,6 +76,13 @@ inline TrueRun simulateBocas(uint64_t seed, double to_s = 360, double rate_hz = 
     ss.seed = seed + 7777;
     r.sat = simulateSaturation(w.scene, w.predictor, ss);
     return r;
+}
+
+/// @brief The BOCAS run of the URG-04LX (paper model) from 0 to `to_s` (simulateRun).
+inline TrueRun simulateBocas(uint64_t seed, double to_s = 360, double rate_hz = 1, double sigma_S = 0.01,
+                             double camera_offset_s = 0, const std::string& sensor_file = "")
+{
+    return simulateRun(bocasWorld(), seed, to_s, rate_hz, sigma_S, camera_offset_s, sensor_file);
 }
 
 /// One beam of a scan as the planting rules see it: its truth and its reported value [mm or code].
@@ -87,7 +100,7 @@ struct BeamView {
 /// @brief Rewrites each beam's reported value by `rule`.
 inline void plant(TrueRun& r, const std::function<void(BeamView&)>& rule)
 {
-    const BocasWorld& w = bocasWorld();
+    const World& w = *r.world;
     for (size_t k = 0; k < r.scans.size(); ++k)
         for (size_t i = 0; i < r.scans[k].value.size(); ++i) {
             const BeamResult& t = r.scans[k].beams[i];
@@ -113,10 +126,10 @@ inline long long surfaceReading(const TrueRun& r, const BeamView& v, KeyedRng& r
     return std::llround((L + r.spec.rangeSigma(L) * rng.normal()) / r.spec.unit_m);
 }
 
-/// @brief The run as FitInputs for the diagnosis (the BOCAS scene, its URG, the built-in calibration).
+/// @brief The run as FitInputs for the diagnosis (its room, its URG, the built-in calibration).
 inline FitInputs inputsOf(const TrueRun& r)
 {
-    BocasWorld& w = bocasWorld();
+    const World& w = *r.world;
     FitInputs in;
     in.log.path = "planted.log";
     in.log.unit_m = 0.001;
@@ -132,7 +145,7 @@ inline FitInputs inputsOf(const TrueRun& r)
     in.calibration = w.calib;
     in.scene = std::make_unique<Scene>(w.scene);
     in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
-    in.mount = w.scene.sensors[size_t(w.scene.findSensor("hokuyo"))];
+    in.mount = w.scene.sensors[size_t(w.scene.findSensor(w.laser))];
     return in;
 }
 

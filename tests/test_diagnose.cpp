@@ -6,10 +6,15 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 
 #include "diagnose/candidates.hpp"
+#include "diagnose/causes.hpp"
+#include "diagnose/replay_model.hpp"
 #include "plant.hpp"
+#include "smokescan/core/random.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
+#include "smokescan/diagnose/diagnosis_report.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;
@@ -252,6 +257,85 @@ int cleanNamed(int n, uint64_t first, std::string& seen, double block_s = 3)
 }
 
 }  // namespace
+
+TEST(CauseTable, EveryCauseHasOneRowAndItsOwnName)
+{
+    // The table is the one place a cause is written: each cause of the enum has exactly one row,
+    // found by its public name; each row has starts for its fit, every function, a floor and a
+    // covariate the report knows.
+    std::set<std::string> names;
+    for (Cause c : kCauses) {
+        const smokescan::detail::CauseRow& row = smokescan::detail::causeRow(c);
+        EXPECT_TRUE(names.insert(row.name).second) << row.name << " twice";
+        EXPECT_NE(row.apply, nullptr) << row.name;
+        EXPECT_NE(row.commit, nullptr) << row.name;
+        EXPECT_NE(row.report, nullptr) << row.name;
+        EXPECT_NE(row.effect, nullptr) << row.name;
+        EXPECT_GT(row.floor, 0) << row.name << ": a floor of 0 names every significant misfit";
+        EXPECT_NE(row.floor_unit, nullptr) << row.name;
+        EXPECT_EQ(smokescan::detail::causeRow(row.name), &row);
+        EXPECT_FALSE(row.starts.empty()) << row.name;
+        EXPECT_NO_THROW(smokescan::residualsBy(smokescan::Replay{}, {}, row.covariate)) << row.name;
+    }
+    EXPECT_EQ(smokescan::detail::causeRow("no_such_cause"), nullptr);
+}
+
+/// A replay in clear air: 40 beams 0.01 rad apart on one wall at 3 m, 200 scans in 10 blocks;
+/// beam b errs in scan k with probability share(b).
+template <class Share>
+smokescan::Replay clearAirReplay(Share share)
+{
+    smokescan::Replay r;
+    r.config.model = smokescan::SensorModel::Paper;
+    r.config.paper.penetration_power = 0.007;
+    r.spec.dangle_rad = 0.01;
+    r.surface_names = {"wall"};
+    r.from_saturation = false;
+    for (int b = 0; b < 40; ++b) {
+        smokescan::ReplayBeam beam;
+        beam.surface = 0;
+        beam.range_m = beam.sight_m = 3;
+        beam.angle_rad = -0.2 + 0.01 * b;
+        beam.column_ref = 0.005;
+        beam.sigma_m = 0.01;
+        r.beams.push_back(beam);
+    }
+    smokescan::KeyedRng rng(7, 0);
+    for (int k = 0; k < 200; ++k) {
+        smokescan::ReplayScan scan;
+        scan.time_s = 0.5 * k;
+        scan.block = k / 20;
+        r.scans.push_back(scan);
+        r.column.emplace_back(40, 0.0f);
+        std::vector<float> ranges;
+        for (int b = 0; b < 40; ++b) ranges.push_back(rng.uniform() < share(b) ? NAN : float(3 + 0.01 * rng.normal()));
+        r.range_m.push_back(ranges);
+    }
+    return r;
+}
+
+TEST(SectorSearch, FindsTheExcessOverWhatTheModelExpectsInClearAir)
+{
+    // The model already expects 20 % dropout over beams 10–25 (a sector a sensor file holds, or
+    // the physical model's clear-air errors on a near wall); beams 14–18 fail 60 %. The search
+    // must see the excess there, and nothing where the record is what the model expects.
+    using smokescan::detail::ReplayModel;
+    smokescan::ModelExtensions known;
+    const double deg = 180 / M_PI;
+    known.sectors.push_back({(-0.2 + 0.095) * deg, (-0.2 + 0.255) * deg, 0.2});
+    auto within = [](int b, int lo, int hi) { return b >= lo && b <= hi; };
+    const auto planted = clearAirReplay([&](int b) { return within(b, 14, 18) ? 0.6 : within(b, 10, 25) ? 0.2 : 0.0; });
+    const auto expected = clearAirReplay([&](int b) { return within(b, 10, 25) ? 0.2 : 0.0; });
+    double from = 0, to = 0;
+    ASSERT_TRUE(smokescan::detail::findDropoutSector(planted, ReplayModel(planted, known), -1, from, to));
+    EXPECT_NEAR(from, -0.2 + 0.135, 1e-9);  // beam 14's lower edge
+    EXPECT_NEAR(to, -0.2 + 0.185, 1e-9);  // beam 18's upper edge
+    EXPECT_FALSE(smokescan::detail::findDropoutSector(expected, ReplayModel(expected, known), -1, from, to));
+    // Without the known sector, the whole of 10–25 is the excess.
+    ASSERT_TRUE(smokescan::detail::findDropoutSector(expected, ReplayModel(expected, {}), -1, from, to));
+    EXPECT_NEAR(from, -0.2 + 0.095, 1e-9);
+    EXPECT_NEAR(to, -0.2 + 0.255, 1e-9);
+}
 
 TEST(Diagnose, CleanRunsNameNothing)
 {

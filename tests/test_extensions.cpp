@@ -370,3 +370,75 @@ TEST(Extensions, SensorFileRoundTripsAndRefusesWhatItCannotSimulate)
     }
     std::filesystem::remove_all(dir);
 }
+
+TEST(Extensions, SectorsLieOnTheCircle)
+{
+    // A laser's sector is the plain interval within its field; the omnicam's may be given anywhere
+    // round it, and a bearing unwrapped past a turn is the same bearing.
+    const SectorExtension laser{5, 10, 1}, north{-60, 0, 1}, wrapped{300, 360, 1};
+    EXPECT_TRUE(laser.contains(7.5));
+    EXPECT_FALSE(laser.contains(4.9));
+    EXPECT_FALSE(laser.contains(10.1));
+    EXPECT_TRUE(laser.contains(367.5));  // 7.5° a turn on
+    EXPECT_TRUE(north.contains(330));
+    EXPECT_TRUE(north.contains(-30));
+    EXPECT_FALSE(north.contains(30));
+    EXPECT_TRUE(wrapped.contains(-30));
+    EXPECT_TRUE(wrapped.contains(690));
+    EXPECT_FALSE(wrapped.contains(10));
+    ModelExtensions e;
+    e.sectors = {{0, 20, 0.5}, {10, 30, 0.5}};
+    EXPECT_DOUBLE_EQ(e.dropoutAt(15), 0.75);  // both: 1 − 0.5·0.5
+    EXPECT_DOUBLE_EQ(e.dropoutAt(25), 0.5);
+    EXPECT_DOUBLE_EQ(e.dropoutAt(35), 0.0);
+}
+
+TEST(Extensions, BoundsAreTheSensorFilesWhereverAModelIsMade)
+{
+    // The bounds the diagnosis holds a finding to (ModelExtensions::withinBounds) are those the
+    // sensor file's reader holds a file to: a model within them is read back, one beyond is refused.
+    const auto dir = std::filesystem::temp_directory_path() / "smokescan_test_extension_bounds";
+    std::filesystem::create_directories(dir);
+    struct Case {
+        const char* key;
+        double inside, outside;
+    };
+    const Case cases[] = {{"clock_offset_s", -1e5, 1.0001e5},
+                          {"threshold_width", 5, 5.01},
+                          {"range_noise_growth_m", 1e3, 1001},
+                          {"smoke_obstacle_return", 1, 1.01},
+                          {"hysteresis", -10, -10.01}};
+    for (const Case& c : cases)
+        for (const double v : {c.inside, c.outside}) {
+            const std::string p = (dir / "b.toml").string();
+            std::ofstream(p) << "type = \"urg04lx\"\n[extensions]\n" << c.key << " = " << v << "\n";
+            SensorConfig x = SensorConfig::defaults(SensorType::Urg04lx);
+            bool read = true;
+            try {
+                applySensorFile(p, x);
+            } catch (const Error& err) {
+                read = false;
+                EXPECT_NE(std::string(err.what()).find(c.key), std::string::npos) << err.what();
+            }
+            EXPECT_EQ(read, v == c.inside) << c.key << " = " << v;
+            if (read) EXPECT_TRUE(x.extensions.withinBounds()) << c.key;
+            ModelExtensions e;
+            if (std::string(c.key) == "clock_offset_s") e.clock_offset_s = v;
+            if (std::string(c.key) == "threshold_width") e.threshold_width = v;
+            if (std::string(c.key) == "range_noise_growth_m") e.range_noise_growth_m = v;
+            if (std::string(c.key) == "smoke_obstacle_return") e.smoke_obstacle_return = v;
+            if (std::string(c.key) == "hysteresis") e.hysteresis = v;
+            EXPECT_EQ(e.withinBounds(), v == c.inside) << c.key << " = " << v;
+        }
+    ModelExtensions e;
+    e.surfaces["a"] = {10.5, 0};
+    EXPECT_FALSE(e.withinBounds());
+    e.surfaces["a"] = {0, -2e4};
+    EXPECT_FALSE(e.withinBounds());
+    e.surfaces.clear();
+    e.sectors = {{-361, 0, 0.5}};
+    EXPECT_FALSE(e.withinBounds());
+    e.sectors = {{300, 360, 0.5}};
+    EXPECT_TRUE(e.withinBounds());
+    std::filesystem::remove_all(dir);
+}

@@ -77,7 +77,12 @@ void expectPlanted(const DiagnosisResult& r, double sector_from_deg, double sect
     ASSERT_EQ(r.model.sectors.size(), 1u);
     EXPECT_NEAR(r.model.sectors[0].from_deg, sector_from_deg, 2.0);
     EXPECT_NEAR(r.model.sectors[0].to_deg, sector_to_deg, 2.0);
-    EXPECT_EQ(r.findings.size(), 3u) << r.verdict;
+    std::string tried;
+    for (const auto& t : r.tried)
+        tried += "\n  round " + std::to_string(t.round) + " " + t.cause + " " + t.target + " gain " +
+            std::to_string(t.loglik_gain) + " p " + std::to_string(t.p_value) + " effect " + std::to_string(t.effect) +
+            " ± " + std::to_string(t.effect_se) + " floor " + std::to_string(t.floor);
+    EXPECT_EQ(r.findings.size(), 3u) << r.verdict << tried;
     EXPECT_GT(r.extended.front().loglik_per_beam, r.baseline.front().loglik_per_beam + 0.5);
 }
 

@@ -36,8 +36,7 @@ TEST(SaturationStream, RenderedFramesMeasureWhatTheCalibrationMeasured)
     cc.height = rc.height;
     cc.seed = 3;
     cc.densities.clear();
-    for (double t : times)
-        cc.densities.push_back(geometry.column(SmokeField::at(scene.volumes, t)) / geometry.path_m());
+    for (double t : times) cc.densities.push_back(geometry.density(SmokeField::at(scene.volumes, t)));
     EXPECT_EQ(cc.densities[0], 0.0);
     for (size_t k = 1; k < times.size(); ++k) ASSERT_GT(cc.densities[k], cc.densities[k - 1]);
     const CalibrationResult cal = calibrate(scene, cc);
@@ -158,5 +157,81 @@ TEST(SaturationStream, TargetPatchesComeFromSurfaceNames)
         FAIL() << "a prefix no surface has must be refused";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("poster_*"), std::string::npos) << e.what();
+    }
+}
+
+// The predictor measures along its line of sight to each target patch it sees: two targets apart
+// (their mean between them, on nothing) are both measured; a patch another surface hides is left
+// out; a camera that sees none is refused. The smoke is a box over half the room, so the lines'
+// densities differ and their mean is checked against each line's own column.
+TEST(SaturationStream, ThePredictorMeasuresEachTargetPatchItSees)
+{
+    auto sceneWith = [](const std::string& extra, const std::string& look_at = "[3.0, 0.0, 0.6]") {
+        const std::string text = std::string(
+                                     "[scene]\nname = \"apart\"\n"
+                                     "[[materials]]\nname = \"paper\"\nalbedo = [0.8, 0.1, 0.1]\n"
+                                     "[[surfaces]]\nname = \"target_left\"\nmaterial = \"paper\"\ntype = \"quad\"\n"
+                                     "corner = [3.0, 0.6, 0.2]\nu = [0.0, 0.3, 0.0]\nv = [0.0, 0.0, 0.8]\n"
+                                     "[[surfaces]]\nname = \"target_right\"\nmaterial = \"paper\"\ntype = \"quad\"\n"
+                                     "corner = [3.0, -0.9, 0.2]\nu = [0.0, 0.3, 0.0]\nv = [0.0, 0.0, 0.8]\n"
+                                     "[[cameras]]\nname = \"cam\"\nposition = [0.0, 0.0, 0.6]\n"
+                                     "look_at = " +
+                                     look_at +
+                                     "\n"
+                                     "[[smoke]]\nname = \"half\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\n"
+                                     "max = [4.0, 2.0, 2.0]\ndensity = 0.01\nvoxel = 0.05\n") +
+            extra;
+        return parseScene(text, "apart.toml", ".");
+    };
+    const CurveFitResult calib = readCalibrationJson("bocas");
+    {
+        const Scene scene = sceneWith("");
+        const SurfaceSet surfaces(scene);
+        const SaturationPredictor p(scene, surfaces, calib.curve, "cam");
+        ASSERT_EQ(p.sights(), 2u);
+        const SmokeField field = SmokeField::at(scene.volumes, 0.0);
+        // The left line (to y = 0.75) runs inside the box (y ≥ 0) all the way; the right one (to
+        // y = −0.75) only at its start, where y ≥ 0: none of it. Mean density: half the box's.
+        EXPECT_NEAR(p.density(field), 0.5 * 0.01, 0.05 * 0.01);
+        EXPECT_NEAR(p.saturation(field), calib.curve(p.density(field)), 1e-12);
+    }
+    {  // a wall in front of the right target: only the left is measured
+        const Scene scene = sceneWith(
+            "[[surfaces]]\nname = \"screen\"\nmaterial = \"paper\"\ntype = \"quad\"\n"
+            "corner = [2.0, -1.0, 0.0]\nu = [0.0, 0.8, 0.0]\nv = [0.0, 0.0, 2.0]\n");
+        const SurfaceSet surfaces(scene);
+        const SaturationPredictor p(scene, surfaces, calib.curve, "cam");
+        ASSERT_EQ(p.sights(), 1u);
+        EXPECT_NEAR(p.density(SmokeField::at(scene.volumes, 0.0)), 0.01, 0.05 * 0.01);
+    }
+    {  // the camera turned away: neither lies in its image, refused
+        const Scene scene = sceneWith("", "[-3.0, 0.0, 0.6]");
+        const SurfaceSet surfaces(scene);
+        EXPECT_THROW(SaturationPredictor(scene, surfaces, calib.curve, "cam"), Error);
+    }
+    {  // targets that are boxes (their centres inside them) are seen as well as quads
+        const Scene scene = parseScene(
+            "[scene]\nname = \"boxes\"\n[[materials]]\nname = \"paper\"\nalbedo = [0.8, 0.1, 0.1]\n"
+            "[[surfaces]]\nname = \"target_left\"\nmaterial = \"paper\"\ntype = \"box\"\n"
+            "position = [3.0, 0.75, 0.6]\nsize = [0.2, 0.3, 0.8]\n"
+            "[[surfaces]]\nname = \"target_right\"\nmaterial = \"paper\"\ntype = \"box\"\n"
+            "position = [3.0, -0.75, 0.6]\nsize = [0.2, 0.3, 0.8]\n"
+            "[[cameras]]\nname = \"cam\"\nposition = [0.0, 0.0, 0.6]\nlook_at = [3.0, 0.0, 0.6]\n",
+            "boxes.toml", ".");
+        const SurfaceSet surfaces(scene);
+        EXPECT_EQ(SaturationPredictor(scene, surfaces, calib.curve, "cam").sights(), 2u);
+    }
+    {  // a wall in front of both: refused, naming the scene
+        const Scene scene = sceneWith(
+            "[[surfaces]]\nname = \"screen\"\nmaterial = \"paper\"\ntype = \"quad\"\n"
+            "corner = [2.0, -2.0, 0.0]\nu = [0.0, 4.0, 0.0]\nv = [0.0, 0.0, 2.0]\n");
+        const SurfaceSet surfaces(scene);
+        try {
+            SaturationPredictor(scene, surfaces, calib.curve, "cam");
+            FAIL() << "a camera that sees no target patch must be refused";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("apart.toml"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("none of the target"), std::string::npos) << e.what();
+        }
     }
 }

@@ -6,6 +6,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/overloaded.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/render/camera.hpp"
 
 namespace smokescan {
 namespace {
@@ -30,29 +31,68 @@ SaturationPredictor::SaturationPredictor(const Scene& scene, const SurfaceSet& s
     const Camera* cam = scene.findCamera(camera);
     if (!cam)
         throw Error(scene.source, camera.empty() ? "the scene has no camera" : "no camera named '" + camera + "'");
-    Vec3 centre = Vec3::Zero();
-    int n = 0;
-    for (const auto& s : scene.surfaces)
-        if (s.name.rfind(target_prefix, 0) == 0) {
-            centre += centreOf(s);
-            ++n;
+    // A target made of patches side by side (BOCAS's strips): the line of sight to their centroid,
+    // which lies on one of them. Targets apart (the centroid between them, on none): the line to
+    // the centre of each patch the camera sees, nothing else first on it.
+    std::vector<size_t> patches;
+    Vec3 centroid = Vec3::Zero();
+    for (size_t i = 0; i < scene.surfaces.size(); ++i)
+        if (scene.surfaces[i].name.rfind(target_prefix, 0) == 0) {
+            patches.push_back(i);
+            centroid += centreOf(scene.surfaces[i]);
         }
-    if (n == 0) throw Error(scene.source, "has no target surfaces named '" + target_prefix + "*'");
-    centre /= n;
-    const Vec3 d = centre - cam->pose.t;
-    ray_ = Ray{cam->pose.t, d.normalized()};
-    const SurfaceHit h = surfaces.closest(ray_, d.norm() * 1.5);
-    if (!h.hit || scene.surfaces[size_t(h.surface)].name.rfind(target_prefix, 0) != 0)
-        throw Error(scene.source, "the camera's line of sight to the target's centre is blocked");
-    path_m_ = h.t_m;
+    if (patches.empty()) throw Error(scene.source, "has no target surfaces named '" + target_prefix + "*'");
+    centroid /= double(patches.size());
+    auto seen = [&](const Vec3& at, bool any_patch, size_t patch) {
+        const Vec3 d = at - cam->pose.t;
+        const Ray ray{cam->pose.t, d.normalized()};
+        if (!inView(*cam, ray.d)) return false;  // outside its image
+        const SurfaceHit h = surfaces.closest(ray, d.norm() * 1.5);
+        // On the target: the first surface on the line is a patch (this one, for a patch's own
+        // line; a box's or cylinder's centre lies inside it, so the hit comes before the centre).
+        const bool on = h.hit &&
+            (any_patch ? std::find(patches.begin(), patches.end(), size_t(h.surface)) != patches.end()
+                       : size_t(h.surface) == patch);
+        if (on) sights_.push_back({ray, h.t_m});
+        return on;
+    };
+    if (!seen(centroid, true, 0))
+        for (size_t i : patches) seen(centreOf(scene.surfaces[i]), false, i);
+    if (sights_.empty())
+        throw Error(scene.source,
+                    "the camera sees the centre of none of the target's patches ('" + target_prefix +
+                        "*'): each lies outside its image or another surface hides it");
 }
 
 double SaturationPredictor::column(const SmokeField& field) const
 {
     BeamQuery q;
     q.wavelength_nm = 550;
-    const BeamSmoke s = field.trace(ray_, 0.0, path_m_, q);
-    return s.column_regional + s.column_local;
+    double sum = 0;
+    for (const Sight& s : sights_) {
+        const BeamSmoke b = field.trace(s.ray, 0.0, s.path_m, q);
+        sum += b.column_regional + b.column_local;
+    }
+    return sum / double(sights_.size());
+}
+
+double SaturationPredictor::density(const SmokeField& field) const
+{
+    BeamQuery q;
+    q.wavelength_nm = 550;
+    double sum = 0;
+    for (const Sight& s : sights_) {
+        const BeamSmoke b = field.trace(s.ray, 0.0, s.path_m, q);
+        sum += (b.column_regional + b.column_local) / s.path_m;
+    }
+    return sum / double(sights_.size());
+}
+
+double SaturationPredictor::path_m() const
+{
+    double sum = 0;
+    for (const Sight& s : sights_) sum += s.path_m;
+    return sum / double(sights_.size());
 }
 
 SaturationSeries simulateSaturation(const SaturationFrameFn& frame, const SaturationSimConfig& cfg)

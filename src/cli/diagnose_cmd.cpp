@@ -175,7 +175,8 @@ void addDiagnose(CLI::App& app, Runner& run)
     c->add_option("--offset", a->replay.offset_s,
                   "Camera clock - laser clock [s] (default: the sensor file's clock_offset_s, else 0)")
         ->check(range(-1e5, 1e5));
-    c->add_option("--block", a->replay.block_s, "Time block of the held-out split [s]")
+    c->add_option("--block", a->replay.block_s,
+                  "Longest time block of the held-out split [s] (shorter while the smoke changes)")
         ->capture_default_str()
         ->check(positive());
     c->add_option("--camera", a->replay.camera, "Scene camera that saw the target (default: the first)");

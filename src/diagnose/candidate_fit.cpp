@@ -61,13 +61,15 @@ private:
 
 }  // namespace
 
-ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs)
+ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs,
+                      const std::vector<double>* starts)
 {
     ThetaFit f;
     if (obs.empty()) return f;
     ceres::GradientProblem problem(new CandidateNll(r, m, c, obs));
-    double theta = c.starts().front(), best = kInf;
-    for (double t : c.starts()) {
+    const std::vector<double>& from = starts && !starts->empty() ? *starts : c.starts();
+    double theta = from.front(), best = kInf;
+    for (double t : from) {
         double cost = kInf;
         if (problem.Evaluate(&t, &cost, nullptr) && cost < best) {
             best = cost;
@@ -113,6 +115,33 @@ std::vector<Obs> touched(const Replay& r, const Candidate& c, int fold)
         for (int b : beams) obs.push_back({int(k), b});
     }
     return obs;
+}
+
+}  // namespace smokescan::detail
+
+namespace smokescan::detail {
+
+double jackknifeSe(const Replay& r, const ReplayModel& m, const Candidate& c, double theta, int groups)
+{
+    // Each group is every groups-th block; θ refitted without it, started near the full fit.
+    std::vector<double> starts;
+    for (int i = -8; i <= 8; ++i) starts.push_back(theta + 0.125 * i);
+    const std::vector<Obs> all = touched(r, c, -1);
+    std::vector<double> thetas;
+    for (int g = 0; g < groups; ++g) {
+        std::vector<Obs> kept;
+        for (const Obs& o : all)
+            if (r.scans[size_t(o.k)].block % groups != g) kept.push_back(o);
+        if (kept.size() == all.size()) continue;  // an empty group (fewer blocks than groups)
+        const ThetaFit f = fitCandidate(r, m, c, kept, &starts);
+        if (f.ok) thetas.push_back(f.theta);
+    }
+    if (thetas.size() < 2) return NAN;
+    double mean = 0, ss = 0;
+    for (double t : thetas) mean += t / double(thetas.size());
+    for (double t : thetas) ss += (t - mean) * (t - mean);
+    const double n = double(thetas.size());
+    return std::sqrt((n - 1) / n * ss);
 }
 
 }  // namespace smokescan::detail

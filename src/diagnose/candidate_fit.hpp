@@ -14,8 +14,14 @@ struct ThetaFit {
 };
 
 /// @brief The maximum-likelihood θ of candidate c on top of model m over `obs`, from the best
-/// of its start values.
-ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs);
+/// of its start values (or of `starts` when given).
+ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs,
+                      const std::vector<double>* starts = nullptr);
+
+/// @brief The delete-a-group jackknife's standard error of θ over all the blocks: the blocks dealt
+/// into `groups` groups (block mod groups), θ refitted without each. For a likelihood too rugged
+/// for its curvature to mean anything (the clock offset's, stepped at each camera frame).
+double jackknifeSe(const Replay& r, const ReplayModel& m, const Candidate& c, double theta, int groups = 8);
 
 /// @brief The observations candidate c touches in fold `fold` (−1: all).
 std::vector<Obs> touched(const Replay& r, const Candidate& c, int fold);

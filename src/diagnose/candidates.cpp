@@ -205,19 +205,29 @@ Prediction modelPrediction(const Replay& r, const ReplayModel& m, const Obs& o)
 bool findDropoutSector(const Replay& r, const ReplayModel& m, int fold, double& from_rad, double& to_rad)
 {
     const size_t B = r.beams.size();
+    // Per beam, over the scans where the smoke adds under 1 % to the errors the model expects in
+    // clear air (whatever it expects there: the physical model's two-wave errors on a near wall),
+    // the recorded errors and the expected ones.
     std::vector<int> clear(B, 0), errs(B, 0);
+    std::vector<double> expected(B, 0.0);
     for (size_t k = 0; k < r.scans.size(); ++k) {
         if (fold >= 0 && r.scans[k].block % 2 != fold) continue;
         for (size_t b = 0; b < B; ++b) {
             if (r.beams[b].surface < 0) continue;
-            const double p_err = modelPrediction(r, m, {int(k), int(b)}).p_err;
-            if (p_err > 0.01) continue;  // the model expects errors here: not clear air
+            const Obs o{int(k), int(b)};
+            BeamTerms<double> x = baseTerms<double>(r, m, o);
+            finishTerms(r, o, x);
+            const double in_clear_air = r.isPhysical() ? r.physical.err_clear[b] : 0.0;
+            if (x.ps > in_clear_air + 0.01) continue;  // the smoke makes errors here: not clear air
             ++clear[b];
             errs[b] += std::isnan(r.range_m[k][b]);
+            expected[b] += modelPrediction(r, m, o).p_err;
         }
     }
     size_t best0 = 0, best_n = 0;
-    auto marked = [&](size_t i) { return clear[i] >= 5 && errs[i] > 0.15 * clear[i]; };
+    // Marked: recorded errors exceed the expected ones by 15 % of the clear scans (a dropout d
+    // adds d·(1 − p) to a share p the model expects).
+    auto marked = [&](size_t i) { return clear[i] >= 5 && double(errs[i]) - expected[i] > 0.15 * clear[i]; };
     for (size_t b = 0; b < B;) {
         if (!marked(b)) {
             ++b;

@@ -87,10 +87,11 @@ struct Prediction {
 /// @brief The prediction of observation o under `model`.
 Prediction modelPrediction(const Replay& r, const ReplayModel& model, const Obs& o);
 
-/// @brief The sector where beams fail in clear air (error share > 15 % over ≥ 5 clear scans, the
-/// longest run of such beams with gaps of at most two, at least 2 beams and at most 60° wide),
-/// among the scans of `fold` (−1: all).
-/// Returns false when there is none.
+/// @brief The sector where beams fail in clear air more often than the model expects there:
+/// over the scans where the smoke adds under 1 % to the model's clear-air errors (≥ 5 of them),
+/// recorded errors exceeding the expected by 15 % of those scans; the longest run of such beams
+/// with gaps of at most two, at least 2 beams and at most 60° wide, among the scans of `fold`
+/// (−1: all). Returns false when there is none.
 /// The widest sector a dropout is looked for in [rad].
 constexpr double kMaxSector_rad = 60 * M_PI / 180;
 bool findDropoutSector(const Replay& r, const ReplayModel& model, int fold, double& from_rad, double& to_rad);

@@ -48,7 +48,8 @@ const CauseRow kRows[] = {
      [](double theta, double se) {
          return Reported{{"offset_s", {theta, se}}};
      },
-     "time_s", Shown::ErrorShare},
+     "time_s", Shown::ErrorShare, [](double theta, const EffectScale&) { return std::abs(theta); }, 1.0, "|offset| [s]",
+     true},
 
     {Cause::SurfaceThreshold,
      "surface_threshold",
@@ -65,7 +66,10 @@ const CauseRow kRows[] = {
                          {"threshold_factor", {std::exp(theta), std::exp(theta) * se}}};
      },
      "column",
-     Shown::ErrorShare},
+     Shown::ErrorShare,
+     [](double theta, const EffectScale&) { return std::abs(theta); },
+     0.1,
+     "|ln factor|"},
 
     {Cause::ThresholdWidth,
      "threshold_width",
@@ -81,7 +85,10 @@ const CauseRow kRows[] = {
          return Reported{{"width_ln_column", {std::exp(theta), std::exp(theta) * se}}};
      },
      "column",
-     Shown::ErrorShare},
+     Shown::ErrorShare,
+     [](double theta, const EffectScale&) { return std::exp(theta); },
+     0.08,
+     "width [ln column]"},
 
     {Cause::SurfaceRangeBias,
      "surface_range_bias",
@@ -97,7 +104,10 @@ const CauseRow kRows[] = {
          return Reported{{"bias_per_column_per_density_m", {theta, se}}};
      },
      "column",
-     Shown::RangeMean},
+     Shown::RangeMean,
+     [](double theta, const EffectScale& e) { return std::abs(theta) * e.P * e.range_over_sd; },
+     1.0,
+     "|bias| at the column P [clear-air sd]"},
 
     {Cause::RangeNoiseGrowth,
      "range_noise_growth",
@@ -115,7 +125,10 @@ const CauseRow kRows[] = {
          return Reported{{"noise_growth_m_per_density_m", {std::abs(theta), se}}};
      },
      "column",
-     Shown::RangeSpread},
+     Shown::RangeSpread,
+     [](double theta, const EffectScale& e) { return std::abs(theta) * e.P * e.inv_sd; },
+     0.5,
+     "noise grown at the column P [clear-air sd]"},
 
     {Cause::SmokeObstacleReturn,
      "smoke_obstacle_return",
@@ -132,7 +145,10 @@ const CauseRow kRows[] = {
          return Reported{{"short_return_share", {p, p * (1 - p) * se}}};
      },
      "column",
-     Shown::ErrorShare},
+     Shown::ErrorShare,
+     [](double theta, const EffectScale&) { return sigmoid(theta); },
+     0.05,
+     "share"},
 
     {Cause::SectorDropout,
      "sector_dropout",
@@ -149,7 +165,10 @@ const CauseRow kRows[] = {
          return Reported{{"dropout", {p, p * (1 - p) * se}}};
      },
      "beam_angle_deg",
-     Shown::ErrorShare},
+     Shown::ErrorShare,
+     [](double theta, const EffectScale&) { return sigmoid(theta); },
+     0.1,
+     "dropout"},
 
     {Cause::Hysteresis,
      "hysteresis",
@@ -163,10 +182,33 @@ const CauseRow kRows[] = {
          return Reported{{"ln_threshold_falling_over_rising", {theta, se}}};
      },
      "smoke_trend",
-     Shown::ErrorShare},
+     Shown::ErrorShare,
+     [](double theta, const EffectScale&) { return std::abs(theta); },
+     0.1,
+     "|h|"},
 };
 
 }  // namespace
+
+double effectOf(const Replay& r, const Candidate& c, double theta)
+{
+    EffectScale e;
+    e.P = r.config.paper.penetration_power;
+    int n = 0;
+    for (size_t b = 0; b < r.beams.size(); ++b) {
+        if (!c.touches(r, int(b))) continue;
+        const ReplayBeam& beam = r.beams[b];
+        const double sd = r.isPhysical() ? r.physical.sd_clear[b]
+            : beam.sigma_m > 0           ? beam.sigma_m
+                                         : r.spec.rangeSigma(beam.range_m);
+        if (!(sd > 0)) continue;
+        e.range_over_sd += beam.range_m / sd;
+        e.inv_sd += 1 / sd;
+        ++n;
+    }
+    if (n > 0) e.range_over_sd /= n, e.inv_sd /= n;
+    return causeRow(c.cause).effect(theta, e);
+}
 
 const CauseRow& causeRow(Cause c)
 {

@@ -17,6 +17,14 @@ enum class Target { Global, Surface, Sector };
 /// The residual the report plots for a finding.
 enum class Shown { ErrorShare, RangeMean, RangeSpread };
 
+/// What a cause's effect is measured against: the column P a threshold or a column-scaled effect
+/// is read at, and the clear reading's noise σ₀ of the beams the candidate changes.
+struct EffectScale {
+    double P = 0;  ///< the paper model's penetration power [density·m]
+    double range_over_sd = 0;  ///< the mean of L/σ₀ over the beams the candidate changes
+    double inv_sd = 0;  ///< the mean of 1/σ₀ over them [1/m]
+};
+
 struct CauseRow {
     Cause cause;
     const char* name;  ///< the public name (diagnosis.json, report.md)
@@ -31,7 +39,21 @@ struct CauseRow {
     std::vector<std::pair<std::string, Estimate>> (*report)(double theta, double se);
     const char* covariate;  ///< the report's covariate that shows the cause (residualsBy)
     Shown shown;
+    /// The size of θ's effect, in the units of `floor`, on the replay's scale (EffectScale).
+    double (*effect)(double theta, const EffectScale& scale);
+    /// The smallest effect worth naming (practical significance, in the cause's own units, so
+    /// that it does not depend on how many beams a room has): the replay's own small misfits
+    /// (a lag of about 0.1–0.5 s from interpolating the camera's samples, a threshold a little
+    /// sharper than the noise claims) are real and, over a quarter million beams, significant.
+    double floor;
+    const char* floor_unit;  ///< what `floor` measures, for the report and docs
+    /// Its standard error from a jackknife over the blocks, not the likelihood's curvature (which
+    /// a likelihood stepped at each camera frame makes meaningless).
+    bool jackknife = false;
 };
+
+/// @brief The size of candidate c's fitted θ (CauseRow::effect) on the replay.
+double effectOf(const Replay& r, const Candidate& c, double theta);
 
 /// @brief The row of cause c.
 const CauseRow& causeRow(Cause c);

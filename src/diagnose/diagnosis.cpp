@@ -6,6 +6,7 @@
 
 #include "candidate_fit.hpp"
 #include "candidates.hpp"
+#include "causes.hpp"
 #include "sign_flip.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
@@ -41,8 +42,17 @@ struct Scored {
     std::vector<double> block_gain;
     double gain = 0;
     long long obs = 0;
-    double p = 1;
+    double p = NAN;  ///< the sign-flip test's; NaN when not tested (no gain, or below the floor)
     ThetaFit fold_fit[2];
+    double effect = 0;  ///< the size of the folds' mean θ, in its row's floor units
+    double effect_se = NAN;  ///< its standard error on all the data (the folds' over √2)
+    double blocks_eff = 0;  ///< the blocks its gain is spread over: (Σ|g|)² / Σg²
+
+    /// Whether it passes the gate at `level`: significant, and an effect worth naming.
+    bool passes(double level, const detail::CauseRow& row) const
+    {
+        return obs > 0 && gain > 0 && p < level && effect >= row.floor;
+    }
 };
 
 Scored scoreCandidate(const Replay& r, const Models& m, Candidate c, const DiagnosisConfig& cfg)
@@ -66,9 +76,26 @@ Scored scoreCandidate(const Replay& r, const Models& m, Candidate c, const Diagn
             ++s.obs;
         }
     }
-    for (double g : s.block_gain) s.gain += g;
-    // Only a candidate large enough to be accepted needs its p-value (the sign flips cost).
-    s.p = s.obs > 0 && s.gain >= cfg.min_gain * double(s.obs) ? signFlipP(s.block_gain, cfg.sign_flips, cfg.seed) : 1.0;
+    double abs_sum = 0, sq_sum = 0;
+    for (double g : s.block_gain) s.gain += g, abs_sum += std::abs(g), sq_sum += g * g;
+    s.blocks_eff = sq_sum > 0 ? abs_sum * abs_sum / sq_sum : 0.0;
+    double theta = 0, se = 0, effect = 0;
+    int fits = 0;
+    for (const ThetaFit& f : s.fold_fit)
+        if (f.ok) theta += f.theta, se += f.se, effect += detail::effectOf(r, c, f.theta), ++fits;
+    const detail::CauseRow& row = detail::causeRow(c.cause);
+    if (fits > 0) {
+        theta /= fits;
+        se /= fits * M_SQRT2;
+        s.effect = effect / fits;  // each fold's effect (a noise growth's θ may fit ±γ)
+        // Propagated through the effect's slope at θ (a difference over ±se would cap it at |θ|).
+        const double h = 1e-4 * std::max(1.0, std::abs(theta));
+        const double slope = (detail::effectOf(r, c, theta + h) - detail::effectOf(r, c, theta - h)) / (2 * h);
+        s.effect_se = std::abs(slope) * se;
+    }
+    // Only a candidate that gains and is large enough to be named needs its p-value (the flips cost).
+    // Not tested: NaN (reported as such, not as a p of 1).
+    s.p = s.obs > 0 && s.gain > 0 && s.effect >= row.floor ? signFlipP(s.block_gain, cfg.sign_flips, cfg.seed) : NAN;
     s.c = c;
     return s;
 }
@@ -127,6 +154,10 @@ Accepted accept(const Replay& r, const Models& m, const Scored& s, double level)
     a.s = s;
     a.level = level;
     a.all = fitCandidate(r, m.all, s.c, touched(r, s.c, -1));
+    if (a.all.ok && detail::causeRow(s.c.cause).jackknife) {
+        const double se = detail::jackknifeSe(r, m.all, s.c, a.all.theta);
+        if (std::isfinite(se) && !(a.all.se >= se)) a.all.se = se;  // also when the curvature gave none
+    }
     a.f.cause = detail::causeName(s.c.cause);
     a.f.target = s.c.target(r);
     a.f.parameters = s.c.report(a.all.theta, a.all.se);
@@ -236,11 +267,12 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
         const Scored* best = nullptr;
         double best_level = 0;
         for (const Scored& s : scored) {
-            res.tried.push_back({round, detail::causeName(s.c.cause), s.c.target(r), s.gain, s.p});
+            const detail::CauseRow& row = detail::causeRow(s.c.cause);
             const bool global = s.c.target(r).empty();
             const double level = 0.5 * cfg.alpha / double(std::max(1, global ? n_global : n_targeted));
-            const bool large = s.obs > 0 && s.gain >= cfg.min_gain * double(s.obs);
-            if (s.p < level && large && (!best || s.gain > best->gain)) {
+            res.tried.push_back(
+                {round, row.name, s.c.target(r), s.gain, s.p, s.effect, s.effect_se, row.floor, s.blocks_eff, level});
+            if (s.passes(level, row) && (!best || s.gain > best->gain)) {
                 best = &s;
                 best_level = level;
             }
@@ -252,32 +284,42 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
         res.findings.push_back(a.f);
         acc.push_back(a);
     }
-    // Backward check: a finding that the later ones explain (a width absorbing a hysteresis found
-    // after it) no longer gains on held-out data on top of the others, at the level it passed, and
-    // is dropped; the rest are refitted in order.
-    for (bool dropped = true; dropped && acc.size() > 1;) {
-        dropped = false;
-        for (size_t i = 0; i < acc.size() && !dropped; ++i) {
+    // Backward check and refit, each finding on top of all the others (Gauss–Seidel, up to three
+    // passes): one that the others explain (a width absorbing a hysteresis found after it) no
+    // longer gains on held-out data at the level it passed and is dropped; the rest take the value
+    // fitted beside the others (a noise growth found before a range bias carried part of the bias).
+    // After a drop the survivors are refitted again beside the ones left (a lone survivor too).
+    for (int pass = 0; pass < 4 && acc.size() > 1; ++pass) {
+        bool moved = false, dropped = false;
+        for (size_t i = 0; i < acc.size();) {
             Models others(r, r.prior);
             for (size_t j = 0; j < acc.size(); ++j)
                 if (j != i) acc[j].commit(r, others);
             const Scored s = scoreCandidate(r, others, acc[i].s.c, cfg);
-            if (s.p < acc[i].level && s.obs > 0 && s.gain >= cfg.min_gain * double(s.obs)) continue;
-            acc.erase(acc.begin() + long(i));
-            dropped = true;
+            if (!s.passes(acc[i].level, detail::causeRow(s.c.cause))) {
+                acc.erase(acc.begin() + long(i));
+                moved = dropped = true;
+                continue;
+            }
+            const Accepted a = accept(r, others, s, acc[i].level);
+            if (a.all.ok) {  // a refit that fails keeps the value fitted before
+                moved |= !(std::abs(a.all.theta - acc[i].all.theta) <= 0.1 * acc[i].all.se);
+                acc[i] = a;
+            }
+            ++i;
         }
-        if (!dropped) break;
-        models = Models(r, r.prior);
-        res.findings.clear();
-        std::vector<Accepted> kept;
-        for (const Accepted& prev : acc) {
-            Accepted a = accept(r, models, scoreCandidate(r, models, prev.s.c, cfg), prev.level);
-            if (!a.all.ok) continue;  // a refit that fails drops the finding rather than commit a null θ
-            a.commit(r, models);
-            res.findings.push_back(a.f);
-            kept.push_back(a);
+        if (dropped && acc.size() == 1) {  // fitted beside a finding now gone: once more alone
+            const Models prior(r, r.prior);
+            const Accepted a = accept(r, prior, scoreCandidate(r, prior, acc[0].s.c, cfg), acc[0].level);
+            if (a.all.ok) acc[0] = a;
         }
-        acc = kept;
+        if (!moved) break;
+    }
+    models = Models(r, r.prior);
+    res.findings.clear();
+    for (const Accepted& a : acc) {
+        a.commit(r, models);
+        res.findings.push_back(a.f);
     }
     res.model = models.all.ext;
     // Held out: fold f's scans predicted by the model fitted on the other fold.

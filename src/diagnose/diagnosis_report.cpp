@@ -21,6 +21,9 @@ namespace {
 
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
+/// A value for a report table; "–" when there is none (not tested, not defined).
+std::string orDash(double v, const char* format) { return std::isfinite(v) ? fmt(format, v) : "–"; }
+
 nlohmann::json figuresJson(const std::vector<ModelFigures>& figs)
 {
     nlohmann::json j = nlohmann::json::object();
@@ -256,7 +259,12 @@ void writeDiagnosisJson(const std::string& path, const DiagnosisResult& r, const
                               {"cause", t.cause},
                               {"target", t.target},
                               {"loglik_gain", num(t.loglik_gain)},
-                              {"p_value", num(t.p_value)}});
+                              {"p_value", num(t.p_value)},
+                              {"effect", num(t.effect)},
+                              {"effect_std_error", num(t.effect_se)},
+                              {"blocks", num(t.blocks)},
+                              {"level", num(t.level)},
+                              {"floor", num(t.floor)}});
     j["verdict"] = r.verdict;
     AtomicFile f(path);
     f.stream() << j.dump(2) << '\n';
@@ -270,7 +278,7 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
     o << "# Diagnosis of " << src.laser << "\n\n";
     o << "Scene `" << src.scene << "`, saturation `"
       << (src.saturation.empty() ? "(the scene's time line)" : src.saturation) << "`, calibration `" << src.calibration
-      << "`, clock offset " << src.offset_s << " s, " << r.blocks << " blocks of " << src.block_s << " s, "
+      << "`, clock offset " << src.offset_s << " s, " << r.blocks << " blocks of at most " << src.block_s << " s, "
       << r.observations << " beam observations.\n\n";
     o << "**Verdict: " << r.verdict << "**\n\n";
     o << "## Findings\n\n";
@@ -300,10 +308,18 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
     }
     o << "\n## The model before and after (the extended figures held out: each fold predicted by the other's fit)\n\n";
     figuresTable(o, r.baseline, r.extended);
-    o << "\n## Candidates tried\n\n| round | cause | target | held-out gain [nats] | p |\n|---|---|---|---|---|\n";
-    for (const auto& t : r.tried)
-        o << "| " << t.round << " | " << t.cause << " | " << t.target << " | "
-          << fmt("%.4g | %.3g", t.loglik_gain, t.p_value) << " |\n";
+    o << "\n## Candidates tried\n\nA candidate is named when p is below its family's level and its fitted effect "
+         "reaches its cause's floor (docs/diagnosis.md §4); p is – where it was not tested (no held-out gain, or the "
+         "effect below its floor); `blocks` is how many time blocks its gain is spread over (the test "
+         "cannot pass on fewer than log2(1/level)).\n\n| round | cause | target | held-out gain [nats] | p | "
+         "level | blocks | effect ± se | floor | effect measured as |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& t : r.tried) {
+        const detail::CauseRow* row = detail::causeRow(t.cause);
+        o << "| " << t.round << " | " << t.cause << " | " << t.target << " | " << fmt("%.4g | ", t.loglik_gain)
+          << orDash(t.p_value, "%.3g") << fmt(" | %.2g | %.1f | ", t.level, t.blocks) << orDash(t.effect, "%.3g")
+          << " ± " << orDash(t.effect_se, "%.2g") << fmt(" | %.3g", t.floor) << " | " << (row ? row->floor_unit : "")
+          << " |\n";
+    }
     o << "\n## Residuals of today's model against each covariate\n\nRecorded minus predicted: error share, and mean "
          "range where a range was recorded. The column is in units of the penetration power.\n";
     // The worst few: the covariates whose bins (of at least 50 beams) miss the error share most.

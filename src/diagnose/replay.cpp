@@ -83,7 +83,7 @@ std::pair<SmokeField, double> referenceState(const Scene& scene, const std::vect
     double best_rho = 0;
     for (double t = scene.t_start_s; t <= scene.t_end_s + 1e-9; t += step_s) {
         SmokeField f = SmokeField::at(regional, t);
-        const double rho = camera.column(f) / camera.path_m();
+        const double rho = camera.density(f);
         if (rho > best_rho) {
             best_rho = rho;
             best = std::move(f);
@@ -93,6 +93,35 @@ std::pair<SmokeField, double> referenceState(const Scene& scene, const std::vect
         throw Error(scene.source,
                     "has no regional smoke in the camera's view: nothing to scale to the measured saturation");
     return {std::move(best), best_rho};
+}
+
+/// Time blocks (ReplayConfig, kBlockMove): at most block_s long, and shorter where the smoke
+/// changes fast — a block also ends once the smoke's density (the camera's, or the traced mean)
+/// has moved by kBlockMove of the run's densest since it began (and by more than three of its
+/// noise's standard deviations), never under kMinBlock_s. A
+/// cause's evidence lies in the smoke's rises and falls, and the held-out test counts blocks: a
+/// fixed 3 s put a fast rise into two or three blocks, whose sign flips cannot reach a level
+/// however large the gain. The blocks follow the smoke only, never the laser's readings, so the
+/// test's null holds as before.
+void assignBlocks(Replay& r, double block_s)
+{
+    double peak = 0;
+    for (const ReplayScan& s : r.scans) peak = std::max(peak, s.density);
+    int block = 0;
+    double t_start = r.scans.front().time_s, rho_start = r.scans.front().density;
+    for (ReplayScan& s : r.scans) {
+        const double age = s.time_s - t_start;
+        // A move beyond the density's own noise (three of its standard deviations) too.
+        const double noise = 3 * s.ln_density_sd * s.density;
+        const bool moved =
+            peak > 0 && std::abs(s.density - rho_start) >= std::max(kBlockMove * peak, noise) && age >= kMinBlock_s;
+        if (age >= block_s || moved) {
+            ++block;
+            t_start = s.time_s;
+            rho_start = s.density;
+        }
+        s.block = block;
+    }
 }
 
 /// The camera's density series on laser time: each saturation sample, smoothed over smooth_s,
@@ -239,7 +268,6 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
         if (r.from_saturation && !nearSample(s.time_s)) continue;
         ReplayScan sc;
         sc.time_s = s.time_s;
-        sc.block = int(std::floor((s.time_s - t0) / cfg.block_s));
         std::vector<float> rec(s.range.size());
         const size_t k = size_t(&s - in.log.scans.data());
         for (size_t b = 0; b < s.range.size(); ++b) rec[b] = recorded(k, b, s.range[b] * in.log.unit_m);
@@ -275,6 +303,7 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
         r.scans.push_back(sc);
     }
     if (r.scans.empty()) throw Error(in.log.path, "has no scan the camera's saturation covers");
+    assignBlocks(r, cfg.block_s);
     checkRanges(r, in.log.path);
     return r;
 }

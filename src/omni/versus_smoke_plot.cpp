@@ -85,13 +85,26 @@ void writeVersusSmokePlot(const std::string& path, const std::vector<RangeTally>
         c, bottom, tallies, first, last, min_readings, [](const RangeTallyBin& b) { return b.meanAbsM(); }, ranged,
         "mean |range error| of the ranges read [m]", "%.2f");
     c.text((bottom.x0 + bottom.x1) / 2 - 150, H - 18, "smoke column along the line of sight [density.m]", 13);
-    for (size_t s = 0; s < tallies.size(); ++s) {
+    // The key: as many sensors as the height holds, the rest counted (every sensor is in the
+    // printed table); a name too long for the margin is shortened, marked with "...".
+    const size_t rows = size_t((H - 80 - 60) / 22), keyed = tallies.size() <= rows ? tallies.size() : rows - 1;
+    for (size_t s = 0; s < keyed; ++s) {
         const int y = 80 + 22 * int(s);
-        c.box(W - 170, y - 8, W - 156, y + 2, colourOf(tallies[s].sensor(), s), true);
-        c.text(W - 148, y + 2, tallies[s].sensor(), 13);
+        const std::string& name = tallies[s].sensor();
+        c.box(W - 170, y - 8, W - 156, y + 2, colourOf(name, s), true);
+        std::string shown = name;
+        if (name.size() > 19) {
+            size_t cut = 16;  // on a character's first byte (UTF-8)
+            while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;
+            shown = name.substr(0, cut) + "...";
+        }
+        c.text(W - 148, y + 2, shown, 13);
     }
-    c.text(W - 170, 80 + 22 * int(tallies.size()) + 10, fmt("bins with >= %lld", min_readings), 11);
-    c.text(W - 170, 80 + 22 * int(tallies.size()) + 24, "readings (errors: ranges)", 11);
+    int y = 80 + 22 * int(keyed);
+    if (keyed < tallies.size())
+        c.text(W - 170, (y += 22) - 20, fmt("+ %zu more (see the table)", tallies.size() - keyed), 11);
+    c.text(W - 170, y + 10, fmt("bins with >= %lld", min_readings), 11);
+    c.text(W - 170, y + 24, "readings (errors: ranges)", 11);
     writeImage(path, c.image());
 }
 

@@ -44,6 +44,11 @@ std::unique_ptr<CameraModel> makeCamera(const Camera& cam)
         k.base_radius = cam.base_radius_px;
         return std::make_unique<OmniCamera>(cam.pose, k, cam.name);
     }
+    return std::make_unique<PinholeCamera>(cam.pose, pinholeIntrinsics(cam));
+}
+
+PinholeIntrinsics pinholeIntrinsics(const Camera& cam)
+{
     PinholeIntrinsics k = PinholeIntrinsics::fromHfov(cam.width, cam.height, cam.hfov_deg);
     if (cam.fx_px > 0) k.fx = cam.fx_px;
     if (cam.fy_px > 0)
@@ -54,7 +59,17 @@ std::unique_ptr<CameraModel> makeCamera(const Camera& cam)
     if (cam.cy_px >= 0) k.cy = cam.cy_px;
     if (!(k.fx > 0) || !(k.fy > 0) || !std::isfinite(k.fx) || !std::isfinite(k.fy))
         throw Error(cam.name, "camera focal length must be finite and > 0");
-    return std::make_unique<PinholeCamera>(cam.pose, k);
+    return k;
+}
+
+bool inView(const Camera& cam, const Vec3& direction)
+{
+    if (cam.kind == CameraKind::Omni) return true;  // all round, below its mirror's rim
+    const Vec3 d = cam.pose.R.transpose() * direction;  // +x forward, +y image left, +z up
+    if (!(d.x() > 0)) return false;
+    const PinholeIntrinsics k = pinholeIntrinsics(cam);
+    const double u = k.cx - k.fx * d.y() / d.x(), v = k.cy - k.fy * d.z() / d.x();
+    return u >= 0 && u <= k.width && v >= 0 && v <= k.height;
 }
 
 }  // namespace smokescan

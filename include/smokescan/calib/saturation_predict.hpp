@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/io/recorded.hpp"
@@ -17,25 +18,37 @@
 
 namespace smokescan {
 
+/// What the camera measures of the smoke: the mean density along its line of sight to the target.
+/// A target made of patches side by side is seen at its centroid (on one of its patches); targets
+/// apart (their centroid on none) along the line to the centre of each patch the camera sees (one
+/// another surface hides is left out), the lines' densities averaged.
 class SaturationPredictor {
 public:
     /// @param camera scene camera name ("" = the first)
-    /// @param target_prefix surfaces whose names start with it are the target (their centroid is aimed at)
-    /// @throw Error when the scene has no such camera or target, or the camera does not see it.
+    /// @param target_prefix surfaces whose names start with it are the target's patches
+    /// @throw Error when the scene has no such camera or target, or the camera sees none of the
+    /// target's patches' centres.
     SaturationPredictor(const Scene& scene, const SurfaceSet& surfaces, const SaturationCurve& curve,
                         const std::string& camera = "", const std::string& target_prefix = "target_");
 
-    /// Column ∫ρ ds along the line of sight [density·m] (regional and local smoke).
+    /// Column ∫ρ ds along the lines of sight, their mean [density·m] (regional and local smoke).
     double column(const SmokeField& field) const;
+    /// Mean density along the lines of sight, their mean [density]: what the saturation measures.
+    double density(const SmokeField& field) const;
     /// Predicted saturation.
-    double saturation(const SmokeField& field) const { return curve_(column(field) / path_m_); }
-    /// Camera–target distance [m].
-    double path_m() const { return path_m_; }
+    double saturation(const SmokeField& field) const { return curve_(density(field)); }
+    /// Camera–target distance, the lines of sight's mean [m].
+    double path_m() const;
+    /// The lines of sight (one per target patch the camera sees).
+    size_t sights() const { return sights_.size(); }
 
 private:
+    struct Sight {
+        Ray ray;
+        double path_m;
+    };
     SaturationCurve curve_;
-    Ray ray_;
-    double path_m_ = 0;
+    std::vector<Sight> sights_;
 };
 
 /// | field          | default | unit | meaning                                                  |

@@ -10,14 +10,15 @@
 /// test over the blocks' gains gives a p-value that holds whatever the blocks' correlation within.
 /// A candidate is accepted when p < (alpha/2) / m, m the candidates of its family in the round —
 /// the global causes, or the targeted ones (a surface or a sector each) — (Bonferroni over the
-/// two families: at most `alpha` false alarms per round), its held-out gain per observation it
-/// changes is at least min_gain, and its gain is the round's best; it then
-/// joins the model and the search repeats (greedy), up to max_findings.
+/// two families: at most `alpha` false alarms per round), the effect its folds fitted is at least
+/// its cause's floor (the smallest effect worth naming, in the cause's own units: a 1 s clock
+/// offset, a 10 % threshold shift, ..., docs/diagnosis.md §4; not a gain per beam, which would
+/// depend on how many beams the room has), and its gain is the round's best; it then joins the
+/// model and the search repeats (greedy), up to max_findings.
 ///
 /// | field         | default | meaning                                                          |
 /// |---------------|---------|------------------------------------------------------------------|
 /// | alpha         | 0.05    | family-wise false-alarm level of each round                       |
-/// | min_gain      | 0.02    | nats per observation it changes: the least held-out gain accepted (practical significance: the replay's own small misfits, e.g. a 0.1 s lag from interpolating the camera's samples, are real but not causes) |
 /// | max_findings  | 4       | greedy rounds at most                                              |
 /// | min_beams     | 3       | surfaces hit by fewer beams are not candidates' targets            |
 /// | sign_flips    | 20000   | Monte Carlo sign flips when the blocks are too many to enumerate (> 20): p to ±3e-4 near the Bonferroni level |
@@ -37,7 +38,6 @@ struct DiagnosisConfig {
     /// Called after each candidate scored: the round, the candidates scored in it, their number.
     std::function<void(int round, int done, int total)> progress;
     double alpha = 0.05;
-    double min_gain = 0.02;
     int max_findings = 4;
     int min_beams = 3;
     long long sign_flips = 20000;
@@ -71,7 +71,13 @@ struct Finding {
 struct Tried {
     int round = 0;
     std::string cause, target;
-    double loglik_gain = 0, p_value = 1;
+    double loglik_gain = 0;
+    double p_value = NAN;  ///< NaN: not tested (no held-out gain, or the effect below its floor)
+    double effect = 0;  ///< the effect its folds fitted, in its cause's own units (docs/diagnosis.md §4)
+    double effect_se = NAN;  ///< its standard error
+    double floor = 0;  ///< the cause's floor, in the same units
+    double blocks = 0;  ///< the blocks its held-out gain is spread over, (Σ|g|)²/Σg²
+    double level = 0;  ///< the level its p had to pass in its round
 };
 
 struct DiagnosisResult {

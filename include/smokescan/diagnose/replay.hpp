@@ -10,7 +10,7 @@
 /// | field          | default   | unit | meaning                                                     |
 /// |----------------|-----------|------|-------------------------------------------------------------|
 /// | offset_s       | 0         | s    | camera clock − laser clock (the saturation is read at t + offset) |
-/// | block_s        | 3         | s    | time block of the held-out split and of the covariance       |
+/// | block_s        | 3         | s    | time block of the held-out split and of the covariance, at most: shorter while the smoke changes (kBlockMove) |
 /// | camera         | ""        | –    | the scene camera that saw the target ("" = the first)        |
 /// | target_prefix  | "target_" | –    | the camera's target surfaces                                 |
 /// | time_step_s    | 1         | s    | step of the search for the scene's densest smoke state       |
@@ -28,6 +28,11 @@
 #include "smokescan/sensor_config/sensor_config.hpp"
 
 namespace smokescan {
+
+/// A block ends early once the smoke's density has moved by this share of the run's densest.
+constexpr double kBlockMove = 0.025;
+/// ...but never before it has lasted this long [s].
+constexpr double kMinBlock_s = 0.5;
 
 struct ReplayConfig {
     double offset_s = 0;
@@ -57,7 +62,7 @@ struct ReplayScan {
     double density = 0;  ///< the camera's density (saturation through the curve) [density]
     bool rising = false;  ///< the density is rising at this scan (beyond its noise; a plateau is not)
     double ln_density_sd = 0;  ///< standard error of ln(density) from the saturation's noise
-    int block = 0;  ///< time block (block_s)
+    int block = 0;  ///< time block (at most block_s; shorter while the smoke changes)
 };
 
 struct Replay {

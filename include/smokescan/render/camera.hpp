@@ -50,5 +50,11 @@ private:
 
 /// @brief The camera model for a scene camera. @throw Error for a non-finite pose or bad intrinsics.
 std::unique_ptr<CameraModel> makeCamera(const Camera& cam);
+/// @brief A pinhole scene camera's intrinsics (its focal lengths, or from its field of view).
+/// @throw Error for a focal length that is not finite and > 0.
+PinholeIntrinsics pinholeIntrinsics(const Camera& cam);
+/// @brief Whether a direction from the camera [world frame] falls within its image (an omnicam:
+/// always). @throw Error as pinholeIntrinsics.
+bool inView(const Camera& cam, const Vec3& direction);
 
 }  // namespace smokescan

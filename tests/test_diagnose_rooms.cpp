@@ -1,0 +1,318 @@
+// The diagnosis in rooms nobody here drew (random_room.hpp): what holds on BOCAS must hold there.
+// Clean runs name nothing beyond the stated false-alarm rate; each cause planted above its
+// stated detectability (its floor, docs/diagnosis.md §4) is found with the right target, and its
+// magnitude within its reported errors. Effects are planted through their own mechanisms, not the
+// candidates' forms, on the true column along each beam (plant.hpp).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+#include "plant.hpp"
+#include "random_room.hpp"
+#include "smokescan/diagnose/diagnosis.hpp"
+
+using namespace smokescan;
+using namespace smokescan::test;
+
+namespace {
+
+/// A drawn room as a world for plant.hpp.
+std::unique_ptr<World> worldOf(const DrawnRoom& room, uint64_t seed)
+{
+    return std::make_unique<World>(parseScene(room.text, "drawn room " + std::to_string(seed), "."));
+}
+
+struct RoomRun {
+    DrawnRoom room;
+    std::unique_ptr<World> world;
+    TrueRun run;
+};
+
+RoomRun simulateRoom(uint64_t seed, const std::string& sensor_file = "")
+{
+    RoomRun r{drawRoom(seed), nullptr, {}};
+    r.world = worldOf(r.room, seed);
+    r.run = simulateRun(*r.world, seed, r.room.to_s, r.room.rate_hz, 0.01, 0, sensor_file);
+    return r;
+}
+
+DiagnosisResult diagnoseRoom(const TrueRun& run, SensorModel model = SensorModel::Paper)
+{
+    const FitInputs in = inputsOf(run);
+    SensorConfig c = in.mount.config;
+    c.model = model;
+    return diagnose(replayRun(in, c, ReplayConfig{}));
+}
+
+std::string describe(const RoomRun& r, const DiagnosisResult& d)
+{
+    std::string s = r.room.describe() + ": " + d.verdict;
+    for (const auto& f : d.findings) {
+        s += "\n  " + f.cause + " " + f.target;
+        for (const auto& [n, e] : f.parameters)
+            s += " " + n + "=" + std::to_string(e.value) + "±" + std::to_string(e.se);
+        s += " gain " + std::to_string(f.loglik_gain) + " p " + std::to_string(f.p_value);
+    }
+    return s;
+}
+
+/// One effect planted into a drawn room's run: the cause, its target, the planted value of the
+/// finding's first parameter and of its effect (the cause's floor units).
+struct Planted {
+    std::string cause, target;
+    double value = 0, effect = 0;
+};
+
+double normalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+
+/// The mean of L/σ₀ over the first scan's beams on `surface` ("" every surface), and of 1/σ₀
+/// [1/m]: the scale a range bias or noise growth is measured in (docs/diagnosis.md §4).
+std::pair<double, double> noiseScale(const RoomRun& rr, const std::string& surface)
+{
+    const Scan& first = rr.run.scans.front();
+    double l_sd = 0, inv_sd = 0;
+    int n = 0;
+    for (const BeamResult& b : first.beams) {
+        if (b.hit.surface < 0) continue;
+        if (!surface.empty() && rr.world->scene.surfaces[size_t(b.hit.surface)].name != surface) continue;
+        const double L = b.hit.t_m, sd = rr.run.spec.rangeSigma(L);
+        if (L > rr.run.spec.range_max_m) continue;
+        l_sd += L / sd;
+        inv_sd += 1 / sd;
+        ++n;
+    }
+    return {n ? l_sd / n : 0.0, n ? inv_sd / n : 0.0};
+}
+
+/// @brief Plants cause `which` (0–7) at a random magnitude well above its floor, through its own
+/// mechanism on the true column (the paper model's threshold P on it), not the candidate's form.
+Planted plantInRoom(int which, RoomRun& rr, uint64_t seed)
+{
+    TrueRun& r = rr.run;
+    KeyedRng rng(seed, 0x9147u, uint64_t(which));
+    const double P = 0.007;
+    const std::string target =
+        rr.room.targets[size_t(rng.uniform() * double(rr.room.targets.size())) % rr.room.targets.size()];
+    auto smokeError = [](const BeamView& v) {
+        return v.truth.error && std::string(v.truth.cause) == "penetration_power";
+    };
+    // Errors from a threshold at column `at` (or none): turned on or off against the truth.
+    auto threshold = [&](BeamView& v, bool err) {
+        if (err && !v.truth.error) v.value = 0;
+        if (!err && smokeError(v)) v.value = surfaceReading(r, v, rng);
+    };
+    switch (which) {
+    case 0: {  // the target reads long as smoke thickens: 6–14 % at the column P
+        const double beta = (0.06 + 0.08 * rng.uniform()) / P;
+        plant(r, [&](BeamView& v) {
+            if (v.surface == target && !v.truth.error) v.value = std::llround(double(v.value) * (1 + beta * v.column));
+        });
+        return {"surface_range_bias", target, beta, beta * P * noiseScale(rr, target).first};
+    }
+    case 1: {  // the target fails at a 35–70 % higher or 25–40 % lower column
+        const double f = rng.uniform() < 0.5 ? 1.35 + 0.35 * rng.uniform() : 0.6 + 0.15 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (v.surface == target && v.truth.hit.hit && !(v.truth.error && !smokeError(v)))
+                threshold(v, v.column > P * f);
+        });
+        return {"surface_threshold", target, std::log(f), std::abs(std::log(f))};
+    }
+    case 2: {  // a gradual onset: each beam's threshold drawn anew, width 0.15–0.3 in ln(column)
+        const double w = 0.15 + 0.15 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (!v.truth.hit.hit || !(v.column > 0) || (v.truth.error && !smokeError(v))) return;
+            threshold(v, rng.uniform() < normalCdf((std::log(v.column) - std::log(P)) / w));
+        });
+        return {"threshold_width", "", w, w};
+    }
+    case 3: {  // range noise growing with the column: 3–6 m per density·m
+        const double g = 3 + 3 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (!v.truth.error) v.value += std::llround(g * v.column * rng.normal() / r.spec.unit_m);
+        });
+        return {"range_noise_growth", "", g, g * P * noiseScale(rr, "").second};
+    }
+    case 4: {  // 25–45 % of the smoke failures return a short range instead
+        const double q = 0.25 + 0.2 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (smokeError(v) && v.truth.hit.hit && rng.uniform() < q)
+                v.value = std::llround((0.1 + (v.truth.hit.t_m - 0.1) * rng.uniform()) / r.spec.unit_m);
+        });
+        return {"smoke_obstacle_return", "", q, q};
+    }
+    case 5: {  // a dirty window: a 12–25° sector of beams that see a wall (not the target) fails 30–60 %
+        const double d = 0.3 + 0.3 * rng.uniform(), width = 12 + 13 * rng.uniform();
+        // Where it may start: a beam of the first scan that hits something other than the target,
+        // with at least five such beams in the sector (a hall's far walls lie beyond the URG's range).
+        const Scan& first = r.scans.front();
+        std::vector<double> wall_deg;
+        for (size_t i = 0; i < first.beams.size(); ++i) {
+            const int s = first.beams[i].hit.surface;
+            if (s >= 0 && rr.world->scene.surfaces[size_t(s)].name.rfind("target_", 0) != 0)
+                wall_deg.push_back(first.angle_rad[i] * 180 / M_PI);
+        }
+        std::vector<double> starts;
+        for (double a : wall_deg) {
+            const auto in =
+                std::count_if(wall_deg.begin(), wall_deg.end(), [&](double x) { return x >= a && x <= a + width; });
+            if (in >= 5 && std::abs(a + 0.5 * width) > 20) starts.push_back(a);
+        }
+        const double from =
+            starts.empty() ? 30.0 : starts[size_t(rng.uniform() * double(starts.size())) % starts.size()];
+        plant(r, [&](BeamView& v) {
+            const double deg = v.angle_rad * 180 / M_PI;
+            if (deg >= from && deg <= from + width && v.truth.hit.hit && rng.uniform() < d) v.value = 0;
+        });
+        return {"sector_dropout", "", d, d};
+    }
+    case 6: {  // the onset while smoke falls lies 0.5–0.8 higher in ln(column) than while it rises
+        const double h = 0.5 + 0.3 * rng.uniform();
+        plant(r, [&](BeamView& v) {
+            if (!v.truth.hit.hit || (v.truth.error && !smokeError(v))) return;
+            threshold(v, v.column > P * std::exp(v.column > v.previous_column ? -0.5 * h : 0.5 * h));
+        });
+        return {"hysteresis", "", h, h};
+    }
+    default: {  // the camera's clock 3–8 s ahead or behind: the saturation series shifted
+        const double dt = (rng.uniform() < 0.5 ? -1 : 1) * (3 + 5 * rng.uniform());
+        for (double& t : r.sat.time_s) t += dt;
+        return {"clock_offset", "", dt, std::abs(dt)};
+    }
+    }
+}
+
+/// The causes the rooms test plants (plantInRoom's 0–6). A clock offset (7) is not yet found in
+/// every drawn room it is detectable in: in a corridor with puffs scanned at 10 Hz a planted −3 s
+/// fits −2.3 s on one fold and −2.8 s on the other and the held-out test fails (p 0.2). Open in
+/// issue 32; `SMOKESCAN_EXPLORE_PLANT=7` in the Explore test shows it.
+constexpr int kPlantable = 7;
+
+}  // namespace
+
+namespace {
+
+/// The normal quantile of a one-sided level (bisection on the tail).
+double zOf(double level)
+{
+    double lo = 0, hi = 10;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (1 - normalCdf(mid) > level ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/// The planted cause's detectability on this run as docs/diagnosis.md §4 states it, from what the
+/// run's first round reports for the cause (and target): its floor, or (z + 1.64) of the effect's
+/// standard error, z the normal quantile of its level; infinite when its gain is spread over too
+/// few blocks for the sign-flip test to reach the level (2^−blocks ≥ level) or it was not tried.
+double detectability(const DiagnosisResult& d, const Planted& p)
+{
+    const Tried* mine = nullptr;
+    for (const Tried& t : d.tried)
+        if (t.round == 1 && t.cause == p.cause && (p.target.empty() || t.target == p.target)) mine = &t;
+    if (!mine || std::exp2(-mine->blocks) >= mine->level) return INFINITY;
+    return std::max(mine->floor, (zOf(mine->level) + 1.64) * mine->effect_se);
+}
+
+}  // namespace
+
+TEST(DiagnoseRooms, CleanRunsNameNothingBeyondTheStatedRate)
+{
+    if (sanitized()) GTEST_SKIP() << "drawn rooms over seeds: the Release build";
+    // Ten drawn rooms, the paper model: a cause named in at most two (5 % a round; two or fewer
+    // of ten has probability 0.99 at that rate).
+    int named = 0;
+    std::string seen;
+    for (uint64_t seed = 5000; seed < 5010; ++seed) {
+        RoomRun r = simulateRoom(seed);
+        const DiagnosisResult d = diagnoseRoom(r.run);
+        if (!d.findings.empty()) ++named, seen += describe(r, d) + "\n";
+    }
+    EXPECT_LE(named, 2) << seen;
+}
+
+TEST(DiagnoseRooms, EachCauseAboveItsDetectabilityIsFoundWithItsTarget)
+{
+    if (sanitized()) GTEST_SKIP() << "drawn rooms over seeds: the Release build";
+    // Each cause planted into two drawn rooms of its own (14 rooms): where the planted effect is
+    // above the detectability the run itself states, it is found with its target. Most plants
+    // must be detectable, or the test would test nothing. The values' pulls are printed, not
+    // asserted: in drawn rooms they are not yet of unit spread (issue 32; docs/diagnosis.md).
+    int detectable = 0, runs = 0, with_extra = 0;
+    std::vector<double> pulls;
+    std::string extras;
+    for (int which = 0; which < kPlantable; ++which) {
+        int detectable_here = 0;
+        for (int i = 0; i < 2; ++i) {
+            const uint64_t seed = 6000 + 10 * uint64_t(which) + uint64_t(i);
+            RoomRun r = simulateRoom(seed);
+            const Planted p = plantInRoom(which, r, seed);
+            const DiagnosisResult d = diagnoseRoom(r.run);
+            ++runs;
+            const double needed = detectability(d, p);
+            const std::string what = p.cause + " " + p.target + " planted " + std::to_string(p.value) + " (effect " +
+                std::to_string(p.effect) + ", detectable from " + std::to_string(needed) + ") in " + describe(r, d);
+            if (!(p.effect >= needed)) {
+                std::printf("below its detectability: %s\n", what.c_str());
+                continue;
+            }
+            ++detectable;
+            ++detectable_here;
+            const Finding* f = nullptr;
+            for (const Finding& x : d.findings)
+                if (x.cause == p.cause && (p.target.empty() || x.target == p.target)) f = &x;
+            ASSERT_NE(f, nullptr) << what;
+            if (d.findings.size() > 1) ++with_extra, extras += what + "\n";
+            const Estimate e = f->parameters.front().second;
+            pulls.push_back((e.value - p.value) / e.se);
+            std::printf("found: %s, pull %.2f\n", what.c_str(), pulls.back());
+        }
+        // Each cause detectable in at least one of its rooms: a cause never tried (a sector search
+        // that finds nothing) or never stating its detectability would otherwise pass unseen.
+        EXPECT_GE(detectable_here, 1) << "cause " << which << " was detectable in none of its rooms";
+    }
+    EXPECT_GE(detectable, runs * 3 / 4) << "most plants must be above the detectability the runs state";
+    // Another cause named beside the planted one in at most a quarter of the runs, as on BOCAS.
+    EXPECT_LE(with_extra, runs / 4) << extras;
+    double m = 0, m2 = 0;
+    for (double x : pulls) m += x / double(pulls.size()), m2 += x * x / double(pulls.size());
+    std::printf("pulls over %zu found plants: mean %.2f, sd %.2f\n", pulls.size(), m, std::sqrt(m2 - m * m));
+}
+
+TEST(DiagnoseRooms, Explore)
+{
+    // SMOKESCAN_EXPLORE=N rooms from seed 5000; SMOKESCAN_EXPLORE_PLANT=k plants cause k (−1: clean).
+    if (!std::getenv("SMOKESCAN_EXPLORE")) GTEST_SKIP() << "set SMOKESCAN_EXPLORE=N";
+    const int n = std::atoi(std::getenv("SMOKESCAN_EXPLORE"));
+    const int which = std::getenv("SMOKESCAN_EXPLORE_PLANT") ? std::atoi(std::getenv("SMOKESCAN_EXPLORE_PLANT")) : -1;
+    const uint64_t first = std::getenv("SMOKESCAN_EXPLORE_FROM")
+        ? std::strtoull(std::getenv("SMOKESCAN_EXPLORE_FROM"), nullptr, 10)
+        : 5000;
+    for (int s = 0; s < n; ++s) {
+        const uint64_t seed = first + uint64_t(s);
+        const auto t0 = std::chrono::steady_clock::now();
+        RoomRun r = simulateRoom(seed);
+        Planted p;
+        if (which >= 0) p = plantInRoom(which, r, seed);
+        const auto t1 = std::chrono::steady_clock::now();
+        const DiagnosisResult d = diagnoseRoom(r.run);
+        const auto t2 = std::chrono::steady_clock::now();
+        std::printf(
+            "%llu %s: %zu scans, sim %.1f s, diagnose %.1f s; planted %s %s %.4g (effect %.3g, detectable "
+            "from %.3g)\n%s\n",
+            (unsigned long long)seed, r.room.describe().c_str(), r.run.scans.size(),
+            std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count(),
+            p.cause.c_str(), p.target.c_str(), p.value, p.effect, which >= 0 ? detectability(d, p) : 0.0,
+            describe(r, d).c_str());
+        for (const auto& t : d.tried)
+            if (t.round == 1)
+                std::printf("   tried %s %s gain %.1f p %.3g level %.2g blocks %.1f effect %.3g±%.2g floor %.3g\n",
+                            t.cause.c_str(), t.target.c_str(), t.loglik_gain, t.p_value, t.level, t.blocks, t.effect,
+                            t.effect_se, t.floor);
+    }
+}
