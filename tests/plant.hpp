@@ -149,6 +149,19 @@ inline FitInputs inputsOf(const TrueRun& r)
     return in;
 }
 
+/// @brief A diagnosis's findings, one line each with their parameters, gain and p (for messages).
+inline std::string findingsText(const DiagnosisResult& d)
+{
+    std::string s = d.verdict;
+    for (const auto& f : d.findings) {
+        s += "\n  " + f.cause + " " + f.target;
+        for (const auto& [n, e] : f.parameters)
+            s += " " + n + "=" + std::to_string(e.value) + "±" + std::to_string(e.se);
+        s += " gain " + std::to_string(f.loglik_gain) + " p " + std::to_string(f.p_value);
+    }
+    return s;
+}
+
 /// A run diagnosed: its replay and the result.
 struct Diagnosed {
     Replay replay;

@@ -56,17 +56,7 @@ const Finding* finding(const DiagnosisResult& d, const std::string& cause, const
     return nullptr;
 }
 
-std::string describe(const DiagnosisResult& d)
-{
-    std::string s = "verdict: " + d.verdict;
-    for (const auto& f : d.findings) {
-        s += "\n  " + f.cause + " " + f.target;
-        for (const auto& [n, e] : f.parameters)
-            s += " " + n + "=" + std::to_string(e.value) + "±" + std::to_string(e.se);
-        s += " gain " + std::to_string(f.loglik_gain) + " p " + std::to_string(f.p_value);
-    }
-    return s;
-}
+std::string describe(const DiagnosisResult& d) { return "verdict: " + findingsText(d); }
 
 /// One planted cause: its name, target, and the value the diagnosis should report.
 struct Planted {

@@ -48,17 +48,7 @@ DiagnosisResult diagnoseRoom(const TrueRun& run, SensorModel model = SensorModel
     return diagnose(replayRun(in, c, ReplayConfig{}));
 }
 
-std::string describe(const RoomRun& r, const DiagnosisResult& d)
-{
-    std::string s = r.room.describe() + ": " + d.verdict;
-    for (const auto& f : d.findings) {
-        s += "\n  " + f.cause + " " + f.target;
-        for (const auto& [n, e] : f.parameters)
-            s += " " + n + "=" + std::to_string(e.value) + "±" + std::to_string(e.se);
-        s += " gain " + std::to_string(f.loglik_gain) + " p " + std::to_string(f.p_value);
-    }
-    return s;
-}
+std::string describe(const RoomRun& r, const DiagnosisResult& d) { return r.room.describe() + ": " + findingsText(d); }
 
 /// One effect planted into a drawn room's run: the cause, its target, the planted value of the
 /// finding's first parameter and of its effect (the cause's floor units).

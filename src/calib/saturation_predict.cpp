@@ -64,27 +64,25 @@ SaturationPredictor::SaturationPredictor(const Scene& scene, const SurfaceSet& s
                         "*'): each lies outside its image or another surface hides it");
 }
 
-double SaturationPredictor::column(const SmokeField& field) const
+double SaturationPredictor::Sight::column(const SmokeField& field) const
 {
     BeamQuery q;
     q.wavelength_nm = 550;
+    const BeamSmoke b = field.trace(ray, 0.0, path_m, q);
+    return b.column_regional + b.column_local;
+}
+
+double SaturationPredictor::column(const SmokeField& field) const
+{
     double sum = 0;
-    for (const Sight& s : sights_) {
-        const BeamSmoke b = field.trace(s.ray, 0.0, s.path_m, q);
-        sum += b.column_regional + b.column_local;
-    }
+    for (const Sight& s : sights_) sum += s.column(field);
     return sum / double(sights_.size());
 }
 
 double SaturationPredictor::density(const SmokeField& field) const
 {
-    BeamQuery q;
-    q.wavelength_nm = 550;
     double sum = 0;
-    for (const Sight& s : sights_) {
-        const BeamSmoke b = field.trace(s.ray, 0.0, s.path_m, q);
-        sum += (b.column_regional + b.column_local) / s.path_m;
-    }
+    for (const Sight& s : sights_) sum += s.column(field) / s.path_m;
     return sum / double(sights_.size());
 }
 

@@ -46,6 +46,8 @@ private:
     struct Sight {
         Ray ray;
         double path_m;
+        /// The column ∫ρ ds along it [density·m] (regional and local smoke).
+        double column(const SmokeField& field) const;
     };
     SaturationCurve curve_;
     std::vector<Sight> sights_;
