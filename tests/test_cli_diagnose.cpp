@@ -55,6 +55,10 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
               "d_sick.log: has 361 beams a scan", file("d1"));
     expectBad("diagnose --laser " + log + " --saturation " + late + " --scene bocas --out " + file("d2"),
               "d_late.csv: does not overlap the laser log", file("d2"));
+    // An empty target prefix would make every surface the camera's target.
+    expectBad(
+        "diagnose --laser " + log + " --saturation " + sat + " --scene bocas --target-prefix '' --out " + file("d0"),
+        "--target-prefix: must not be empty", file("d0"));
     const std::string shortlog = file("d_short.log");
     // 1 s: at most three blocks even while the smoke changes (a block lasts at least 0.5 s).
     ASSERT_EQ(cli("scan bocas --from 100 --to 101 --quiet --out " + shortlog).status, 0);

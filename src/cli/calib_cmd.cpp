@@ -210,7 +210,8 @@ void addCalibration(CLI::App& app, Runner& run)
     c->add_option("--seed", a->cfg.seed, "Render seed")->capture_default_str();
     c->add_option("--camera", a->cfg.camera, "Scene camera (default: the first)");
     c->add_option("--target-prefix", a->cfg.target_prefix, "Surface-name prefix of the target's patches")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(nonEmpty());
     addChoice(c, "--loss", a->cfg.fit.loss,
               {{"none", RobustLoss::None}, {"huber", RobustLoss::Huber}, {"cauchy", RobustLoss::Cauchy}},
               "Robust loss of the curve fit, default huber");
@@ -226,7 +227,9 @@ void addCalibration(CLI::App& app, Runner& run)
     t->add_option("--polygon", s->polygons, "A patch: NAME=x1,y1,x2,y2,x3,y3,... in pixels (repeatable)");
     t->add_option("--ids", s->ids, "Id AOV image(s) from `smokescan render --ids` (file or folder, one per frame)");
     t->add_option("--scene", s->scene, "Scene whose surfaces the ids name");
-    t->add_option("--target-prefix", s->prefix, "Surface-name prefix of the target's patches")->capture_default_str();
+    t->add_option("--target-prefix", s->prefix, "Surface-name prefix of the target's patches")
+        ->capture_default_str()
+        ->check(nonEmpty());
     t->add_option("--timestamps", s->timestamps, "Times: lines 'file,time_s' or one time per frame in name order");
     t->add_option("--fps", s->fps, "Frame rate: the number in a file name is a frame index")->check(positive());
     t->callback([s, &run] { run = [s] { return runSaturation(*s); }; });

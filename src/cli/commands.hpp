@@ -32,6 +32,8 @@ const CLI::Validator& nonnegative();
 CLI::Validator range(double lo, double hi);
 /// An integer in [lo, hi].
 CLI::Validator intRange(long long lo, long long hi);
+/// A text that is not empty (a surface-name prefix: "" would make every surface the target).
+const CLI::Validator& nonEmpty();
 /// The sensor model an option names ("paper", "physical"); Error(option, ...) otherwise.
 SensorModel sensorModelOption(const std::string& option, const std::string& value);
 /// @brief The omnicam's options of `fit` and `diagnose` (--max-range, --floor-z, --tolerance)

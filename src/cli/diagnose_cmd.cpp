@@ -180,7 +180,9 @@ void addDiagnose(CLI::App& app, Runner& run)
         ->capture_default_str()
         ->check(positive());
     c->add_option("--camera", a->replay.camera, "Scene camera that saw the target (default: the first)");
-    c->add_option("--target-prefix", a->replay.target_prefix, "The camera's target surfaces")->capture_default_str();
+    c->add_option("--target-prefix", a->replay.target_prefix, "The camera's target surfaces")
+        ->capture_default_str()
+        ->check(nonEmpty());
     c->add_option("--alpha", a->diag.alpha, "False-alarm level of each round")
         ->capture_default_str()
         ->check(range(1e-9, 0.5));

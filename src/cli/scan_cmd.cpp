@@ -227,7 +227,9 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]")
         ->check(positive());
     c->add_option("--seed", a->cfg.seed, "Noise seed")->capture_default_str();
-    c->add_option("--target", a->target, "Surface-name prefix the summary counts as the target")->capture_default_str();
+    c->add_option("--target", a->target, "Surface-name prefix the summary counts as the target")
+        ->capture_default_str()
+        ->check(nonEmpty());
     c->add_option("--bin", a->bin_s, "Summary time bin [s] (default: automatic)")->check(positive());
     c->add_flag("--quiet", a->quiet, "No summary");
     c->add_option(

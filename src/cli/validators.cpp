@@ -53,6 +53,14 @@ const CLI::Validator& positive()
     return v;
 }
 
+const CLI::Validator& nonEmpty()
+{
+    static const CLI::Validator v(
+        [](const std::string& text) { return text.empty() ? std::string("must not be empty") : std::string(); },
+        "NONEMPTY");
+    return v;
+}
+
 const CLI::Validator& nonnegative()
 {
     static const CLI::Validator v = numberRule(
