@@ -157,18 +157,18 @@ void Candidate::apply(const Replay& r, const ReplayModel& m, const Obs& o, const
     causeRow(cause).apply(r, m, *this, o, theta, x);
 }
 
-void Candidate::commit(const Replay& r, double theta, ReplayModel& m) const
+ModelExtensions Candidate::with(const Replay& r, double theta, const ReplayModel& m) const
 {
     ModelExtensions e = m.ext;
     causeRow(cause).commit(r, *this, theta, e);
-    m = ReplayModel(r, std::move(e));
+    return e;
 }
+
+void Candidate::commit(const Replay& r, double theta, ReplayModel& m) const { m = ReplayModel(r, with(r, theta, m)); }
 
 bool Candidate::plausible(const Replay& r, double theta, const ReplayModel& m) const
 {
-    ModelExtensions e = m.ext;
-    causeRow(cause).commit(r, *this, theta, e);
-    return e.withinBounds();
+    return with(r, theta, m).withinBounds();
 }
 
 std::vector<std::pair<std::string, Estimate>> Candidate::report(double theta, double se) const
@@ -193,13 +193,23 @@ double modelLogLik(const Replay& r, const ReplayModel& m, const Obs& o)
     return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.range_max_m);
 }
 
+namespace {
+
+/// What a beam's finished terms predict.
+Prediction predictionOf(const BeamTerms<double>& x)
+{
+    const double err = 0.5 * kLapse + (1 - kLapse) * extended::errorShare(x.d, x.ps, x.q);
+    return {err, extended::rangeMean(x.mu0, x.beta, x.column),
+            std::sqrt(extended::rangeVariance(x.sd0, x.gamma, x.column))};
+}
+
+}  // namespace
+
 Prediction modelPrediction(const Replay& r, const ReplayModel& m, const Obs& o)
 {
     BeamTerms<double> x = baseTerms<double>(r, m, o);
     finishTerms(r, o, x);
-    const double err = 0.5 * kLapse + (1 - kLapse) * extended::errorShare(x.d, x.ps, x.q);
-    return {err, extended::rangeMean(x.mu0, x.beta, x.column),
-            std::sqrt(extended::rangeVariance(x.sd0, x.gamma, x.column))};
+    return predictionOf(x);
 }
 
 bool findDropoutSector(const Replay& r, const ReplayModel& m, int fold, double& from_rad, double& to_rad)
@@ -221,7 +231,7 @@ bool findDropoutSector(const Replay& r, const ReplayModel& m, int fold, double& 
             if (x.ps > in_clear_air + 0.01) continue;  // the smoke makes errors here: not clear air
             ++clear[b];
             errs[b] += std::isnan(r.range_m[k][b]);
-            expected[b] += modelPrediction(r, m, o).p_err;
+            expected[b] += predictionOf(x).p_err;
         }
     }
     size_t best0 = 0, best_n = 0;

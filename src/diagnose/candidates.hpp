@@ -54,6 +54,8 @@ struct Candidate {
     bool touches(const Replay& r, int b) const;
     /// @brief The candidate's change to a beam's terms at parameter θ.
     void apply(const Replay& r, const ReplayModel& model, const Obs& o, const J& theta, BeamTerms<J>& x) const;
+    /// @brief `model`'s extensions with θ committed (the model is left as it is).
+    ModelExtensions with(const Replay& r, double theta, const ReplayModel& model) const;
     /// @brief θ into the extension model (the accepted finding).
     void commit(const Replay& r, double theta, ReplayModel& model) const;
     /// @brief Whether θ on top of `model` gives values the extensions can take (their bounds,

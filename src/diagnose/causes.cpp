@@ -13,6 +13,13 @@ J sigmoid(const J& z) { return J(1.0) / (J(1.0) + exp(-z)); }
 
 using Reported = std::vector<std::pair<std::string, Estimate>>;
 
+/// A share reported from its logit θ: the logistic of θ, its error through the logistic's slope.
+Reported share(const char* name, double theta, double se)
+{
+    const double p = sigmoid(theta);
+    return {{name, {p, p * (1 - p) * se}}};
+}
+
 /// The surface's own extensions in `e`, made when missing.
 SurfaceExtension& surfaceOf(const Replay& r, const Candidate& c, ModelExtensions& e)
 {
@@ -140,10 +147,7 @@ const CauseRow kRows[] = {
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) {
          e.smoke_obstacle_return = 1 - (1 - e.smoke_obstacle_return) * (1 - sigmoid(theta));
      },
-     [](double theta, double se) {
-         const double p = sigmoid(theta);
-         return Reported{{"short_return_share", {p, p * (1 - p) * se}}};
-     },
+     [](double theta, double se) { return share("short_return_share", theta, se); },
      "column",
      Shown::ErrorShare,
      [](double theta, const EffectScale&) { return sigmoid(theta); },
@@ -160,10 +164,7 @@ const CauseRow kRows[] = {
      [](const Replay&, const Candidate& c, double theta, ModelExtensions& e) {
          e.sectors.push_back(sectorOf(c, sigmoid(theta)));
      },
-     [](double theta, double se) {
-         const double p = sigmoid(theta);
-         return Reported{{"dropout", {p, p * (1 - p) * se}}};
-     },
+     [](double theta, double se) { return share("dropout", theta, se); },
      "beam_angle_deg",
      Shown::ErrorShare,
      [](double theta, const EffectScale&) { return sigmoid(theta); },
@@ -190,7 +191,7 @@ const CauseRow kRows[] = {
 
 }  // namespace
 
-double effectOf(const Replay& r, const Candidate& c, double theta)
+EffectScale effectScale(const Replay& r, const Candidate& c)
 {
     EffectScale e;
     e.P = r.config.paper.penetration_power;
@@ -207,7 +208,7 @@ double effectOf(const Replay& r, const Candidate& c, double theta)
         ++n;
     }
     if (n > 0) e.range_over_sd /= n, e.inv_sd /= n;
-    return causeRow(c.cause).effect(theta, e);
+    return e;
 }
 
 const CauseRow& causeRow(Cause c)

@@ -52,8 +52,9 @@ struct CauseRow {
     bool jackknife = false;
 };
 
-/// @brief The size of candidate c's fitted θ (CauseRow::effect) on the replay.
-double effectOf(const Replay& r, const Candidate& c, double theta);
+/// @brief The scale candidate c's effect is measured against on the replay (CauseRow::effect):
+/// it does not depend on θ, so it is found once per candidate.
+EffectScale effectScale(const Replay& r, const Candidate& c);
 
 /// @brief The row of cause c.
 const CauseRow& causeRow(Cause c);

@@ -79,18 +79,20 @@ Scored scoreCandidate(const Replay& r, const Models& m, Candidate c, const Diagn
     double abs_sum = 0, sq_sum = 0;
     for (double g : s.block_gain) s.gain += g, abs_sum += std::abs(g), sq_sum += g * g;
     s.blocks_eff = sq_sum > 0 ? abs_sum * abs_sum / sq_sum : 0.0;
+    const detail::CauseRow& row = detail::causeRow(c.cause);
+    const detail::EffectScale scale = detail::effectScale(r, c);
+    const auto effectOf = [&](double t) { return row.effect(t, scale); };
     double theta = 0, se = 0, effect = 0;
     int fits = 0;
     for (const ThetaFit& f : s.fold_fit)
-        if (f.ok) theta += f.theta, se += f.se, effect += detail::effectOf(r, c, f.theta), ++fits;
-    const detail::CauseRow& row = detail::causeRow(c.cause);
+        if (f.ok) theta += f.theta, se += f.se, effect += effectOf(f.theta), ++fits;
     if (fits > 0) {
         theta /= fits;
         se /= fits * M_SQRT2;
         s.effect = effect / fits;  // each fold's effect (a noise growth's θ may fit ±γ)
         // Propagated through the effect's slope at θ (a difference over ±se would cap it at |θ|).
         const double h = 1e-4 * std::max(1.0, std::abs(theta));
-        const double slope = (detail::effectOf(r, c, theta + h) - detail::effectOf(r, c, theta - h)) / (2 * h);
+        const double slope = (effectOf(theta + h) - effectOf(theta - h)) / (2 * h);
         s.effect_se = std::abs(slope) * se;
     }
     // Only a candidate that gains and is large enough to be named needs its p-value (the flips cost).
@@ -284,7 +286,7 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
         res.findings.push_back(a.f);
         acc.push_back(a);
     }
-    // Backward check and refit, each finding on top of all the others (Gauss–Seidel, up to three
+    // Backward check and refit, each finding on top of all the others (Gauss–Seidel, up to four
     // passes): one that the others explain (a width absorbing a hysteresis found after it) no
     // longer gains on held-out data at the level it passed and is dropped; the rest take the value
     // fitted beside the others (a noise growth found before a range bias carried part of the bias).
