@@ -21,7 +21,7 @@ namespace {
 
 struct DiagnoseArgs {
     FitInputsConfig in;
-    std::string unit = "mm", sensor_file, model, out;
+    std::string unit = "mm", sensor_file, model, out, shape = "reference";
     bool lenient = false;
     ReplayConfig replay;
     DiagnosisConfig diag;
@@ -53,6 +53,10 @@ void finishDiagnosis(const DiagnoseArgs& a, AtomicFolder& out, const Replay& rep
     writeDiagnosisReport(out.path("report.md"), replay, r, src);
     out.commit();
     say("verdict: %s\n", r.verdict.c_str());
+    if (r.shape == SmokeShape::Reference && r.shape_error_ln >= kShapeWarningLn)
+        say("warning: the scene's smoke changes shape (its densest state misstates the beams' columns by %.2f in "
+            "ln): the estimates are attenuated; --smoke-shape timeline if the scene's time line is right\n",
+            r.shape_error_ln);
     for (const auto& f : r.findings) {
         say("  %s%s%s:", f.cause.c_str(), f.target.empty() ? "" : " on ", f.target.c_str());
         for (const auto& [name, e] : f.parameters) say(" %s = %.5g +/- %.2g;", name.c_str(), e.value, e.se);
@@ -117,6 +121,7 @@ int runDiagnose(const DiagnoseArgs& a0)
     files.outputFolder(a.out, "--out");
     if (a.in.saturation.empty() && !a.in.patch.empty()) throw Error("--patch", "needs --saturation");
     a.in.read = {parseRangeUnit(a.unit), a.lenient};
+    a.replay.shape = smokeShapeOf(a.shape, "--smoke-shape");
     a.in.prefix = a.replay.target_prefix;
     // The folder is checked (and staged) before the work: a taken --out fails at once.
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
@@ -179,6 +184,10 @@ void addDiagnose(CLI::App& app, Runner& run)
                   "Longest time block of the held-out split [s] (shorter while the smoke changes)")
         ->capture_default_str()
         ->check(positive());
+    c->add_option("--smoke-shape", a->shape,
+                  "Where the camera's smoke lies along each beam: reference (the scene's densest state, scaled) or "
+                  "timeline (the scene's state at each scan, scaled)")
+        ->capture_default_str();
     c->add_option("--camera", a->replay.camera, "Scene camera that saw the target (default: the first)");
     c->add_option("--target-prefix", a->replay.target_prefix, "The camera's target surfaces")
         ->capture_default_str()

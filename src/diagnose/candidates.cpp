@@ -17,7 +17,7 @@ BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& m, const Obs& o)
     const ModelExtensions& e = m.ext;
     BeamTerms<T> x;
     if (r.from_saturation && m.offset_change_s != 0)
-        x.column = T(r.densityAt(scan.time_s + m.offset_change_s) / r.density_ref * beam.column_ref);
+        x.column = T(r.columnWith(size_t(o.k), size_t(o.b), r.densityAt(scan.time_s + m.offset_change_s)));
     else
         x.column = T(r.columnAt(size_t(o.k), size_t(o.b)));
     const SurfaceExtension* own = beam.surface >= 0 ? &m.surface[size_t(beam.surface)] : nullptr;

@@ -49,7 +49,7 @@ const CauseRow kRows[] = {
      }(),
      [](const Replay& r, const ReplayModel& m, const Candidate&, const Obs& o, const J& theta, BeamTerms<J>& x) {
          const double t = r.scans[size_t(o.k)].time_s + m.offset_change_s;
-         x.column = r.densityAt(J(t) + theta) / J(r.density_ref) * J(r.beams[size_t(o.b)].column_ref);
+         x.column = r.columnWith(size_t(o.k), size_t(o.b), r.densityAt(J(t) + theta));
      },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) { e.clock_offset_s += theta; },
      [](double theta, double se) {

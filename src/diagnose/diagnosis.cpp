@@ -48,10 +48,12 @@ struct Scored {
     double effect_se = NAN;  ///< its standard error on all the data (the folds' over √2)
     double blocks_eff = 0;  ///< the blocks its gain is spread over: (Σ|g|)² / Σg²
 
-    /// Whether it passes the gate at `level`: significant, and an effect worth naming.
+    /// Whether it passes the gate at `level`: significant, and an effect worth naming that its
+    /// fit determines (a θ the data do not move stays at its start, its error is huge: a threshold
+    /// on a wall the smoke never reaches sat at its start 0.35 ± 1e9 and was named on 1e-7 nats).
     bool passes(double level, const detail::CauseRow& row) const
     {
-        return obs > 0 && gain > 0 && p < level && effect >= row.floor;
+        return obs > 0 && gain > 0 && p < level && effect >= row.floor && !(effect_se >= effect);
     }
 };
 
@@ -241,6 +243,8 @@ DiagnosisResult diagnose(const Replay& r, const DiagnosisConfig& cfg)
 {
     DiagnosisResult res;
     res.blocks = r.blocks();
+    res.shape = r.shape;
+    res.shape_error_ln = r.shape_error_ln;
     if (res.blocks < 4)
         throw Error("diagnose",
                     "the run spans " + std::to_string(res.blocks) +

@@ -235,7 +235,9 @@ void writeDiagnosisJson(const std::string& path, const DiagnosisResult& r, const
                    {"calibration", src.calibration},
                    {"sensor_file", src.sensor_file},
                    {"offset_s", src.offset_s},
-                   {"block_s", src.block_s}};
+                   {"block_s", src.block_s},
+                   {"smoke_shape", smokeShapeName(r.shape)}};
+    j["shape_error_ln"] = num(r.shape_error_ln);
     j["blocks"] = r.blocks;
     j["observations"] = r.observations;
     j["baseline"] = figuresJson(r.baseline);
@@ -279,7 +281,15 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
     o << "Scene `" << src.scene << "`, saturation `"
       << (src.saturation.empty() ? "(the scene's time line)" : src.saturation) << "`, calibration `" << src.calibration
       << "`, clock offset " << src.offset_s << " s, " << r.blocks << " blocks of at most " << src.block_s << " s, "
-      << r.observations << " beam observations.\n\n";
+      << r.observations << " beam observations; the smoke's shape along the beams: " << smokeShapeName(r.shape)
+      << ".\n\n";
+    if (r.shape == SmokeShape::Reference && r.shape_error_ln >= kShapeWarningLn)
+        o << fmt(
+            "**The scene's smoke changes shape over its time line**: its densest state, scaled, misstates the "
+            "beams' columns by %.2f in ln (rms) where they matter. Estimates read against it are attenuated "
+            "and their errors too small; if the scene's time line says where the smoke was, run again "
+            "with `--smoke-shape timeline`.\n\n",
+            r.shape_error_ln);
     o << "**Verdict: " << r.verdict << "**\n\n";
     o << "## Findings\n\n";
     if (r.findings.empty()) o << "None: no candidate extension gained on held-out blocks at the stated level.\n\n";

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 
@@ -124,10 +125,20 @@ void assignBlocks(Replay& r, double block_s)
     }
 }
 
+/// The density a saturation reads as: through the curve, a saturation at or below the curve's
+/// floor (the camera's noise in the densest smoke; 0 without one) as the curve's density 1e-4
+/// above it — denser than any beam passes, rather than a gap that interpolation would fill low —
+/// and one at or above the clear-air value as clear.
+double densityOfSaturation(const SaturationCurve& curve, double S)
+{
+    S = std::max(S, curve.floor + 1e-4);
+    return S < curve(0.0) ? curve.invert(S) : 0.0;
+}
+
 /// The camera's density series on laser time: each saturation sample, smoothed over smooth_s,
-/// through the curve; and the smoothed series' noise.
-void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, double offset_s, double smooth_s,
-                   Replay& r)
+/// through the curve; and the smoothed series' noise. @return the smoothing's half-width in samples.
+int densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, double offset_s, double smooth_s,
+                  Replay& r)
 {
     std::vector<double> dt;
     for (size_t i = 1; i < raw.time_s.size(); ++i) {
@@ -150,16 +161,25 @@ void densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, do
     const SaturationSeries sat = movingAverage(raw, h);
     r.saturation_noise = saturationNoise(raw) / std::sqrt(2.0 * h + 1);
     for (size_t j = 0; j < sat.time_s.size(); ++j) {
-        // A saturation at or below the curve's floor (the camera's noise in the densest smoke; 0
-        // without one) reads as the curve's density 1e-4 above it: denser than any beam passes,
-        // rather than a gap that interpolation would fill low.
-        const double S = std::max(sat.saturation[j], curve.floor + 1e-4);
-        const double rho = S < curve(0.0) ? curve.invert(S) : 0.0;  // at or above the clear-air value: clear
+        const double rho = densityOfSaturation(curve, sat.saturation[j]);
         r.density_time_s.push_back(sat.time_s[j] - offset_s);
         r.density_series.push_back(rho);
     }
     if (r.density_time_s.empty())
         throw Error(sat.path, "holds no saturation the calibration curve can read as a density");
+    return h;
+}
+
+/// The share of one sample's noise σ left in the density read at laser time t: between two
+/// samples at weights w and 1 − w, √(w² + (1 − w)² + 2w(1 − w)ρ), ρ = 2h/(2h + 1) the correlation
+/// of two neighbouring averages of 2h + 1 samples (1 on a sample, 1/√2 midway between raw ones).
+double interpolatedNoiseShare(const Replay& r, double t, int h)
+{
+    const auto& ts = r.density_time_s;
+    if (ts.size() < 2 || t <= ts.front() || t >= ts.back()) return 1.0;
+    const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
+    const double w = (t - ts[i]) / (ts[i + 1] - ts[i]), rho = 2.0 * h / (2.0 * h + 1);
+    return std::sqrt(w * w + (1 - w) * (1 - w) + 2 * w * (1 - w) * rho);
 }
 
 /// The physical model's tables (Replay::PhysicalTable): each beam's error probability and
@@ -201,6 +221,42 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
     });
 }
 
+/// The scene's own columns at each scan (SmokeShape::Timeline: every scan, with the scene's
+/// camera density there) and how far the reference shape misstates them (Replay::shape_error_ln,
+/// on every scan or, for the reference shape, up to 100 scans spread over the run).
+void traceShapes(Replay& r, const std::vector<SmokeVolume>& regional, const SaturationPredictor& camera,
+                 const std::vector<Ray>& rays, const BeamQuery& q, SmokeShape shape)
+{
+    r.shape = shape;
+    r.shape_floor = 0.05 * r.density_ref;
+    const bool timeline = shape == SmokeShape::Timeline;
+    const size_t n = r.scans.size(), B = rays.size();
+    const size_t stride = timeline ? 1 : std::max<size_t>(1, (n + 99) / 100);
+    if (timeline) r.column.assign(n, {});
+    const double P = r.config.paper.penetration_power, c = P / 20;
+    double ss = 0;
+    long long count = 0;
+    for (size_t k = 0; k < n; k += stride) {
+        const SmokeField now = SmokeField::at(regional, r.scans[k].time_s);
+        const double scene_rho = camera.density(now);
+        std::vector<float> col(B);
+        tbb::parallel_for(size_t(0), B, [&](size_t b) {
+            col[b] = float(now.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional);
+        });
+        for (size_t b = 0; b < B; ++b) {
+            const double frozen = scene_rho / r.density_ref * r.beams[b].column_ref;
+            if (std::max(frozen, double(col[b])) < P / 5) continue;
+            ss += std::pow(std::log((frozen + c) / (col[b] + c)), 2);
+            ++count;
+        }
+        if (timeline) {
+            r.scans[k].scene_density = scene_rho;
+            r.column[k] = std::move(col);
+        }
+    }
+    r.shape_error_ln = count ? std::sqrt(ss / double(count)) : 0.0;
+}
+
 /// The checks every replay makes before any work.
 void checkReplay(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
 {
@@ -230,13 +286,15 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
     q.wavelength_nm = r.spec.wavelength_nm;
     r.from_saturation = !in.saturation.time_s.empty();
     double t0 = in.log.scans.front().time_s, t1 = in.log.scans.back().time_s;
+    std::optional<SaturationPredictor> camera;
+    int smooth_h = 0;
     if (r.from_saturation) {
-        const SaturationPredictor camera(scene, *in.surfaces, in.calibration.curve, cfg.camera, cfg.target_prefix);
-        const auto [ref, rho_ref] = referenceState(scene, regional, camera, cfg.time_step_s);
+        camera.emplace(scene, *in.surfaces, in.calibration.curve, cfg.camera, cfg.target_prefix);
+        const auto [ref, rho_ref] = referenceState(scene, regional, *camera, cfg.time_step_s);
         r.density_ref = rho_ref;
         for (size_t b = 0; b < r.beams.size(); ++b)
             r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional;
-        densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
+        smooth_h = densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
         if (r.isPhysical()) physicalTables(r, scene, *in.surfaces, ref, rays);
         const double c0 = r.density_time_s.front(), c1 = r.density_time_s.back();
         if (t1 < c0 || t0 > c1)
@@ -275,16 +333,18 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
         if (r.from_saturation) {
             sc.density = r.densityAt(s.time_s);
             sc.saturation = in.calibration.curve(sc.density);
-            // σ_S through the curve's slope: the density's relative error.
+            // σ_S through the curve as the replay reads it (the secant over S ± σ_S, the floor
+            // included): the density's relative error. The tangent's claimed 3.5 in ln near the
+            // curve's floor where the density read was off by 0.2.
             const SaturationCurve& c = in.calibration.curve;
-            const double d = 1e-6 + 1e-3 * sc.density;
-            const double slope = std::abs(c(sc.density + d) - c(std::max(0.0, sc.density - d))) /
-                (sc.density + d - std::max(0.0, sc.density - d));
-            sc.ln_density_sd = sc.density > 0 && slope > 0 ? r.saturation_noise / (slope * sc.density) : 0.0;
+            const double noise_S = r.saturation_noise * interpolatedNoiseShare(r, s.time_s, smooth_h);
+            const double lo = densityOfSaturation(c, sc.saturation + noise_S),
+                         hi = densityOfSaturation(c, sc.saturation - noise_S);
+            sc.ln_density_sd = !(sc.density > 0) ? 0.0 : lo > 0 ? 0.5 * std::log(hi / lo) : std::log(hi / sc.density);
             // Rising: the next 3 s's mean density exceeds the last 3 s's by more than twice the
             // difference's noise (each mean averages about kTrend_s / frame_s camera samples); on a
             // plateau the smoke is steady, as the scan's own time lines say (regionalSmokeRising).
-            const double noise = slope > 0 ? r.saturation_noise / slope : 0.0;
+            const double noise = 0.5 * (hi - lo) * r.saturation_noise / std::max(noise_S, 1e-300);
             const double trend_sd = noise * std::sqrt(2.0 * r.frame_s / kTrend_s);
             sc.rising = meanDensity(r, s.time_s, s.time_s + kTrend_s) - meanDensity(r, s.time_s - kTrend_s, s.time_s) >
                 2 * trend_sd;
@@ -303,6 +363,10 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
         r.scans.push_back(sc);
     }
     if (r.scans.empty()) throw Error(in.log.path, "has no scan the camera's saturation covers");
+    if (r.from_saturation)
+        traceShapes(r, regional, *camera, rays, q, cfg.shape);
+    else
+        r.shape = SmokeShape::Timeline;  // the scene's own time line, traced
     assignBlocks(r, cfg.block_s);
     checkRanges(r, in.log.path);
     return r;
@@ -319,6 +383,25 @@ ModelExtensions priorOf(const Replay& r, const ModelExtensions& e)
 }
 
 }  // namespace
+
+namespace {
+constexpr std::pair<SmokeShape, const char*> kShapes[] = {{SmokeShape::Reference, "reference"},
+                                                          {SmokeShape::Timeline, "timeline"}};
+}  // namespace
+
+const char* smokeShapeName(SmokeShape s)
+{
+    for (const auto& [shape, name] : kShapes)
+        if (shape == s) return name;
+    return "?";
+}
+
+SmokeShape smokeShapeOf(const std::string& name, const std::string& key)
+{
+    for (const auto& [shape, n] : kShapes)
+        if (name == n) return shape;
+    throw Error(key, "'" + name + "' is not a smoke shape (reference, timeline)");
+}
 
 Replay replayRun(const FitInputs& in, const SensorConfig& config, const ReplayConfig& cfg)
 {

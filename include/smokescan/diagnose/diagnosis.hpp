@@ -88,6 +88,8 @@ struct DiagnosisResult {
     std::string verdict;  ///< "none" or the causes found, comma separated
     int blocks = 0;
     long long observations = 0;
+    SmokeShape shape = SmokeShape::Reference;  ///< where the replay put the camera's smoke
+    double shape_error_ln = 0;  ///< the replay's Replay::shape_error_ln
 };
 
 /// @brief Diagnoses a replayed run. @throw Error when the run is too short to split into blocks

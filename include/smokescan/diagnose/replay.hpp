@@ -4,8 +4,9 @@
 /// of it (its surface, distance, incidence, the smoke column along it at each scan) beside what the
 /// sensor reported. The smoke is the measured one: at each scan time the scene's regional smoke is
 /// scaled so that the camera's predicted target saturation equals the recorded saturation (through
-/// the calibration curve), whatever the smoke's shape; without a saturation series the scene's own
-/// time line is traced.
+/// the calibration curve); where it lies along each beam is the scene's densest state's shape
+/// (`reference`), or the scene's own state at each scan (`timeline`, for smoke that changes shape:
+/// puffs, a drifting cloud). Without a saturation series the scene's own time line is traced.
 ///
 /// | field          | default   | unit | meaning                                                     |
 /// |----------------|-----------|------|-------------------------------------------------------------|
@@ -15,6 +16,7 @@
 /// | target_prefix  | "target_" | –    | the camera's target surfaces                                 |
 /// | time_step_s    | 1         | s    | step of the search for the scene's densest smoke state       |
 /// | smooth_s       | 0         | s    | the saturation is averaged over this window (0: raw; its noise widens the threshold) |
+/// | shape          | reference | –    | where the camera's smoke lies along each beam (SmokeShape)  |
 ///
 /// The saturation's own noise (its white-noise level, shrunk by the smoothing) makes each scan's
 /// density uncertain: its standard error in ln(density) is kept per scan, and the predictive
@@ -33,6 +35,24 @@ namespace smokescan {
 constexpr double kBlockMove = 0.025;
 /// ...but never before it has lasted this long [s].
 constexpr double kMinBlock_s = 0.5;
+/// A reference shape that misstates the scene's own columns by this much (Replay::shape_error_ln)
+/// is reported: the estimates read against it are attenuated.
+constexpr double kShapeWarningLn = 0.2;
+
+/// Where the camera's measured smoke lies along each beam (its amount is always the camera's).
+enum class SmokeShape {
+    /// The scene's densest state scaled by the camera's density over that state's: one shape for
+    /// the whole run, whatever the scene's time line says (robust to a time line that is wrong).
+    Reference,
+    /// The scene's state at each scan, scaled by the camera's density over the scene's camera
+    /// density at that scan (ε-regularised, Replay::shape_floor): for smoke whose shape changes,
+    /// when the scene's time line says where it is.
+    Timeline,
+};
+
+/// @brief A shape's name (reference, timeline). @brief smokeShapeOf parses one, or throws naming `key`.
+const char* smokeShapeName(SmokeShape s);
+SmokeShape smokeShapeOf(const std::string& name, const std::string& key);
 
 struct ReplayConfig {
     double offset_s = 0;
@@ -40,6 +60,7 @@ struct ReplayConfig {
     std::string camera, target_prefix = "target_";
     double time_step_s = 1.0;
     double smooth_s = 0.0;
+    SmokeShape shape = SmokeShape::Reference;
 };
 
 /// What the simulation knows of one beam of the log (the same for every scan).
@@ -63,6 +84,7 @@ struct ReplayScan {
     bool rising = false;  ///< the density is rising at this scan (beyond its noise; a plateau is not)
     double ln_density_sd = 0;  ///< standard error of ln(density) from the saturation's noise
     int block = 0;  ///< time block (at most block_s; shorter while the smoke changes)
+    double scene_density = 0;  ///< SmokeShape::Timeline: the scene's camera density at time_s [density]
 };
 
 struct Replay {
@@ -83,7 +105,16 @@ struct Replay {
     /// clock offset.
     ModelExtensions prior;
     bool from_saturation = true;
-    std::vector<std::vector<float>> column;  ///< without saturation: traced columns [scan][beam]
+    SmokeShape shape = SmokeShape::Reference;
+    /// Timeline: ε of the camera-to-scene density ratio (dens + ε)/(scene + ε), 5 % of the
+    /// reference density: where the scene has little smoke at the camera, the ratio tends to 1.
+    double shape_floor = 0;
+    /// How far the reference shape misstates the scene's own columns over its time line: the rms
+    /// of ln((reference + c)/(timeline + c)) over beams whose column reaches P/5 (c = P/20, P the
+    /// paper model's penetration power; up to 100 scans). Near 0: the smoke keeps its shape; 0.2
+    /// or more: estimates from the reference shape are attenuated (docs/diagnosis.md, known limits).
+    double shape_error_ln = 0;
+    std::vector<std::vector<float>> column;  ///< traced columns [scan][beam]: without saturation, or timeline
 
     /// The physical model's replay (config.model physical, the URG-04LX's): per beam, the
     /// model's error probability, noise-free range [m] and a valid reading's standard deviation
@@ -97,11 +128,18 @@ struct Replay {
     } physical;
     bool isPhysical() const { return config.model == SensorModel::Physical; }
 
-    /// @brief The regional column along beam b at scan k [density·m].
-    double columnAt(size_t k, size_t b) const
+    /// @brief The regional column along beam b at scan k [density·m] were the camera's density
+    /// `density` (a double or a Ceres Jet: a clock offset reads it at another time).
+    template <class T>
+    T columnWith(size_t k, size_t b, const T& density) const
     {
-        return from_saturation ? scans[k].density / density_ref * beams[b].column_ref : double(column[k][b]);
+        if (!from_saturation) return T(double(column[k][b]));
+        if (shape == SmokeShape::Timeline)
+            return T(double(column[k][b])) * (density + T(shape_floor)) / T(scans[k].scene_density + shape_floor);
+        return density / T(density_ref) * T(beams[b].column_ref);
     }
+    /// @brief The regional column along beam b at scan k [density·m].
+    double columnAt(size_t k, size_t b) const { return columnWith(k, b, scans[k].density); }
     /// @brief The camera's density at laser time t [density], linear between samples; T a double
     /// or a Ceres Jet (a clock offset is differentiated through it).
     template <class T>
