@@ -76,6 +76,14 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
               "is --unit right?", file("d8"));
     expectBad("diagnose --laser " + log + " --scene bocas --model physical --out " + file("d5"),
               "replayed from a saturation series only", file("d5"));
+    // A smoke shape that is not one; the timeline with the physical model (its tables are the
+    // reference state's).
+    expectBad(
+        "diagnose --laser " + log + " --saturation " + sat + " --scene bocas --smoke-shape bogus --out " + file("d9"),
+        "--smoke-shape: 'bogus' is not a smoke shape (reference, timeline)", file("d9"));
+    expectBad("diagnose --laser " + log + " --saturation " + sat +
+                  " --scene bocas --model physical --smoke-shape timeline --out " + file("d10"),
+              "--smoke-shape: timeline is replayed with the paper model only", file("d10"));
     // Extensions on a surface the scene does not have.
     const std::string alien =
         file("d_alien.toml", "type = \"urg04lx\"\n[extensions]\n[[extensions.surface]]\nname = \"nowhere\"\n");

@@ -186,7 +186,8 @@ void addDiagnose(CLI::App& app, Runner& run)
         ->check(positive());
     c->add_option("--smoke-shape", a->shape,
                   "Where the camera's smoke lies along each beam: reference (the scene's densest state, scaled) or "
-                  "timeline (the scene's state at each scan, scaled)")
+                  "timeline (the scene's state at each scan, scaled; the paper model only). Without --saturation "
+                  "the scene's time line is traced whatever this says")
         ->capture_default_str();
     c->add_option("--camera", a->replay.camera, "Scene camera that saw the target (default: the first)");
     c->add_option("--target-prefix", a->replay.target_prefix, "The camera's target surfaces")

@@ -24,7 +24,7 @@ BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& m, const Obs& o)
     // The paper model's threshold is ln P; the physical model's is its own, shifted by 0.
     x.lnP =
         T(r.isPhysical() ? 0.0 : std::log(r.config.paper.penetration_power)) + T(e.thresholdShift(own, scan.rising));
-    x.width = T(std::hypot(e.threshold_width, scan.ln_density_sd));
+    x.width = T(std::hypot(e.threshold_width, m.ln_density_sd[size_t(o.k)]));
     x.beta = T(own ? own->range_bias : 0.0);
     x.gamma = T(e.range_noise_growth_m);
     x.q = T(e.smoke_obstacle_return);

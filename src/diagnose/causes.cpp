@@ -48,8 +48,15 @@ const CauseRow kRows[] = {
          return t;
      }(),
      [](const Replay& r, const ReplayModel& m, const Candidate&, const Obs& o, const J& theta, BeamTerms<J>& x) {
-         const double t = r.scans[size_t(o.k)].time_s + m.offset_change_s;
+         // The density and its error read at the shifted time (the error piecewise linear in
+         // time: its slope by a central difference).
+         const double t = r.scans[size_t(o.k)].time_s + m.offset_change_s, h = 1e-3;
          x.column = r.columnWith(size_t(o.k), size_t(o.b), r.densityAt(J(t) + theta));
+         const double sd = r.lnDensitySdAt(t + theta.a),
+                      slope = (r.lnDensitySdAt(t + theta.a + h) - r.lnDensitySdAt(t + theta.a - h)) / (2 * h);
+         const J s = J(sd) + (theta - J(theta.a)) * slope;  // sd, its derivative slope · dθ
+         const double w = m.ext.threshold_width;
+         x.width = sd > 0 || w > 0 ? sqrt(J(w * w) + s * s) : J(0.0);
      },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) { e.clock_offset_s += theta; },
      [](double theta, double se) {
@@ -82,9 +89,9 @@ const CauseRow kRows[] = {
      "threshold_width",
      Target::Global,
      {std::log(0.05), std::log(0.1), std::log(0.2), std::log(0.4)},  // θ = ln w
-     [](const Replay& r, const ReplayModel&, const Candidate&, const Obs& o, const J& theta, BeamTerms<J>& x) {
+     [](const Replay&, const ReplayModel& m, const Candidate&, const Obs& o, const J& theta, BeamTerms<J>& x) {
          const J w = exp(theta);
-         const double sd = r.scans[size_t(o.k)].ln_density_sd;
+         const double sd = m.ln_density_sd[size_t(o.k)];
          x.width = sqrt(w * w + J(sd * sd));
      },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) { e.threshold_width = std::exp(theta); },

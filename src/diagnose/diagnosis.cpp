@@ -49,11 +49,13 @@ struct Scored {
     double blocks_eff = 0;  ///< the blocks its gain is spread over: (Σ|g|)² / Σg²
 
     /// Whether it passes the gate at `level`: significant, and an effect worth naming that its
-    /// fit determines (a θ the data do not move stays at its start, its error is huge: a threshold
-    /// on a wall the smoke never reaches sat at its start 0.35 ± 1e9 and was named on 1e-7 nats).
+    /// fit determines (a θ the data do not move stays at its start, its error huge or undefined: a
+    /// threshold on a wall the smoke never reaches sat at its start 0.35 ± 1e9 and was named on
+    /// 1e-7 nats).
     bool passes(double level, const detail::CauseRow& row) const
     {
-        return obs > 0 && gain > 0 && p < level && effect >= row.floor && !(effect_se >= effect);
+        return obs > 0 && gain > 0 && p < level && effect >= row.floor && std::isfinite(effect_se) &&
+            effect_se < effect;
     }
 };
 

@@ -164,6 +164,11 @@ int densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, dou
         const double rho = densityOfSaturation(curve, sat.saturation[j]);
         r.density_time_s.push_back(sat.time_s[j] - offset_s);
         r.density_series.push_back(rho);
+        // Its error through the curve as it is read (the secant over S ± σ_S, the floor
+        // included): the tangent claimed 3.5 in ln near the floor where the read was off by 0.2.
+        const double S = curve(rho), lo = densityOfSaturation(curve, S + r.saturation_noise),
+                     hi = densityOfSaturation(curve, S - r.saturation_noise);
+        r.density_ln_sd.push_back(!(rho > 0) ? 0.0 : lo > 0 ? 0.5 * std::log(hi / lo) : std::log(hi / rho));
     }
     if (r.density_time_s.empty())
         throw Error(sat.path, "holds no saturation the calibration curve can read as a density");
@@ -221,37 +226,53 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
     });
 }
 
-/// The scene's own columns at each scan (SmokeShape::Timeline: every scan, with the scene's
-/// camera density there) and how far the reference shape misstates them (Replay::shape_error_ln,
-/// on every scan or, for the reference shape, up to 100 scans spread over the run).
+/// The scene's own columns at each scan (SmokeShape::Timeline: every scan, split into the
+/// volumes the camera sees, with its density there, and the rest) and how far the reference
+/// shape misstates them (Replay::shape_error_ln, on every scan or, for the reference shape, up to
+/// 100 scans spread over the run).
 void traceShapes(Replay& r, const std::vector<SmokeVolume>& regional, const SaturationPredictor& camera,
                  const std::vector<Ray>& rays, const BeamQuery& q, SmokeShape shape)
 {
     r.shape = shape;
-    r.shape_floor = 0.05 * r.density_ref;
+    r.shape_floor = 0.01 * r.density_ref;
     const bool timeline = shape == SmokeShape::Timeline;
-    const size_t n = r.scans.size(), B = rays.size();
-    const size_t stride = timeline ? 1 : std::max<size_t>(1, (n + 99) / 100);
-    if (timeline) r.column.assign(n, {});
+    const size_t n = r.scans.size(), B = rays.size(), sampled = std::max<size_t>(1, (n + 99) / 100);
+    const size_t stride = timeline ? 1 : sampled;
+    // A volume the camera sees at any sampled scan is scaled by it; the rest is the scene's.
+    std::vector<SmokeVolume> seen, unseen;
+    for (const SmokeVolume& v : regional) {
+        double most = 0;
+        for (size_t k = 0; k < n; k += sampled)
+            most = std::max(most, camera.density(SmokeField::at({v}, r.scans[k].time_s)));
+        (most > 1e-3 * r.density_ref ? seen : unseen).push_back(v);
+    }
+    auto columns = [&](const std::vector<SmokeVolume>& volumes, double t) {
+        std::vector<float> col(B, 0.0f);
+        if (volumes.empty()) return col;
+        const SmokeField f = SmokeField::at(volumes, t);
+        tbb::parallel_for(size_t(0), B, [&](size_t b) {
+            col[b] = float(f.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional);
+        });
+        return col;
+    };
+    if (timeline) r.column.assign(n, {}), r.column_unseen.assign(n, {});
     const double P = r.config.paper.penetration_power, c = P / 20;
     double ss = 0;
     long long count = 0;
     for (size_t k = 0; k < n; k += stride) {
-        const SmokeField now = SmokeField::at(regional, r.scans[k].time_s);
-        const double scene_rho = camera.density(now);
-        std::vector<float> col(B);
-        tbb::parallel_for(size_t(0), B, [&](size_t b) {
-            col[b] = float(now.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional);
-        });
+        const double t = r.scans[k].time_s;
+        const double scene_rho = camera.density(SmokeField::at(regional, t));
+        std::vector<float> col = columns(seen, t), rest = columns(unseen, t);
         for (size_t b = 0; b < B; ++b) {
-            const double frozen = scene_rho / r.density_ref * r.beams[b].column_ref;
-            if (std::max(frozen, double(col[b])) < P / 5) continue;
-            ss += std::pow(std::log((frozen + c) / (col[b] + c)), 2);
+            const double frozen = scene_rho / r.density_ref * r.beams[b].column_ref, own = double(col[b] + rest[b]);
+            if (std::max(frozen, own) < P / 5) continue;
+            ss += std::pow(std::log((frozen + c) / (own + c)), 2);
             ++count;
         }
         if (timeline) {
-            r.scans[k].scene_density = scene_rho;
+            r.scans[k].scene_density = seen.empty() ? 0.0 : camera.density(SmokeField::at(seen, t));
             r.column[k] = std::move(col);
+            r.column_unseen[k] = std::move(rest);
         }
     }
     r.shape_error_ln = count ? std::sqrt(ss / double(count)) : 0.0;
@@ -270,6 +291,10 @@ void checkReplay(const FitInputs& in, const SensorConfig& config, const ReplayCo
                     "is a Monte Carlo estimate, too slow per beam and scale)");
     if (config.model == SensorModel::Physical && in.saturation.time_s.empty())
         throw Error("--model", "the physical model is replayed from a saturation series only (give --saturation)");
+    if (config.model == SensorModel::Physical && cfg.shape == SmokeShape::Timeline)
+        throw Error("--smoke-shape",
+                    "timeline is replayed with the paper model only (the physical model's tables are the reference "
+                    "state's, scaled)");
 }
 
 /// A log's reading as the replay keeps it: scan k, beam b, the value in metres → a range [m], or
@@ -287,14 +312,14 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
     r.from_saturation = !in.saturation.time_s.empty();
     double t0 = in.log.scans.front().time_s, t1 = in.log.scans.back().time_s;
     std::optional<SaturationPredictor> camera;
-    int smooth_h = 0;
     if (r.from_saturation) {
         camera.emplace(scene, *in.surfaces, in.calibration.curve, cfg.camera, cfg.target_prefix);
         const auto [ref, rho_ref] = referenceState(scene, regional, *camera, cfg.time_step_s);
         r.density_ref = rho_ref;
         for (size_t b = 0; b < r.beams.size(); ++b)
             r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional;
-        smooth_h = densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
+        r.curve = in.calibration.curve;
+        r.smooth_h = densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
         if (r.isPhysical()) physicalTables(r, scene, *in.surfaces, ref, rays);
         const double c0 = r.density_time_s.front(), c1 = r.density_time_s.back();
         if (t1 < c0 || t0 > c1)
@@ -333,14 +358,9 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
         if (r.from_saturation) {
             sc.density = r.densityAt(s.time_s);
             sc.saturation = in.calibration.curve(sc.density);
-            // σ_S through the curve as the replay reads it (the secant over S ± σ_S, the floor
-            // included): the density's relative error. The tangent's claimed 3.5 in ln near the
-            // curve's floor where the density read was off by 0.2.
-            const SaturationCurve& c = in.calibration.curve;
-            const double noise_S = r.saturation_noise * interpolatedNoiseShare(r, s.time_s, smooth_h);
-            const double lo = densityOfSaturation(c, sc.saturation + noise_S),
-                         hi = densityOfSaturation(c, sc.saturation - noise_S);
-            sc.ln_density_sd = !(sc.density > 0) ? 0.0 : lo > 0 ? 0.5 * std::log(hi / lo) : std::log(hi / sc.density);
+            sc.ln_density_sd = r.lnDensitySdAt(s.time_s);
+            const auto [lo, hi] = r.densityBandAt(s.time_s);
+            const double noise_S = r.saturation_noise * interpolatedNoiseShare(r, s.time_s, r.smooth_h);
             // Rising: the next 3 s's mean density exceeds the last 3 s's by more than twice the
             // difference's noise (each mean averages about kTrend_s / frame_s camera samples); on a
             // plateau the smoke is steady, as the scan's own time lines say (regionalSmokeRising).
@@ -388,6 +408,24 @@ namespace {
 constexpr std::pair<SmokeShape, const char*> kShapes[] = {{SmokeShape::Reference, "reference"},
                                                           {SmokeShape::Timeline, "timeline"}};
 }  // namespace
+
+std::pair<double, double> Replay::densityBandAt(double t) const
+{
+    const double noise = saturation_noise * interpolatedNoiseShare(*this, t, smooth_h), S = curve(densityAt(t));
+    return {densityOfSaturation(curve, S + noise), densityOfSaturation(curve, S - noise)};
+}
+
+double Replay::lnDensitySdAt(double t) const
+{
+    const auto& ts = density_time_s;
+    if (ts.empty()) return 0.0;
+    if (ts.size() == 1 || t <= ts.front()) return density_ln_sd.front();
+    if (t >= ts.back()) return density_ln_sd.back();
+    const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
+    const double w = (t - ts[i]) / (ts[i + 1] - ts[i]), rho = 2.0 * smooth_h / (2.0 * smooth_h + 1);
+    return ((1 - w) * density_ln_sd[i] + w * density_ln_sd[i + 1]) *
+        std::sqrt(w * w + (1 - w) * (1 - w) + 2 * w * (1 - w) * rho);
+}
 
 const char* smokeShapeName(SmokeShape s)
 {

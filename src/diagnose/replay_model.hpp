@@ -15,6 +15,9 @@ struct ReplayModel {
     std::vector<SurfaceExtension> surface;  ///< by surface index (zeros: none of its own)
     std::vector<double> dropout;  ///< by beam
     double offset_change_s = 0;  ///< ext.clock_offset_s − the replay's offset_s
+    /// Each scan's standard error of ln(density) on the model's clock (the replay's own when the
+    /// offset is unchanged).
+    std::vector<double> ln_density_sd;
 
     /// @brief Resolves `e` on the replay. @throw Error naming the sensor file for a surface the
     /// scene lacks.

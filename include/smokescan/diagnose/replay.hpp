@@ -44,9 +44,9 @@ enum class SmokeShape {
     /// The scene's densest state scaled by the camera's density over that state's: one shape for
     /// the whole run, whatever the scene's time line says (robust to a time line that is wrong).
     Reference,
-    /// The scene's state at each scan, scaled by the camera's density over the scene's camera
-    /// density at that scan (ε-regularised, Replay::shape_floor): for smoke whose shape changes,
-    /// when the scene's time line says where it is.
+    /// The scene's state at each scan: its volumes the camera sees scaled by the camera's density
+    /// over theirs at that scan (ε-regularised, Replay::shape_floor), the rest as the scene has
+    /// it. For smoke whose shape changes, when the scene's time line says where it is.
     Timeline,
 };
 
@@ -84,7 +84,7 @@ struct ReplayScan {
     bool rising = false;  ///< the density is rising at this scan (beyond its noise; a plateau is not)
     double ln_density_sd = 0;  ///< standard error of ln(density) from the saturation's noise
     int block = 0;  ///< time block (at most block_s; shorter while the smoke changes)
-    double scene_density = 0;  ///< SmokeShape::Timeline: the scene's camera density at time_s [density]
+    double scene_density = 0;  ///< SmokeShape::Timeline: the camera's density of the scene's seen volumes at time_s
 };
 
 struct Replay {
@@ -97,8 +97,11 @@ struct Replay {
     /// The camera's density over camera time (for a clock offset): samples of the saturation
     /// series through the curve, on laser time (offset removed).
     std::vector<double> density_time_s, density_series;
+    std::vector<double> density_ln_sd;  ///< each sample's standard error of ln(density) (lnDensitySdAt)
     double density_ref = 1;  ///< the camera's density in the reference state
     double saturation_noise = 0;  ///< the smoothed saturation's noise σ
+    SaturationCurve curve;  ///< the calibration curve the saturation is read through
+    int smooth_h = 0;  ///< the smoothing's half-width [camera samples]
     double frame_s = 1;  ///< the camera's median frame interval [s]
     double offset_s = 0;  ///< the camera clock − laser clock the replay assumed [s]
     /// The model diagnosed: the config's extensions (its sensor file's), with offset_s as their
@@ -106,15 +109,17 @@ struct Replay {
     ModelExtensions prior;
     bool from_saturation = true;
     SmokeShape shape = SmokeShape::Reference;
-    /// Timeline: ε of the camera-to-scene density ratio (dens + ε)/(scene + ε), 5 % of the
-    /// reference density: where the scene has little smoke at the camera, the ratio tends to 1.
+    /// Timeline: ε of the camera-to-scene density ratio (ρ + ε)/(ρ_scene + ε), 1 % of the
+    /// reference density (the seen volumes' columns vanish with ρ_scene where the ratio is noise).
     double shape_floor = 0;
     /// How far the reference shape misstates the scene's own columns over its time line: the rms
     /// of ln((reference + c)/(timeline + c)) over beams whose column reaches P/5 (c = P/20, P the
     /// paper model's penetration power; up to 100 scans). Near 0: the smoke keeps its shape; 0.2
     /// or more: estimates from the reference shape are attenuated (docs/diagnosis.md, known limits).
     double shape_error_ln = 0;
-    std::vector<std::vector<float>> column;  ///< traced columns [scan][beam]: without saturation, or timeline
+    std::vector<std::vector<float>>
+        column;  ///< traced columns [scan][beam]: without saturation, or timeline's seen volumes
+    std::vector<std::vector<float>> column_unseen;  ///< timeline: the volumes the camera does not see [scan][beam]
 
     /// The physical model's replay (config.model physical, the URG-04LX's): per beam, the
     /// model's error probability, noise-free range [m] and a valid reading's standard deviation
@@ -135,7 +140,8 @@ struct Replay {
     {
         if (!from_saturation) return T(double(column[k][b]));
         if (shape == SmokeShape::Timeline)
-            return T(double(column[k][b])) * (density + T(shape_floor)) / T(scans[k].scene_density + shape_floor);
+            return T(double(column[k][b])) * (density + T(shape_floor)) / T(scans[k].scene_density + shape_floor) +
+                T(double(column_unseen[k][b]));
         return density / T(density_ref) * T(beams[b].column_ref);
     }
     /// @brief The regional column along beam b at scan k [density·m].
@@ -145,6 +151,13 @@ struct Replay {
     template <class T>
     T densityAt(const T& t) const;
     int blocks() const { return scans.empty() ? 0 : scans.back().block + 1; }
+    /// @brief The densities the camera's saturation at laser time t reads as at S ∓ its noise
+    /// there (σ_S left between two samples; the curve's floor included): {lower, upper} [density].
+    std::pair<double, double> densityBandAt(double t) const;
+    /// @brief The standard error of ln(density) read at laser time t: at each camera sample
+    /// ½·ln(upper/lower) of its S ± σ_S through the curve (ln(upper/ρ) where the lower reads clear
+    /// air; 0 in clear air), between samples interpolated and shrunk by the noise left there.
+    double lnDensitySdAt(double t) const;
 };
 
 /// @brief Replays a run. @throw Error naming the log when its beams do not match the sensor's,
