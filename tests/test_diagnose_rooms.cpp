@@ -278,7 +278,8 @@ TEST(DiagnoseRooms, EachCauseAboveItsDetectabilityIsFoundWithItsTarget)
 
 TEST(DiagnoseRooms, Explore)
 {
-    // SMOKESCAN_EXPLORE=N rooms from seed 5000; SMOKESCAN_EXPLORE_PLANT=k plants cause k (−1: clean).
+    // SMOKESCAN_EXPLORE=N rooms from seed 5000; SMOKESCAN_EXPLORE_PLANT=k plants cause k (−1: clean);
+    // SMOKESCAN_EXPLORE_MODEL=physical diagnoses with the physical model.
     if (!std::getenv("SMOKESCAN_EXPLORE")) GTEST_SKIP() << "set SMOKESCAN_EXPLORE=N";
     const int n = std::atoi(std::getenv("SMOKESCAN_EXPLORE"));
     const int which = std::getenv("SMOKESCAN_EXPLORE_PLANT") ? std::atoi(std::getenv("SMOKESCAN_EXPLORE_PLANT")) : -1;
@@ -292,7 +293,9 @@ TEST(DiagnoseRooms, Explore)
         Planted p;
         if (which >= 0) p = plantInRoom(which, r, seed);
         const auto t1 = std::chrono::steady_clock::now();
-        const DiagnosisResult d = diagnoseRoom(r.run);
+        const char* model = std::getenv("SMOKESCAN_EXPLORE_MODEL");  // paper (default) or physical
+        const DiagnosisResult d =
+            diagnoseRoom(r.run, model && std::string(model) == "physical" ? SensorModel::Physical : SensorModel::Paper);
         const auto t2 = std::chrono::steady_clock::now();
         std::printf(
             "%llu %s: %zu scans, sim %.1f s, diagnose %.1f s; planted %s %s %.4g (effect %.3g, detectable "
@@ -399,7 +402,17 @@ TEST(DiagnoseRooms, SmokeThatChangesShapeIsReportedAndReplayedFromTheTimeline)
     std::printf("reference shape: columns off by %.2f in ln (it states %.2f): %s\ntimeline: off by %.2f: %s\n",
                 ref_error, dr.shape_error_ln, findingsText(dr).c_str(), tl_error, findingsText(dt).c_str());
     EXPECT_GE(dr.shape_error_ln, kShapeWarningLn);
+    EXPECT_NEAR(dr.shape_error_ln, ref_error, 0.2 * ref_error) << "the stated shape error is the one the run has";
     EXPECT_GE(ref_error, 0.5);
+    // The camera sees the first cloud and not the second: the timeline scales the one and takes
+    // the other as the scene has it.
+    double seen_max = 0, unseen_max = 0;
+    for (size_t k = 0; k < tl.scans.size(); ++k)
+        for (size_t b = 0; b < tl.beams.size(); ++b)
+            seen_max = std::max(seen_max, double(tl.column[k][b])),
+            unseen_max = std::max(unseen_max, double(tl.column_unseen[k][b]));
+    EXPECT_GT(seen_max, 0.007) << "the first cloud, on the camera's line";
+    EXPECT_GT(unseen_max, 0.007) << "the second cloud, out of the camera's view";
     EXPECT_LE(tl_error, 0.15);
     EXPECT_EQ(dt.shape, SmokeShape::Timeline);
     ASSERT_EQ(dt.findings.size(), 1u) << findingsText(dt);
