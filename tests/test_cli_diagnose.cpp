@@ -19,7 +19,11 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
     EXPECT_NE(slurp(fs::path(out) / "diagnosis.json").find("\"verdict\": \"none\""), std::string::npos);
-    EXPECT_NE(slurp(fs::path(out) / "report.md").find("### smoke_trend"), std::string::npos);
+    const std::string report = slurp(fs::path(out) / "report.md");
+    EXPECT_NE(report.find("### smoke_trend"), std::string::npos);
+    // A bin whose beams all failed has no range residual: "–", not "nan".
+    EXPECT_EQ(report.find("nan"), std::string::npos) << report;
+    EXPECT_NE(report.find("| –"), std::string::npos) << "the dense bins have no ranges";
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / "worst_1.png"));  // the worst covariates, plotted
     // The extended sensor file (nothing learned: the paper model) scans.
     const std::string toml = (fs::path(out) / "sensor.toml").string();

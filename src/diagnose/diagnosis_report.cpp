@@ -157,6 +157,9 @@ void writeFindingPlot(const std::string& path, const std::string& title, const s
 const char* const kCovariates[] = {"surface", "incidence_deg", "range_m",     "beam_angle_deg",
                                    "column",  "saturation",    "smoke_trend", "time_s"};
 
+/// A table cell: `v` in format `f`, or – where it has no value (NaN: no ranges in the bin).
+std::string cell(const char* f, double v) { return std::isnan(v) ? "–" : fmt(f, v); }
+
 void figuresTable(std::ostream& o, const std::vector<ModelFigures>& before, const std::vector<ModelFigures>& after)
 {
     o << "| surface | beams | log-lik/beam before | after | missed errors before | after | invented errors before | after "
@@ -165,10 +168,10 @@ void figuresTable(std::ostream& o, const std::vector<ModelFigures>& before, cons
         const auto& a = before[i];
         const ModelFigures* b = i < after.size() ? &after[i] : nullptr;
         o << "| " << (a.surface.empty() ? "all" : a.surface) << " | " << a.beams << " | "
-          << fmt("%.4f | %.4f | %.3f | %.3f | %.3f | %.3f | %.4f | %.4f", a.loglik_per_beam,
-                 b ? b->loglik_per_beam : NAN, a.missed_error_rate, b ? b->missed_error_rate : NAN,
-                 a.invented_error_rate, b ? b->invented_error_rate : NAN, a.range_rmse_m, b ? b->range_rmse_m : NAN)
-          << " |\n";
+          << cell("%.4f", a.loglik_per_beam) << " | " << cell("%.4f", b ? b->loglik_per_beam : NAN) << " | "
+          << cell("%.3f", a.missed_error_rate) << " | " << cell("%.3f", b ? b->missed_error_rate : NAN) << " | "
+          << cell("%.3f", a.invented_error_rate) << " | " << cell("%.3f", b ? b->invented_error_rate : NAN) << " | "
+          << cell("%.4f", a.range_rmse_m) << " | " << cell("%.4f", b ? b->range_rmse_m : NAN) << " |\n";
     }
 }
 
@@ -314,7 +317,8 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
           << ", before | after |\n|---|---|---|---|\n";
         for (size_t k = 0; k < before.size() && k < after.size(); ++k)
             o << "| " << before[k].bin << " | " << before[k].beams << " | "
-              << fmt("%.4f | %.4f", shownValue(before[k], v.shown), shownValue(after[k], v.shown)) << " |\n";
+              << cell("%.4f", shownValue(before[k], v.shown)) << " | " << cell("%.4f", shownValue(after[k], v.shown))
+              << " |\n";
     }
     o << "\n## The model before and after (the extended figures held out: each fold predicted by the other's fit)\n\n";
     figuresTable(o, r.baseline, r.extended);
@@ -356,8 +360,8 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
         o << "\n### " << cov
           << "\n\n| bin | beams | error share | predicted | range residual [m] |\n|---|---|---|---|---|\n";
         for (const auto& row : rows[cov])
-            o << "| " << row.bin << " | " << row.beams << " | "
-              << fmt("%.3f | %.3f | %.4f", row.error_share, row.predicted_error_share, row.range_residual_m) << " |\n";
+            o << "| " << row.bin << " | " << row.beams << " | " << cell("%.3f", row.error_share) << " | "
+              << cell("%.3f", row.predicted_error_share) << " | " << cell("%.4f", row.range_residual_m) << " |\n";
     }
     AtomicFile f(path);
     f.stream() << o.str();
