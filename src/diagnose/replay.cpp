@@ -422,9 +422,8 @@ double Replay::lnDensitySdAt(double t) const
     if (ts.size() == 1 || t <= ts.front()) return density_ln_sd.front();
     if (t >= ts.back()) return density_ln_sd.back();
     const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
-    const double w = (t - ts[i]) / (ts[i + 1] - ts[i]), rho = 2.0 * smooth_h / (2.0 * smooth_h + 1);
-    return ((1 - w) * density_ln_sd[i] + w * density_ln_sd[i + 1]) *
-        std::sqrt(w * w + (1 - w) * (1 - w) + 2 * w * (1 - w) * rho);
+    const double w = (t - ts[i]) / (ts[i + 1] - ts[i]);
+    return ((1 - w) * density_ln_sd[i] + w * density_ln_sd[i + 1]) * interpolatedNoiseShare(*this, t, smooth_h);
 }
 
 const char* smokeShapeName(SmokeShape s)

@@ -50,8 +50,9 @@ enum class SmokeShape {
     Timeline,
 };
 
-/// @brief A shape's name (reference, timeline). @brief smokeShapeOf parses one, or throws naming `key`.
+/// @brief A shape's name: reference or timeline.
 const char* smokeShapeName(SmokeShape s);
+/// @brief The shape named `name`. @throw Error naming `key` (an option) for any other name.
 SmokeShape smokeShapeOf(const std::string& name, const std::string& key);
 
 struct ReplayConfig {
