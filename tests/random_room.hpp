@@ -85,17 +85,12 @@ inline DrawnRoom drawRoom(uint64_t seed)
     }
     if (reach < 1.6) yaw_deg = 0, cx = 1, cy = 0, reach = x1 - 0.3;  // along the room: always long enough
     d.target_m = uni(1.5, std::min(4.0, reach));
-    auto quad = [&](const std::string& name, const std::string& mat, std::array<double, 3> c, std::array<double, 3> u,
-                    std::array<double, 3> v) {
-        s.raw("[[surfaces]]\nname = \"" + name + "\"\nmaterial = \"" + mat +
-              "\"\ntype = \"quad\"\ncorner = " + tomlVec(c) + "\nu = " + tomlVec(u) + "\nv = " + tomlVec(v) + "\n");
-    };
-    quad("floor", "grey", {x0, y0, 0}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
-    quad("ceiling", "white", {x0, y0, height}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
-    quad("wall_x0", walls[pick(4)], {x0, y0, 0}, {0, y1 - y0, 0}, {0, 0, height});
-    quad("wall_x1", walls[pick(4)], {x1, y0, 0}, {0, y1 - y0, 0}, {0, 0, height});
-    quad("wall_y0", walls[pick(4)], {x0, y0, 0}, {x1 - x0, 0, 0}, {0, 0, height});
-    quad("wall_y1", walls[pick(4)], {x0, y1, 0}, {x1 - x0, 0, 0}, {0, 0, height});
+    s.quad("floor", "grey", {x0, y0, 0}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
+    s.quad("ceiling", "white", {x0, y0, height}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
+    s.quad("wall_x0", walls[pick(4)], {x0, y0, 0}, {0, y1 - y0, 0}, {0, 0, height});
+    s.quad("wall_x1", walls[pick(4)], {x1, y0, 0}, {0, y1 - y0, 0}, {0, 0, height});
+    s.quad("wall_y0", walls[pick(4)], {x0, y0, 0}, {x1 - x0, 0, 0}, {0, 0, height});
+    s.quad("wall_y1", walls[pick(4)], {x0, y1, 0}, {x1 - x0, 0, 0}, {0, 0, height});
     // One target or two of different reflectivity, across the beam, 0.8 m tall from z = 0.2.
     const double tx = d.target_m * cx, ty = d.target_m * cy, nx = -cy, ny = cx;  // n: across the beam
     const int n_targets = 1 + pick(2);
@@ -104,8 +99,8 @@ inline DrawnRoom drawRoom(uint64_t seed)
         const double off = n_targets == 1 ? -0.5 * w : (i == 0 ? 0.5 * gap : -0.5 * gap - w);
         const std::string name = i == 0 ? "target_a" : "target_b";
         d.targets.push_back(name);
-        quad(name, i == 0 ? "paper" : "dark_paper", {tx + off * nx, ty + off * ny, 0.2}, {w * nx, w * ny, 0},
-             {0, 0, 0.8});
+        s.quad(name, i == 0 ? "paper" : "dark_paper", {tx + off * nx, ty + off * ny, 0.2}, {w * nx, w * ny, 0},
+               {0, 0, 0.8});
     }
     s.raw("[[sensors]]\nname = \"hokuyo\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\nrpy_deg = [0.0, 0.0, " +
           tomlNumber(yaw_deg) + "]\nmodel = \"paper\"\npenetration_power = 0.007\n");

@@ -72,6 +72,14 @@ public:
             "\nmedium = " + medium + "\n";
         return *this;
     }
+    /// A quad surface: `corner` and its edges `u`, `v` [m], of material `material`.
+    SceneText& quad(const std::string& name, const std::string& material, const std::array<double, 3>& corner,
+                    const std::array<double, 3>& u, const std::array<double, 3>& v)
+    {
+        text_ += "[[surfaces]]\nname = \"" + name + "\"\nmaterial = \"" + material +
+            "\"\ntype = \"quad\"\ncorner = " + tomlVec(corner) + "\nu = " + tomlVec(u) + "\nv = " + tomlVec(v) + "\n";
+        return *this;
+    }
     /// Anything else, verbatim.
     SceneText& raw(const std::string& toml)
     {

@@ -326,19 +326,14 @@ std::string shiftingSmokeLab(double line_scale)
         "[[materials]]\nname = \"white\"\nalbedo = [0.85, 0.85, 0.85]\nnir_905 = 0.88\n"
         "[[materials]]\nname = \"grey\"\nalbedo = [0.4, 0.4, 0.4]\nnir_905 = 0.45\n"
         "[[materials]]\nname = \"paper\"\nalbedo = [0.8, 0.1, 0.1]\nnir_905 = 0.8\n");
-    auto quad = [&](const std::string& name, const std::string& mat, std::array<double, 3> c, std::array<double, 3> u,
-                    std::array<double, 3> v) {
-        s.raw("[[surfaces]]\nname = \"" + name + "\"\nmaterial = \"" + mat +
-              "\"\ntype = \"quad\"\ncorner = " + tomlVec(c) + "\nu = " + tomlVec(u) + "\nv = " + tomlVec(v) + "\n");
-    };
     const double x0 = -1, x1 = 4.5, y0 = -2.5, y1 = 2.5, h = 3;
-    quad("floor", "grey", {x0, y0, 0}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
-    quad("ceiling", "white", {x0, y0, h}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
-    quad("wall_x0", "grey", {x0, y0, 0}, {0, y1 - y0, 0}, {0, 0, h});
-    quad("wall_x1", "white", {x1, y0, 0}, {0, y1 - y0, 0}, {0, 0, h});
-    quad("wall_y0", "grey", {x0, y0, 0}, {x1 - x0, 0, 0}, {0, 0, h});
-    quad("wall_y1", "white", {x0, y1, 0}, {x1 - x0, 0, 0}, {0, 0, h});
-    quad("target_a", "paper", {2.0, 0.2, 0.2}, {0, -0.4, 0}, {0, 0, 0.8});
+    s.quad("floor", "grey", {x0, y0, 0}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
+    s.quad("ceiling", "white", {x0, y0, h}, {x1 - x0, 0, 0}, {0, y1 - y0, 0});
+    s.quad("wall_x0", "grey", {x0, y0, 0}, {0, y1 - y0, 0}, {0, 0, h});
+    s.quad("wall_x1", "white", {x1, y0, 0}, {0, y1 - y0, 0}, {0, 0, h});
+    s.quad("wall_y0", "grey", {x0, y0, 0}, {x1 - x0, 0, 0}, {0, 0, h});
+    s.quad("wall_y1", "white", {x0, y1, 0}, {x1 - x0, 0, 0}, {0, 0, h});
+    s.quad("target_a", "paper", {2.0, 0.2, 0.2}, {0, -0.4, 0}, {0, 0, 0.8});
     s.raw(
         "[[sensors]]\nname = \"hokuyo\"\ntype = \"urg04lx\"\nposition = [0.0, 0.0, 0.5]\n"
         "rpy_deg = [0.0, 0.0, 0.0]\nmodel = \"paper\"\npenetration_power = 0.007\n");

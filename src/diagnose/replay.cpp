@@ -175,16 +175,22 @@ int densitySeries(const SaturationSeries& raw, const SaturationCurve& curve, dou
     return h;
 }
 
-/// The share of one sample's noise σ left in the density read at laser time t: between two
-/// samples at weights w and 1 − w, √(w² + (1 − w)² + 2w(1 − w)ρ), ρ = 2h/(2h + 1) the correlation
-/// of two neighbouring averages of 2h + 1 samples (1 on a sample, 1/√2 midway between raw ones).
+/// The share of one sample's noise σ left between two samples read at weights w and 1 − w:
+/// √(w² + (1 − w)² + 2w(1 − w)ρ), ρ = 2h/(2h + 1) the correlation of two neighbouring averages of
+/// 2h + 1 samples (1 on a sample, 1/√2 midway between raw ones).
+double noiseShare(double w, int h)
+{
+    const double rho = 2.0 * h / (2.0 * h + 1);
+    return std::sqrt(w * w + (1 - w) * (1 - w) + 2 * w * (1 - w) * rho);
+}
+
+/// noiseShare at laser time t (1 at or beyond the series' ends).
 double interpolatedNoiseShare(const Replay& r, double t, int h)
 {
     const auto& ts = r.density_time_s;
     if (ts.size() < 2 || t <= ts.front() || t >= ts.back()) return 1.0;
     const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
-    const double w = (t - ts[i]) / (ts[i + 1] - ts[i]), rho = 2.0 * h / (2.0 * h + 1);
-    return std::sqrt(w * w + (1 - w) * (1 - w) + 2 * w * (1 - w) * rho);
+    return noiseShare((t - ts[i]) / (ts[i + 1] - ts[i]), h);
 }
 
 /// The physical model's tables (Replay::PhysicalTable): each beam's error probability and
@@ -423,7 +429,7 @@ double Replay::lnDensitySdAt(double t) const
     if (t >= ts.back()) return density_ln_sd.back();
     const size_t i = size_t(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
     const double w = (t - ts[i]) / (ts[i + 1] - ts[i]);
-    return ((1 - w) * density_ln_sd[i] + w * density_ln_sd[i + 1]) * interpolatedNoiseShare(*this, t, smooth_h);
+    return ((1 - w) * density_ln_sd[i] + w * density_ln_sd[i + 1]) * noiseShare(w, smooth_h);
 }
 
 const char* smokeShapeName(SmokeShape s)
