@@ -7,7 +7,8 @@ pkgs=(build-essential cmake ninja-build pkg-config
   libopenvdb-dev libopenvdb-tools libboost-iostreams-dev libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev libtinyobjloader-dev
-  nlohmann-json3-dev fonts-dejavu-core clang clang-format libclang-rt-14-dev llvm)
+  nlohmann-json3-dev fonts-dejavu-core clang clang-format libclang-rt-14-dev llvm
+  python3-open3d)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "scan_lidar.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/camera/frame_folder.hpp"
@@ -21,6 +22,7 @@
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/io/run_files.hpp"
+#include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/sensors/scan_summary.hpp"
@@ -30,6 +32,7 @@ namespace smokescan::cli {
 namespace {
 
 struct ScanArgs {
+    LidarScanArgs lidar;
     std::string scene = "bocas", out, tau_csv, image, target = "target";
     std::string saturation_out, calibration = "bocas", camera, frames_dir, model;
     SaturationSimConfig sat;
@@ -38,7 +41,7 @@ struct ScanArgs {
     double image_range_m = 0;
     ScanConfig cfg;
     double from = NAN, to = NAN, bin_s = 0;
-    bool quiet = false;
+    bool quiet = false, rate_given = false;
 };
 
 struct CameraStream {
@@ -115,10 +118,50 @@ void recordFiles(RunFiles& files, const ScanArgs& a)
     files.outputFolder(a.frames_dir, "--saturation-frames");
 }
 
+/// The options only a 3D lidar takes, and whether each was given.
+std::vector<std::pair<bool, const char*>> lidarOnly(const ScanArgs& a)
+{
+    return {{!a.lidar.points_dir.empty(), "--points"},
+            {a.lidar.returns_given, "--returns"},
+            {a.lidar.format != "pcd", "--points-format"},
+            {a.lidar.columns > 0, "--columns"}};
+}
+
+/// A scan with a 3D lidar: the 2D lasers' options refused, the rest handed over.
+int scanLidar(const Scene& scene, const ScanArgs& a)
+{
+    const std::vector<std::pair<bool, const char*>> laser_only = {{!a.out.empty(), "--out"},
+                                                                  {!a.tau_csv.empty(), "--tau"},
+                                                                  {!a.image.empty(), "--image"},
+                                                                  {!a.model.empty(), "--model"},
+                                                                  {!a.cfg.sensor_file.empty(), "--sensor-file"},
+                                                                  {a.cfg.penetration_power > 0, "--penetration-power"},
+                                                                  {!a.saturation_out.empty(), "--saturation-out"},
+                                                                  {a.saturation_render, "--saturation-render"},
+                                                                  {!a.frames_dir.empty(), "--saturation-frames"}};
+    for (const auto& [given, option] : laser_only)
+        if (given)
+            throw Error(option, "is for the 2D lasers; the " + a.cfg.sensor + " writes point clouds (--points DIR)");
+    LidarScanArgs l = a.lidar;
+    l.scene = a.scene;
+    l.sensor = a.cfg.sensor;
+    l.rate_hz = a.rate_given ? a.cfg.rate_hz : 0;
+    l.from = a.from;
+    l.to = a.to;
+    l.seed = a.cfg.seed;
+    l.quiet = a.quiet;
+    return runLidarScan(scene, l);
+}
+
 int runScan(const ScanArgs& a0)
 {
     ScanArgs a = a0;
     const Scene scene = loadScene(a.scene);
+    if (!a.cfg.sensor.empty() && scene.findSensor(a.cfg.sensor) < 0 && isLidarName(a.cfg.sensor))
+        return scanLidar(scene, a);
+    if (a.out.empty()) throw Error("--out", "a 2D laser's scans need a log to go to (--out FILE)");
+    for (const auto& [given, option] : lidarOnly(a))
+        if (given) throw Error(option, "is for a 3D lidar (--sensor vlp16, hdl32e, os1-128 or a preset file)");
     RunFiles files;
     recordSceneInputs(files, a.scene, scene);
     recordFiles(files, a);
@@ -210,11 +253,25 @@ void addScan(CLI::App& app, Runner& run)
     auto a = std::make_shared<ScanArgs>();
     auto* c = app.add_subcommand("scan", "Simulate laser scans of a scene over time; write the paper's log format");
     c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml)")->capture_default_str();
-    c->add_option("--sensor", a->cfg.sensor, "Sensor name or type in the scene (urg04lx, lms200); default: the first");
+    c->add_option("--sensor", a->cfg.sensor,
+                  "Sensor name or type in the scene (urg04lx, lms200), or a 3D lidar preset (vlp16, hdl32e, os1-128) "
+                  "or preset file (.toml) mounted where the scene's first sensor is; default: the scene's first");
     c->add_option("--from", a->from, "First scan time [s] (default: scene start)")->check(finite());
     c->add_option("--to", a->to, "Last scan time [s] (default: scene end)")->check(finite());
-    c->add_option("--rate", a->cfg.rate_hz, "Scans per second [Hz]")->capture_default_str()->check(positive());
-    c->add_option("--out", a->out, "Laser log to write")->required();
+    c->add_option("--rate", a->cfg.rate_hz, "Scans per second [Hz]; a 3D lidar's spin rate (default: its preset's)")
+        ->capture_default_str()
+        ->check(positive())
+        ->each([a](const std::string&) { a->rate_given = true; });
+    c->add_option("--points", a->lidar.points_dir,
+                  "3D lidar: a new folder for one point cloud per frame (000000.pcd, ...), fields x y z intensity ring "
+                  "return_index time source");
+    c->add_option("--points-format", a->lidar.format, "3D lidar: pcd (binary) or ply (binary)")->capture_default_str();
+    c->add_option("--returns", a->lidar.returns, "3D lidar: which echoes become points: first, last, strongest or dual")
+        ->capture_default_str()
+        ->each([a](const std::string&) { a->lidar.returns_given = true; });
+    c->add_option("--columns", a->lidar.columns, "3D lidar: columns a turn, among those its preset offers")
+        ->check(intRange(1, 8192));
+    c->add_option("--out", a->out, "Laser log to write (2D lasers)");
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option(
         "--image", a->image,

@@ -29,14 +29,22 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
                            const SurfaceSet& surfaces, const SmokeField& field, SurfaceHit* central_hit,
                            BeamSmoke* central_smoke)
 {
+    return traceBeamSignal(ray, spec.wavelength_nm, spec.range_max_m, p, scene, surfaces, field, central_hit,
+                           central_smoke);
+}
+
+BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_max_m, const PhysicalParams& p,
+                           const Scene& scene, const SurfaceSet& surfaces, const SmokeField& field,
+                           SurfaceHit* central_hit, BeamSmoke* central_smoke)
+{
     BeamSignal sig;
-    const double wl = spec.wavelength_nm;
+    const double wl = wavelength_nm;
     const double half = 0.5e-3 * p.divergence_mrad;
     const std::vector<Vec3> dirs = footprint(ray.d, half, p.sub_rays);
     const double w = 1.0 / double(dirs.size());
     // Echoes beyond the sensor's range window still pull the phase or widen the waveform; look
     // a pulse length further than the maximum range.
-    const double reach = spec.range_max_m + 1.0;
+    const double reach = range_max_m + 1.0;
 
     std::vector<SurfaceHit> hits(dirs.size());
     std::vector<double> blocked(dirs.size());
@@ -45,7 +53,7 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
         hits[j] = surfaces.closest(Ray{ray.o, dirs[j]}, reach);
         blocked[j] = hits[j].endOr(reach);
         t_end = std::max(t_end, blocked[j]);
-        if (hits[j].hit && hits[j].t_m <= spec.range_max_m) sig.surface_in_range = true;
+        if (hits[j].hit && hits[j].t_m <= range_max_m) sig.surface_in_range = true;
     }
     if (central_hit) *central_hit = hits[0];
 
@@ -102,7 +110,7 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
     std::sort(sig.echoes.begin(), sig.echoes.end(), [](const Echo& a, const Echo& b) { return a.range_m < b.range_m; });
     if (central_smoke) {
         // The paper model's bookkeeping up to the central surface, for reports and --tau.
-        const double t_c = hits[0].endOr(spec.range_max_m);
+        const double t_c = hits[0].endOr(range_max_m);
         BeamQuery qc;
         qc.wavelength_nm = wl;
         *central_smoke = t_c == t_end ? std::move(smoke) : field.trace(ray, 0.0, t_c, qc);

@@ -216,23 +216,16 @@ double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const 
 
 namespace {
 
-/// The noise-free waveform of a beam's echoes: Gaussian pulses sampled every dr from lo.
-struct Waveform {
-    double lo = 0, dr = 0;
-    double sig_p = 0;  ///< pulse σ in range [m]
-    std::vector<double> w;
-};
+}  // namespace
 
-/// Samples the span the echoes cover (empty when none lies within range): noise alone stays
-/// below the threshold (probability ~1e-9 per sample at threshold_snr = 6).
-Waveform pulsedWaveform(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
+Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s)
 {
     Waveform f;
     // Range-domain Gaussian pulse: FWHM in time → σ in range (half the path).
     f.sig_p = kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
     f.dr = f.sig_p / 4;
     const double reach = 4 * f.sig_p;
-    const double r_end = spec.range_max_m + reach;
+    const double r_end = range_max_m + reach;
     double lo = r_end, hi = 0;
     for (const Echo& e : s.echoes)
         if (e.power > 0 && e.range_m < r_end) {
@@ -256,45 +249,45 @@ Waveform pulsedWaveform(const LrfSpec& spec, const PhysicalParams& p, const Beam
     return f;
 }
 
-/// The first echo above the threshold: its peak and half-maximum crossings.
-struct FirstEcho {
-    bool found = false;
-    double peak = 0, lead_m = 0, trail_m = 0;
-};
-
-FirstEcho firstEcho(const Waveform& f, double thr)
+std::vector<WaveformEcho> waveformEchoes(const Waveform& f, double thr, int max_echoes)
 {
-    FirstEcho e;
+    std::vector<WaveformEcho> out;
     const std::vector<double>& w = f.w;
     const int n = int(w.size());
-    int k0 = 0;
-    while (k0 < n && w[size_t(k0)] < thr) ++k0;
-    if (k0 == n) return e;
-    int k1 = k0;
-    double peak = w[size_t(k0)];
-    int kp = k0;
-    while (k1 + 1 < n && w[size_t(k1 + 1)] >= thr) {
-        ++k1;
-        if (w[size_t(k1)] > peak) {
-            peak = w[size_t(k1)];
-            kp = k1;
+    for (int k0 = 0; k0 < n && int(out.size()) < max_echoes;) {
+        while (k0 < n && w[size_t(k0)] < thr) ++k0;
+        if (k0 == n) break;
+        int k1 = k0, kp = k0;
+        double peak = w[size_t(k0)];
+        while (k1 + 1 < n && w[size_t(k1 + 1)] >= thr) {
+            ++k1;
+            if (w[size_t(k1)] > peak) {
+                peak = w[size_t(k1)];
+                kp = k1;
+            }
         }
+        WaveformEcho e;
+        e.peak = peak;
+        e.peak_m = f.lo + kp * f.dr;
+        // Half-maximum crossings around the peak (linear interpolation between samples).
+        const double half = 0.5 * peak, lo = f.lo, dr = f.dr;
+        int a = kp;
+        while (a > k0 && w[size_t(a - 1)] >= half) --a;
+        e.lead_m = lo + a * dr;
+        if (a > 0 && w[size_t(a - 1)] < half)
+            e.lead_m -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
+        int b = kp;
+        while (b < n - 1 && w[size_t(b + 1)] >= half) ++b;
+        e.trail_m = lo + b * dr;
+        if (b < n - 1 && w[size_t(b + 1)] < half)
+            e.trail_m += dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
+        out.push_back(e);
+        k0 = k1 + 1;
     }
-    e.found = true;
-    e.peak = peak;
-    // Half-maximum crossings around the peak (linear interpolation between samples).
-    const double half = 0.5 * peak, lo = f.lo, dr = f.dr;
-    int a = kp;
-    while (a > k0 && w[size_t(a - 1)] >= half) --a;
-    e.lead_m = lo + a * dr;
-    if (a > 0 && w[size_t(a - 1)] < half) e.lead_m -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
-    int b = kp;
-    while (b < n - 1 && w[size_t(b + 1)] >= half) ++b;
-    e.trail_m = lo + b * dr;
-    if (b < n - 1 && w[size_t(b + 1)] < half)
-        e.trail_m += dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
-    return e;
+    return out;
 }
+
+namespace {
 
 /// The LMS200's reading of a waveform (noise added in place when rng is given).
 BeamResult pulsedRead(const LrfSpec& spec, const PhysicalParams& p, Waveform& f, KeyedRng* rng)
@@ -305,8 +298,9 @@ BeamResult pulsedRead(const LrfSpec& spec, const PhysicalParams& p, Waveform& f,
     if (rng)
         for (double& v : f.w) v += p.noise_floor * rng->normal();
     const double ds_noise = rng ? rng->normal() : 0.0;
-    const FirstEcho e = firstEcho(f, p.threshold_snr * p.noise_floor);
-    if (!e.found) return fail(spec.no_return_code, "no_echo");
+    const std::vector<WaveformEcho> found = waveformEchoes(f, p.threshold_snr * p.noise_floor, 1);
+    if (found.empty()) return fail(spec.no_return_code, "no_echo");
+    const WaveformEcho& e = found.front();
     r.power = e.peak;
     if (e.peak > p.saturation_power) return fail(lms_code::kDazzled, "dazzled");
     if (e.peak < p.valid_snr * p.noise_floor) return fail(lms_code::kWeakOrAmbiguous, "weak_echo");
@@ -320,19 +314,19 @@ BeamResult pulsedRead(const LrfSpec& spec, const PhysicalParams& p, Waveform& f,
 
 BeamResult pulsedBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
 {
-    Waveform f = pulsedWaveform(spec, p, s);
+    Waveform f = pulsedWaveform(spec.range_max_m, p, s);
     return pulsedRead(spec, p, f, &rng);
 }
 
 BeamResult pulsedBeamExpected(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s)
 {
-    Waveform f = pulsedWaveform(spec, p, s);
+    Waveform f = pulsedWaveform(spec.range_max_m, p, s);
     return pulsedRead(spec, p, f, nullptr);
 }
 
 double pulsedErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, int draws)
 {
-    const Waveform f = pulsedWaveform(spec, p, s);
+    const Waveform f = pulsedWaveform(spec.range_max_m, p, s);
     if (f.w.empty()) return 1.0;
     int errors = 0;
     for (int d = 0; d < draws; ++d) {

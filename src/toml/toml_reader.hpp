@@ -91,6 +91,36 @@ public:
         }
         return v;
     }
+    /// An array of finite numbers (at most `max_count`).
+    std::vector<double> numbers(const std::string& key, size_t max_count)
+    {
+        const toml::node* n = get(key);
+        const toml::array* a = n->as_array();
+        if (!a) fail(n, key, "must be an array of numbers");
+        if (a->size() > max_count) fail(n, key, "has more than " + std::to_string(max_count) + " values");
+        std::vector<double> out;
+        for (const auto& e : *a) {
+            auto x = e.value<double>();
+            if (!x || !std::isfinite(*x)) fail(&e, key, "must hold finite numbers");
+            out.push_back(*x);
+        }
+        return out;
+    }
+    /// An array of strings (at most `max_count`).
+    std::vector<std::string> strings(const std::string& key, size_t max_count)
+    {
+        const toml::node* n = get(key);
+        const toml::array* a = n->as_array();
+        if (!a) fail(n, key, "must be an array of strings");
+        if (a->size() > max_count) fail(n, key, "has more than " + std::to_string(max_count) + " values");
+        std::vector<std::string> out;
+        for (const auto& e : *a) {
+            auto x = e.value_exact<std::string>();
+            if (!x) fail(&e, key, "must hold strings");
+            out.push_back(*x);
+        }
+        return out;
+    }
     /// An array of [a, b] pairs of numbers.
     std::vector<std::pair<double, double>> pairs(const std::string& key)
     {

@@ -83,6 +83,10 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
 BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalParams& p, const Scene& scene,
                            const SurfaceSet& surfaces, const SmokeField& field, SurfaceHit* central_hit,
                            BeamSmoke* central_smoke);
+/// @brief The same for any sensor: its wavelength [nm] and the range [m] it reports to.
+BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_max_m, const PhysicalParams& p,
+                           const Scene& scene, const SurfaceSet& surfaces, const SmokeField& field,
+                           SurfaceHit* central_hit, BeamSmoke* central_smoke);
 
 /// @brief URG-04LX: amplitude and phase of the summed echoes at two modulation frequencies.
 /// Codes: 18 strong reflection (amplitude above saturation), 1 low intensity, 8 intensity
@@ -113,6 +117,29 @@ double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const 
 /// @brief The standard deviation of a valid amcwBeam reading [m]: the fine phasor's phase noise
 /// σ/A_hi over its wavenumber, and the datasheet noise at the range, in quadrature.
 double amcwRangeSigma(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
+
+/// A beam's received waveform: Gaussian pulses (the transmitted pulse's shape) at each echo's
+/// range, sampled every dr [m] from lo [m]; empty when no echo lies within range.
+struct Waveform {
+    double lo = 0, dr = 0;
+    double sig_p = 0;  ///< pulse σ in range [m]
+    std::vector<double> w;  ///< normalised power per sample
+};
+
+/// @brief The noise-free waveform of a beam's echoes up to range_max_m (and the pulse's reach
+/// beyond): noise alone stays below a detection threshold of 6 σ (probability ~1e-9 a sample).
+Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s);
+
+/// One echo found in a waveform: a run of samples at or above the detection threshold.
+struct WaveformEcho {
+    double peak = 0;  ///< its largest sample (normalised power)
+    double peak_m = 0;  ///< where it peaks [m]
+    double lead_m = 0, trail_m = 0;  ///< its half-maximum crossings [m]
+};
+
+/// @brief The echoes of a waveform in order of range, at most `max_echoes`: each run of samples
+/// at or above `threshold`, its peak and the half-maximum crossings around the peak.
+std::vector<WaveformEcho> waveformEchoes(const Waveform& f, double threshold, int max_echoes);
 
 /// @brief LMS200: the waveform (Gaussian pulse ⊗ echoes + noise), first echo above threshold,
 /// range at its half-maximum leading edge plus half the pulse width. Codes: 8183 no echo,

@@ -1,0 +1,87 @@
+#pragma once
+/// @file lidar_scanner.hpp
+/// @brief Frames of a 3D lidar (lidar_spec.hpp) in a scene with smoke: each beam fired from the
+/// sensor's pose at its own firing time (the motion distortion a moving robot's lidar has), its
+/// received waveform built by the lidar equation (sensors/physical_model.hpp: surfaces over the
+/// footprint, smoke along the beam), up to max_echoes echoes resolved in it, and the return mode's
+/// echoes kept as points.
+///
+/// | field      | default   | unit | meaning                                                 |
+/// |------------|-----------|------|---------------------------------------------------------|
+/// | returns    | strongest | –    | which echoes become points (the sensor must offer it)   |
+/// | seed       | 1         | –    | noise seed; frames do not depend on the thread count    |
+#include <cstdint>
+#include <vector>
+
+#include "smokescan/lidar/lidar_spec.hpp"
+#include "smokescan/scene/scene.hpp"
+#include "smokescan/scene/surfaces.hpp"
+#include "smokescan/sensors/physical_model.hpp"
+
+namespace smokescan {
+
+class KeyedRng;
+
+/// One echo a beam's receiver resolved.
+struct LidarEcho {
+    double range_m = 0;  ///< leading edge at half maximum plus half the pulse's width [m]
+    double peak = 0;  ///< the echo's peak (normalised power: a white Lambertian target at 1 m = 1)
+    double intensity = 0;  ///< calibrated reflectivity [%]: 100·peak·R²/O(R), at most 255
+    EchoSource source = EchoSource::Surface;  ///< what sent most of the echo's power
+};
+
+/// @brief The echoes a lidar's receiver resolves in a beam's signal, in order of range: the
+/// waveform's runs above threshold_snr × noise (with the receiver's noise when `rng` is given),
+/// within the range window, at most max_echoes; each range with the datasheet noise when `rng` is given.
+std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& signal, KeyedRng* rng);
+
+/// @brief Which of a beam's echoes (indices into `echoes`, in range order) a return mode keeps:
+/// first, last, strongest, or dual (strongest and last, or strongest and second strongest, as the
+/// sensor defines it; one point when they are the same echo).
+std::vector<size_t> selectReturns(const std::vector<LidarEcho>& echoes, ReturnMode mode, bool dual_second_strongest);
+
+/// One point of a frame, with the fields lidar drivers write.
+struct LidarPoint {
+    float x = 0, y = 0, z = 0;  ///< in the sensor's frame at the beam's firing time [m]
+    float range_m = 0;
+    float intensity = 0;  ///< calibrated reflectivity [%]
+    uint16_t ring = 0;  ///< channel
+    uint8_t return_index = 0;  ///< 0: the mode's first point of the beam, 1: its second (dual)
+    uint8_t source = 0;  ///< EchoSource: 0 surface, 1 smoke, 2 mirror (ground truth; drivers have none)
+    float time_s = 0;  ///< firing time from the frame's start [s]
+    uint32_t beam = 0;  ///< the beam's index in the frame's pattern
+};
+
+struct LidarFrame {
+    uint64_t index = 0;
+    double start_s = 0, end_s = 0;  ///< scene time of the frame's first and last firing [s]
+    Pose start_pose, end_pose;  ///< the sensor's pose in the world then
+    int channels = 0, columns = 0;
+    std::vector<LidarPoint> points;  ///< in firing order; beams without an echo give none
+    std::vector<float> range_image;  ///< channels × columns: the first kept return's range, 0 none
+};
+
+class LidarScanner {
+public:
+    /// @param mount where the sensor sits (its pose and robot; its laser config is not used)
+    /// @throw Error when the spec does not offer `mode`.
+    LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount, LidarSpec spec,
+                 ReturnMode mode, uint64_t seed);
+
+    /// @brief The frame starting at scene time start_s; `index` keys its noise. The smoke is the
+    /// scene's at the frame's middle (it changes little in a turn of the head).
+    LidarFrame frame(double start_s, uint64_t index) const;
+    const LidarSpec& spec() const { return spec_; }
+    double period_s() const { return 1 / spec_.rate_hz; }
+
+private:
+    const Scene& scene_;
+    const SurfaceSet& surfaces_;
+    SensorMount mount_;
+    LidarSpec spec_;
+    ReturnMode mode_;
+    uint64_t seed_;
+    std::vector<PatternBeam> pattern_;
+};
+
+}  // namespace smokescan

@@ -1,0 +1,25 @@
+#pragma once
+/// @file point_cloud_io.hpp
+/// @brief A lidar frame as a point cloud file, with the fields lidar drivers write: PCD v0.7
+/// (binary, as PCL writes it) and PLY 1.0 (binary little endian). Fields, in order:
+///
+/// | field        | PCD type | PLY type | meaning                                         |
+/// |--------------|----------|----------|-------------------------------------------------|
+/// | x, y, z      | F 4      | float    | in the sensor's frame at the beam's firing time [m] |
+/// | intensity    | F 4      | float    | calibrated reflectivity [%]                     |
+/// | ring         | U 2      | uint16   | channel                                         |
+/// | return_index | U 1      | uchar    | 0 the mode's first point of the beam, 1 its second |
+/// | time         | F 4      | float    | firing time from the frame's start [s]          |
+/// | source       | U 1      | uchar    | ground truth: 0 surface, 1 smoke, 2 mirror      |
+#include <string>
+
+#include "smokescan/lidar/lidar_scanner.hpp"
+
+namespace smokescan {
+
+/// @brief Writes the frame's points as a binary PCD file (whole or not at all).
+void writePcd(const std::string& path, const LidarFrame& frame);
+/// @brief Writes the frame's points as a binary little-endian PLY file (whole or not at all).
+void writePly(const std::string& path, const LidarFrame& frame);
+
+}  // namespace smokescan

@@ -1,0 +1,66 @@
+#include "scan_lidar.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "commands.hpp"
+#include "progress.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/io/atomic_folder.hpp"
+#include "smokescan/io/run_files.hpp"
+#include "smokescan/lidar/point_cloud_io.hpp"
+#include "smokescan/scene/scene.hpp"
+
+namespace smokescan::cli {
+
+int runLidarScan(const Scene& scene, const LidarScanArgs& a)
+{
+    RunFiles files;
+    recordSceneInputs(files, a.scene, scene);
+    files.input(a.sensor, "--sensor");
+    files.outputFolder(a.points_dir, "--points");
+    if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
+    if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
+    LidarSpec spec = lidarSpec(a.sensor);
+    configureLidar(spec, a.rate_hz, a.columns, "--sensor " + a.sensor);
+    const ReturnMode mode = parseReturnMode(a.returns, "--returns");
+    // Mounted where the scene's first sensor is (its pose and robot), or at the origin.
+    SensorMount mount;
+    mount.name = spec.name;
+    if (!scene.sensors.empty()) {
+        mount.pose = scene.sensors.front().pose;
+        mount.robot = scene.sensors.front().robot;
+    }
+    const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? from : a.to;
+    if (!(to >= from)) throw Error("--to", "must not precede --from");
+    const double period = 1 / spec.rate_hz;
+    const double frames_wanted = std::floor((to - from) / period + 1e-9) + 1;
+    if (frames_wanted > double(limits::kFrames))
+        throw Error("--to",
+                    "would make " + limits::count(frames_wanted) + " lidar frames (at most " +
+                        std::to_string(limits::kFrames) + ")");
+    const SurfaceSet surfaces(scene);
+    const LidarScanner scanner(scene, surfaces, mount, spec, mode, a.seed);
+    AtomicFolder out(a.points_dir, "the point-cloud folder", "--points");
+    const long long frames = (long long)frames_wanted;
+    const Progress progress("scanning", "lidar frames");
+    long long points = 0, smoke = 0;
+    for (long long k = 0; k < frames; ++k) {
+        const LidarFrame f = scanner.frame(from + double(k) * period, uint64_t(k));
+        char name[32];
+        std::snprintf(name, sizeof name, "%06lld.%s", k, a.format.c_str());
+        (a.format == "pcd" ? writePcd : writePly)(out.path(name), f);
+        points += (long long)f.points.size();
+        for (const LidarPoint& p : f.points) smoke += p.source == uint8_t(EchoSource::Smoke);
+        progress.update(k + 1, frames);
+    }
+    out.commit();
+    files.commit();
+    say("wrote %s: %lld %s frames of the %s (%d channels x %d columns, %g Hz, %s returns), %lld points, %lld from smoke\n",
+        a.points_dir.c_str(), frames, a.format.c_str(), spec.name.c_str(), spec.channels(), frameColumns(spec),
+        spec.rate_hz, returnModeName(mode), points, smoke);
+    return 0;
+}
+
+}  // namespace smokescan::cli

@@ -1,0 +1,140 @@
+#include "smokescan/lidar/lidar_scanner.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/random.hpp"
+
+namespace smokescan {
+namespace {
+
+/// The source that sent most of the power within an echo's span (the pulse's reach around it).
+EchoSource dominantSource(const BeamSignal& s, const WaveformEcho& e, double reach_m)
+{
+    double power[3] = {0, 0, 0};
+    for (const Echo& x : s.echoes)
+        if (x.range_m >= e.lead_m - reach_m && x.range_m <= e.trail_m + reach_m) power[int(x.source)] += x.power;
+    return EchoSource(int(std::max_element(power, power + 3) - power));
+}
+
+}  // namespace
+
+std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
+{
+    const PhysicalParams& p = spec.receiver;
+    Waveform f = pulsedWaveform(spec.range_max_m, p, s);
+    std::vector<LidarEcho> out;
+    if (f.w.empty()) return out;
+    if (rng)
+        for (double& v : f.w) v += p.noise_floor * rng->normal();
+    const double fwhm = 2.354820045 * f.sig_p;
+    for (const WaveformEcho& e : waveformEchoes(f, p.threshold_snr * p.noise_floor, spec.max_echoes)) {
+        LidarEcho x;
+        x.range_m = e.lead_m + 0.5 * fwhm + (rng ? spec.range_sigma_m * rng->normal() : 0.0);
+        if (!(x.range_m >= spec.range_min_m && x.range_m <= spec.range_max_m)) continue;
+        x.peak = e.peak;
+        x.intensity = std::min(255.0, 100 * e.peak * x.range_m * x.range_m / std::max(1e-9, p.overlap(x.range_m)));
+        x.source = dominantSource(s, e, 2 * f.sig_p);
+        out.push_back(x);
+    }
+    return out;
+}
+
+std::vector<size_t> selectReturns(const std::vector<LidarEcho>& e, ReturnMode mode, bool dual_second_strongest)
+{
+    if (e.empty()) return {};
+    auto strongestBut = [&](size_t skip) {
+        size_t best = e.size();
+        for (size_t i = 0; i < e.size(); ++i)
+            if (i != skip && (best == e.size() || e[i].peak > e[best].peak)) best = i;
+        return best;
+    };
+    const size_t strongest = strongestBut(e.size()), last = e.size() - 1;
+    switch (mode) {
+    case ReturnMode::First:
+        return {0};
+    case ReturnMode::Last:
+        return {last};
+    case ReturnMode::Strongest:
+        return {strongest};
+    case ReturnMode::Dual: {
+        // Strongest and last: when the strongest is the last, Velodyne gives the second strongest.
+        const size_t other = dual_second_strongest || strongest == last ? strongestBut(strongest) : last;
+        if (other == e.size()) return {strongest};
+        return {std::min(strongest, other), std::max(strongest, other)};
+    }
+    }
+    return {};
+}
+
+LidarScanner::LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount, LidarSpec spec,
+                           ReturnMode mode, uint64_t seed)
+    : scene_(scene), surfaces_(surfaces), mount_(mount), spec_(std::move(spec)), mode_(mode), seed_(seed)
+{
+    if (!spec_.offers(mode)) {
+        std::string modes;
+        for (ReturnMode m : spec_.return_modes) modes += (modes.empty() ? "" : ", ") + std::string(returnModeName(m));
+        throw Error("--returns", "the " + spec_.name + " offers " + modes + ", not " + returnModeName(mode));
+    }
+    pattern_ = framePattern(spec_);
+}
+
+LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
+{
+    LidarFrame fr;
+    fr.index = index;
+    fr.start_s = start_s;
+    fr.end_s = start_s + (pattern_.empty() ? 0.0 : pattern_.back().time_s);
+    fr.start_pose = scene_.sensorAt(mount_, fr.start_s).pose;
+    fr.end_pose = scene_.sensorAt(mount_, fr.end_s).pose;
+    fr.channels = spec_.channels();
+    fr.columns = frameColumns(spec_);
+    const SmokeField field = SmokeField::at(scene_.volumes, 0.5 * (fr.start_s + fr.end_s));
+    const size_t n = pattern_.size();
+    const bool moving = mount_.robot >= 0;
+    // Up to two points a beam, in fixed slots: the frame is the same whatever the thread count.
+    std::vector<LidarPoint> slots(2 * n);
+    std::vector<uint8_t> used(n, 0);
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+        const PatternBeam& b = pattern_[i];
+        const Pose pose = moving ? scene_.sensorAt(mount_, start_s + b.time_s).pose : fr.start_pose;
+        const double ce = std::cos(b.elevation_rad);
+        const Vec3 local(ce * std::cos(b.azimuth_rad), ce * std::sin(b.azimuth_rad), std::sin(b.elevation_rad));
+        const Ray ray{pose.t, pose.rotate(local).normalized()};
+        const BeamSignal sig = traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_,
+                                               surfaces_, field, nullptr, nullptr);
+        KeyedRng rng(seed_, index, uint64_t(i));
+        const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
+        const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
+        for (size_t k = 0; k < kept.size() && k < 2; ++k) {
+            const LidarEcho& e = echoes[kept[k]];
+            LidarPoint& q = slots[2 * i + k];
+            q.x = float(e.range_m * local.x());
+            q.y = float(e.range_m * local.y());
+            q.z = float(e.range_m * local.z());
+            q.range_m = float(e.range_m);
+            q.intensity = float(e.intensity);
+            q.ring = uint16_t(b.channel);
+            q.return_index = uint8_t(k);
+            q.source = uint8_t(e.source);
+            q.time_s = float(b.time_s);
+            q.beam = uint32_t(i);
+        }
+        used[i] = uint8_t(std::min<size_t>(kept.size(), 2));
+    });
+    const bool spinning = spec_.pattern == PatternKind::Spinning;
+    if (spinning) fr.range_image.assign(size_t(fr.channels) * size_t(fr.columns), 0.0f);
+    for (size_t i = 0; i < n; ++i) {
+        for (size_t k = 0; k < used[i]; ++k) fr.points.push_back(slots[2 * i + k]);
+        if (used[i] && spinning) {
+            const size_t column = i / size_t(fr.channels), ch = size_t(pattern_[i].channel);
+            fr.range_image[ch * size_t(fr.columns) + column] = slots[2 * i].range_m;
+        }
+    }
+    return fr;
+}
+
+}  // namespace smokescan

@@ -1,0 +1,283 @@
+// A lidar spec from its preset file (lidar_spec.hpp's table), and its frame's beam pattern.
+#include "smokescan/lidar/lidar_spec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/io/text_input.hpp"
+#include "toml_reader.hpp"
+
+namespace smokescan {
+
+const std::vector<std::pair<std::string, std::string>>& builtinLidarPresetTable();  // generated
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+constexpr ReturnMode kModes[] = {ReturnMode::First, ReturnMode::Last, ReturnMode::Strongest, ReturnMode::Dual};
+
+/// The channels' elevations: a list, or [top, bottom, count] spread uniformly.
+void readElevations(TomlTable& t, LidarSpec& s)
+{
+    std::vector<double> deg;
+    if (t.has("elevation_deg") == t.has("elevation_uniform_deg"))
+        t.error("elevation_deg", "give either elevation_deg or elevation_uniform_deg for a spinning lidar");
+    if (t.has("elevation_deg")) {
+        deg = t.numbers("elevation_deg", lidar_limits::kChannels);
+    } else {
+        const std::vector<double> u = t.numbers("elevation_uniform_deg", 3);
+        if (u.size() != 3 || u[2] != std::floor(u[2]) || u[2] < 1 || u[2] > lidar_limits::kChannels)
+            t.error("elevation_uniform_deg", "must be [top_deg, bottom_deg, count], count 1–512");
+        const int n = int(u[2]);
+        for (int i = 0; i < n; ++i) deg.push_back(n == 1 ? u[0] : u[0] + (u[1] - u[0]) * i / (n - 1));
+    }
+    if (deg.empty()) t.error("elevation_deg", "must list at least one channel");
+    for (double d : deg)
+        if (std::abs(d) > 90) t.error("elevation_deg", "must lie within ±90°");
+    for (double d : deg) s.elevation_rad.push_back(d * kDeg);
+}
+
+/// A per-channel list (`key`), a cycle repeated over the channels (`cycle_key`), or a step per
+/// channel (`step_key`), times `unit`; zeros when none is given.
+std::vector<double> perChannel(TomlTable& t, size_t n, const std::string& key, const std::string& cycle_key,
+                               const std::string& step_key, double unit)
+{
+    std::vector<double> v(n, 0.0);
+    const int given =
+        int(t.has(key)) + int(!cycle_key.empty() && t.has(cycle_key)) + int(!step_key.empty() && t.has(step_key));
+    if (given > 1)
+        t.error(key,
+                "give only one of " + key + (cycle_key.empty() ? "" : ", " + cycle_key) +
+                    (step_key.empty() ? "" : ", " + step_key));
+    if (t.has(key)) {
+        const std::vector<double> x = t.numbers(key, lidar_limits::kChannels);
+        if (x.size() != n) t.error(key, "must have one value per channel (" + std::to_string(n) + ")");
+        for (size_t i = 0; i < n; ++i) v[i] = x[i] * unit;
+    } else if (!cycle_key.empty() && t.has(cycle_key)) {
+        const std::vector<double> x = t.numbers(cycle_key, lidar_limits::kChannels);
+        if (x.empty()) t.error(cycle_key, "must not be empty");
+        for (size_t i = 0; i < n; ++i) v[i] = x[i % x.size()] * unit;
+    } else if (!step_key.empty() && t.has(step_key)) {
+        const double step = t.nonneg(step_key, 0);
+        for (size_t i = 0; i < n; ++i) v[i] = double(i) * step * unit;
+    }
+    return v;
+}
+
+void readModes(TomlTable& t, LidarSpec& s)
+{
+    if (t.has("return_modes")) {
+        for (const std::string& m : t.strings("return_modes", 4))
+            s.return_modes.push_back(parseReturnMode(m, t.source() + ": return_modes"));
+        if (s.return_modes.empty()) t.error("return_modes", "must name at least one mode");
+    } else {
+        s.return_modes.assign(std::begin(kModes), std::end(kModes));
+    }
+    const std::string dual = t.str("dual", "strongest_last");
+    if (dual != "strongest_last" && dual != "strongest_second")
+        t.error("dual", "must be \"strongest_last\" or \"strongest_second\"");
+    s.dual_second_strongest = dual == "strongest_second";
+    s.max_echoes = int(t.integer("max_echoes", 3));
+    if (s.max_echoes < 1 || s.max_echoes > 8) t.error("max_echoes", "must be 1–8");
+}
+
+/// The receiver: a footprint of five sub-rays, overlap complete by 0.3 m, the noise floor that
+/// puts a 10 % Lambertian target's echo at the detection threshold at range_at_10pct_m.
+void readReceiver(TomlTable& t, LidarSpec& s)
+{
+    PhysicalParams& p = s.receiver;
+    p.divergence_mrad = t.between("divergence_mrad", 3.0, 0.01, 100);
+    p.pulse_fwhm_ns = t.between("pulse_fwhm_ns", 5.0, 0.1, 100);
+    p.threshold_snr = t.between("threshold_snr", 6.0, 1, 1000);
+    p.overlap_start_m = 0.05;
+    p.overlap_full_m = 0.3;
+    p.overlap_floor = 0.01;
+    p.saturation_power = kInf;
+    const double r10 = t.between("range_at_10pct_m", 50, 0.1, 10000);
+    p.noise_floor = 0.1 / (r10 * r10) / p.threshold_snr;
+}
+
+}  // namespace
+
+const char* returnModeName(ReturnMode m)
+{
+    switch (m) {
+    case ReturnMode::First:
+        return "first";
+    case ReturnMode::Last:
+        return "last";
+    case ReturnMode::Strongest:
+        return "strongest";
+    case ReturnMode::Dual:
+        return "dual";
+    }
+    return "?";
+}
+
+ReturnMode parseReturnMode(const std::string& name, const std::string& where)
+{
+    for (ReturnMode m : kModes)
+        if (name == returnModeName(m)) return m;
+    throw Error(where, "unknown return mode '" + name + "' (first, last, strongest or dual)");
+}
+
+bool LidarSpec::offers(ReturnMode m) const
+{
+    return std::find(return_modes.begin(), return_modes.end(), m) != return_modes.end();
+}
+
+LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
+{
+    const toml::table root = parseToml(text, source);
+    TomlTable t(root, source, "");
+    LidarSpec s;
+    s.source = source;
+    s.name = t.strReq("name");
+    const std::string pattern = t.strReq("pattern");
+    if (pattern != "spinning" && pattern != "file") t.error("pattern", "must be \"spinning\" or \"file\"");
+    s.pattern = pattern == "file" ? PatternKind::File : PatternKind::Spinning;
+    s.wavelength_nm = t.between("wavelength_nm", 905, 200, 2000);
+    s.rate_hz = t.between("rate_hz", 10, 0.01, lidar_limits::kRateHz);
+    s.rates_hz = t.has("rates_hz") ? t.numbers("rates_hz", 64) : std::vector<double>{s.rate_hz};
+    for (double r : s.rates_hz)
+        if (!(r > 0 && r <= lidar_limits::kRateHz)) t.error("rates_hz", "must hold rates in (0, 100] Hz");
+    if (std::find(s.rates_hz.begin(), s.rates_hz.end(), s.rate_hz) == s.rates_hz.end())
+        t.error("rate_hz", "must be one of rates_hz");
+    s.range_min_m = t.between("range_min_m", 0.5, 0, 1e4);
+    s.range_max_m = t.between("range_max_m", 100, 0.1, 1e4);
+    if (!(s.range_max_m > s.range_min_m)) t.error("range_max_m", "must exceed range_min_m");
+    s.range_sigma_m = t.between("range_sigma_m", 0.02, 0, 10);
+    readReceiver(t, s);
+    readModes(t, s);
+    if (s.pattern == PatternKind::File) {
+        const std::string file = t.strReq("pattern_file");
+        const std::filesystem::path base = std::filesystem::path(source).parent_path();
+        s.file_beams = readPatternFile((base / file).string(), 1 / s.rate_hz);
+        s.columns = 1;
+    } else {
+        const std::string spin = t.str("spin", "cw");
+        if (spin != "cw" && spin != "ccw") t.error("spin", "must be \"cw\" or \"ccw\"");
+        s.clockwise = spin == "cw";
+        readElevations(t, s);
+        const size_t n = s.elevation_rad.size();
+        s.azimuth_offset_rad = perChannel(t, n, "azimuth_offset_deg", "azimuth_offset_cycle_deg", "", kDeg);
+        s.fire_offset_s = perChannel(t, n, "fire_offset_us", "", "fire_offset_step_us", 1e-6);
+        if (t.has("firing_cycle_us")) {
+            s.firing_cycle_s = t.between("firing_cycle_us", 50, 0.01, 1e6) * 1e-6;
+            if (t.has("columns")) t.error("columns", "is set by firing_cycle_us for this sensor");
+        } else {
+            s.columns = int(t.integer("columns", 1024));
+            s.columns_allowed = t.has("columns_allowed") ? [&] {
+                std::vector<int> c;
+                for (double x : t.numbers("columns_allowed", 64)) c.push_back(int(x));
+                return c;
+            }()
+                                                         : std::vector<int>{s.columns};
+        }
+        s.max_column_rate_hz = t.nonneg("max_column_rate_hz", 0);
+        for (double f : s.fire_offset_s)
+            if (s.firing_cycle_s > 0 && f >= s.firing_cycle_s)
+                t.error("fire_offset_us", "must lie within the firing cycle");
+        configureLidar(s, s.rate_hz, 0, source);
+    }
+    t.finish("a lidar preset");
+    return s;
+}
+
+void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string& where)
+{
+    auto fmtList = [](const auto& v) {
+        std::string out;
+        for (const auto& x : v) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%g", double(x));
+            out += (out.empty() ? "" : ", ") + std::string(buf);
+        }
+        return out;
+    };
+    if (rate_hz > 0) {
+        if (std::find(s.rates_hz.begin(), s.rates_hz.end(), rate_hz) == s.rates_hz.end())
+            throw Error(where,
+                        "the " + s.name + " spins at " + fmtList(s.rates_hz) + " Hz, not " +
+                            fmtList(std::vector<double>{rate_hz}));
+        s.rate_hz = rate_hz;
+    }
+    if (s.pattern == PatternKind::File) {
+        if (columns > 0) throw Error(where, "the " + s.name + " fires a pattern file: it has no columns to set");
+        return;
+    }
+    if (s.firing_cycle_s > 0) {
+        if (columns > 0)
+            throw Error(where, "the " + s.name + "'s columns follow from its rate (a column each firing cycle)");
+        s.columns = int(std::floor(1 / (s.rate_hz * s.firing_cycle_s) + 1e-9));
+    } else if (columns > 0) {
+        if (std::find(s.columns_allowed.begin(), s.columns_allowed.end(), columns) == s.columns_allowed.end())
+            throw Error(
+                where,
+                "the " + s.name + " offers " + fmtList(s.columns_allowed) + " columns, not " + std::to_string(columns));
+        s.columns = columns;
+    }
+    if (s.columns < 1 || s.columns > lidar_limits::kColumns)
+        throw Error(where, "the " + s.name + " would fire " + std::to_string(s.columns) + " columns a turn (1–8192)");
+    if (s.max_column_rate_hz > 0 && s.columns * s.rate_hz > s.max_column_rate_hz * (1 + 1e-12))
+        throw Error(where,
+                    "the " + s.name + " fires at most " + fmtList(std::vector<double>{s.max_column_rate_hz}) +
+                        " columns a second: " + std::to_string(s.columns) + " columns at " +
+                        fmtList(std::vector<double>{s.rate_hz}) + " Hz is not one of its modes");
+    if ((long long)s.columns * s.channels() > lidar_limits::kBeamsPerFrame)
+        throw Error(where, "the " + s.name + " would fire more than 4,000,000 beams a frame");
+}
+
+int frameColumns(const LidarSpec& s) { return s.pattern == PatternKind::File ? 1 : s.columns; }
+
+std::vector<PatternBeam> framePattern(const LidarSpec& s)
+{
+    if (s.pattern == PatternKind::File) return s.file_beams;
+    std::vector<PatternBeam> out;
+    const int C = s.columns, N = s.channels();
+    out.reserve(size_t(C) * size_t(N));
+    const double period = 1 / s.rate_hz, column_s = s.firing_cycle_s > 0 ? s.firing_cycle_s : period / C;
+    const double turn = (s.clockwise ? -2 : 2) * M_PI / period;  // azimuth rate [rad/s]
+    for (int c = 0; c < C; ++c)
+        for (int ch = 0; ch < N; ++ch) {
+            PatternBeam b;
+            b.time_s = c * column_s + s.fire_offset_s[size_t(ch)];
+            // The head turns on between a column's firings: each beam's azimuth is the head's at its own time.
+            b.azimuth_rad = std::remainder(turn * b.time_s + s.azimuth_offset_rad[size_t(ch)], 2 * M_PI);
+            b.elevation_rad = s.elevation_rad[size_t(ch)];
+            b.channel = ch;
+            out.push_back(b);
+        }
+    return out;
+}
+
+std::vector<std::string> lidarPresetNames()
+{
+    std::vector<std::string> names;
+    for (const auto& [name, text] : builtinLidarPresetTable()) names.push_back(name);
+    return names;
+}
+
+bool isLidarName(const std::string& name)
+{
+    for (const auto& [n, text] : builtinLidarPresetTable())
+        if (n == name) return true;
+    return name.size() > 5 && name.compare(name.size() - 5, 5, ".toml") == 0;
+}
+
+LidarSpec lidarSpec(const std::string& name)
+{
+    for (const auto& [n, text] : builtinLidarPresetTable())
+        if (n == name) return parseLidarSpec(text, "preset " + n);
+    if (name.size() > 5 && name.compare(name.size() - 5, 5, ".toml") == 0)
+        return parseLidarSpec(readTextInput(name, "lidar preset", limits::kTomlInputBytes), name);
+    std::string names;
+    for (const std::string& n : lidarPresetNames()) names += (names.empty() ? "" : ", ") + n;
+    throw Error("--sensor", "no lidar preset '" + name + "' (presets: " + names + "; or a preset file *.toml)");
+}
+
+}  // namespace smokescan

@@ -1,0 +1,83 @@
+// `smokescan scan --sensor PRESET`: a 3D lidar's frames as point-cloud files, and the bad input a
+// user can give it (one line, exit != 0, no folder left behind).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cli_run.hpp"
+
+namespace fs = std::filesystem;
+
+using namespace smokescan::test;
+
+namespace {
+
+/// The PCD header's value of `key` ("POINTS", "FIELDS", ...).
+std::string pcdHeader(const fs::path& p, const std::string& key)
+{
+    std::ifstream in(p, std::ios::binary);
+    for (std::string line; std::getline(in, line) && line.rfind("DATA", 0) != 0;)
+        if (line.rfind(key + " ", 0) == 0) return line.substr(key.size() + 1);
+    return "";
+}
+
+}  // namespace
+
+TEST(LidarCli, ScanWritesOnePointCloudPerFrameAtTheSensorsRate)
+{
+    const fs::path pts = dir() / "os1_points";
+    fs::remove_all(pts);
+    const CliRun r = cli("scan plume --sensor os1-128 --returns dual --from 20 --to 20.25 --points " + pts.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("3 pcd frames of the os1-128 (128 channels x 1024 columns, 10 Hz, dual returns)"),
+              std::string::npos)
+        << r.out;
+    for (const char* f : {"000000.pcd", "000001.pcd", "000002.pcd"}) {
+        ASSERT_TRUE(fs::exists(pts / f)) << f;
+        EXPECT_EQ(pcdHeader(pts / f, "FIELDS"), "x y z intensity ring return_index time source");
+        const long long n = std::stoll(pcdHeader(pts / f, "POINTS"));
+        EXPECT_GT(n, 10000);  // the plume scene's walls and floor
+        // Binary data after the header: 24 bytes a point (4+4+4+4+2+1+4+1).
+        const std::string text = slurp(pts / f);
+        const size_t data = text.find("DATA binary\n");
+        ASSERT_NE(data, std::string::npos);
+        EXPECT_EQ(text.size(), data + 12 + size_t(n) * 24);
+    }
+    EXPECT_FALSE(fs::exists(pts / "000003.pcd"));
+    const fs::path ply = dir() / "vlp_points";
+    fs::remove_all(ply);
+    const CliRun v = cli("scan plume --sensor vlp16 --rate 20 --points-format ply --points " + ply.string());
+    ASSERT_EQ(v.status, 0) << v.err;
+    EXPECT_NE(v.out.find("1 ply frames of the vlp16 (16 channels x 904 columns, 20 Hz, strongest returns)"),
+              std::string::npos)
+        << v.out;
+    EXPECT_TRUE(fs::exists(ply / "000000.ply"));
+}
+
+TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
+{
+    const std::string pts = (dir() / "bad_points").string();
+    fs::remove_all(pts);
+    const std::string scan = "scan plume --points " + pts + " --sensor ";
+    expectBad(scan + "os1-128 --returns both", "unknown return mode 'both' (first, last, strongest or dual)", pts);
+    expectBad(scan + "os1-128 --returns last", "the os1-128 offers strongest, dual, not last", pts);
+    expectBad(scan + "os1-128 --rate 20 --columns 2048", "fires at most 20480 columns a second", pts);
+    expectBad(scan + "vlp16 --rate 7", "the vlp16 spins at 5, 10, 15, 20 Hz, not 7", pts);
+    expectBad(scan + "vlp16 --columns 1024", "columns follow from its rate", pts);
+    expectBad(scan + "vlp16 --points-format las", "--points-format: must be pcd or ply", pts);
+    expectBad(scan + "vlp16 --out x.log", "--out: is for the 2D lasers", pts);
+    expectBad(scan + "vlp16 --from 0 --to 20000", "would make 200001 lidar frames (at most 100000)", pts);
+    expectBad(scan + (dir() / "nosuch.toml").string(), "nosuch.toml", pts);
+    expectBad("scan plume --sensor vlp16", "--points: a lidar's frames need a folder", pts);
+    expectBad("scan bocas --sensor urg04lx --out " + file("u.log") + " --returns dual", "--returns: is for a 3D lidar",
+              file("u.log"));
+    expectBad("scan bocas --sensor urg04lx", "--out: a 2D laser's scans need a log", pts);
+    // An existing folder with files in it is never replaced.
+    fs::create_directories(pts);
+    std::ofstream(fs::path(pts) / "keep.txt") << "mine";
+    const CliRun r = cli(scan + "vlp16");
+    EXPECT_NE(r.status, 0);
+    EXPECT_TRUE(fs::exists(fs::path(pts) / "keep.txt"));
+    EXPECT_FALSE(fs::exists(fs::path(pts) / "000000.pcd"));
+}

@@ -1,0 +1,355 @@
+// 3D lidars (lidar/): patterns against the datasheets, echoes against the lidar equation, the
+// motion distortion against its closed form, return modes, and point clouds read back by Open3D.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "scene_text.hpp"
+#include "scratch.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/lidar/point_cloud_io.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+using namespace smokescan;
+using namespace smokescan::test;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+std::string write(const std::filesystem::path& p, const std::string& text)
+{
+    std::ofstream(p) << text;
+    return p.string();
+}
+
+/// A preset file for a patterned lidar with `beams` (azimuth_deg, elevation_deg, time_s) lines.
+std::string patternedLidar(const std::string& name, const std::string& beams, const std::string& extra = "")
+{
+    const auto dir = scratch("lidar_" + name);
+    write(dir / "pattern.csv", "# azimuth_deg, elevation_deg, time_s\n" + beams);
+    return write(dir / (name + ".toml"),
+                 "name = \"" + name +
+                     "\"\npattern = \"file\"\npattern_file = \"pattern.csv\"\n"
+                     "wavelength_nm = 905\nrate_hz = 10\nrange_sigma_m = 0.001\n" +
+                     extra);
+}
+
+/// `n` beams across ±half_deg of azimuth at elevation 0, spread over the frame's first 99 ms.
+std::string fan(int n, double half_deg)
+{
+    std::string s;
+    for (int i = 0; i < n; ++i) {
+        char line[96];
+        std::snprintf(line, sizeof line, "%.6f, 0, %.6f\n", -half_deg + 2 * half_deg * i / (n - 1), 0.099 * i / n);
+        s += line;
+    }
+    return s;
+}
+
+/// A wall facing the origin at x = d [m], 2h wide and high, of NIR reflectivity rho, turned by `yaw_deg` about z, with a
+/// slab of grey smoke (σ_t 1/m per density) between x0 and x1 when density > 0.
+std::string wallScene(double d, double rho, double yaw_deg = 0, double density = 0, double x0 = 4.01, double x1 = 4.51,
+                      double h = 6)
+{
+    SceneText s;
+    s.raw(
+        "[scene]\nname = \"wall\"\nt_start_s = 0\nt_end_s = 10\n[[materials]]\nname = \"m\"\nalbedo = [0.5, 0.5, 0.5]\n"
+        "nir_785 = " +
+        tomlNumber(rho) + "\nnir_905 = " + tomlNumber(rho) + "\n");
+    const double c = std::cos(yaw_deg * kDeg), sn = std::sin(yaw_deg * kDeg);
+    s.quad("wall", "m", {d + h * sn, -h * c, -h}, {-2 * h * sn, 2 * h * c, 0}, {0, 0, 2 * h});
+    if (density > 0) s.boxSmoke({x0, -3, -3}, {x1, 3, 3}, density, 0.05, greyMedium(1.0, 0.9, 0.0));
+    s.raw("[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nposition = [0, 0, 0]\n");
+    return s.str();
+}
+
+LidarFrame frameOf(const std::string& scene_text, const std::string& preset, ReturnMode mode, double t = 0,
+                   uint64_t seed = 1)
+{
+    const Scene scene = parseScene(scene_text, "test scene", ".");
+    const SurfaceSet surfaces(scene);
+    const LidarScanner sc(scene, surfaces, scene.sensors.front(), lidarSpec(preset), mode, seed);
+    return sc.frame(t, 0);
+}
+
+}  // namespace
+
+TEST(Lidar, Vlp16PatternIsTheDatasheets)
+{
+    const LidarSpec s = lidarSpec("vlp16");
+    ASSERT_EQ(s.channels(), 16);
+    // 1808 firing cycles of 55.296 µs in a 10 Hz turn; laser n fires 2.304·n µs into its cycle.
+    EXPECT_EQ(s.columns, 1808);
+    const std::vector<PatternBeam> p = framePattern(s);
+    ASSERT_EQ(p.size(), 1808u * 16);
+    const double order[16] = {-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15};
+    for (int ch = 0; ch < 16; ++ch) {
+        EXPECT_NEAR(p[size_t(ch)].elevation_rad / kDeg, order[ch], 1e-12);
+        EXPECT_EQ(p[size_t(ch)].channel, ch);
+        EXPECT_NEAR(p[size_t(100 * 16 + ch)].time_s, 100 * 55.296e-6 + ch * 2.304e-6, 1e-12);
+    }
+    // The head turns clockwise at 3600°/s: the azimuth falls 0.199° a cycle, and within it.
+    const double step = std::remainder(p[16].azimuth_rad - p[0].azimuth_rad, 2 * M_PI) / kDeg;
+    EXPECT_NEAR(step, -3600 * 55.296e-6, 1e-9);
+    EXPECT_NEAR(std::remainder(p[15].azimuth_rad - p[0].azimuth_rad, 2 * M_PI) / kDeg, -3600 * 15 * 2.304e-6, 1e-9);
+    // At 20 Hz the turn holds half the cycles.
+    LidarSpec fast = s;
+    configureLidar(fast, 20, 0, "test");
+    EXPECT_EQ(fast.columns, 904);
+}
+
+TEST(Lidar, Hdl32eAndOs1PatternsAreTheDatasheets)
+{
+    const LidarSpec h = lidarSpec("hdl32e");
+    ASSERT_EQ(h.channels(), 32);
+    EXPECT_EQ(h.columns, 2170);  // 46.08 µs cycles in 0.1 s
+    std::vector<double> el;
+    for (double e : h.elevation_rad) el.push_back(e / kDeg);
+    std::sort(el.begin(), el.end());
+    EXPECT_NEAR(el.front(), -30.67, 1e-9);
+    EXPECT_NEAR(el.back(), 10.67, 1e-9);
+    for (size_t i = 1; i < el.size(); ++i) EXPECT_NEAR(el[i] - el[i - 1], 1.333, 0.01);
+    EXPECT_NEAR(framePattern(h)[31].time_s, 31 * 1.152e-6, 1e-12);
+
+    const LidarSpec o = lidarSpec("os1-128");
+    ASSERT_EQ(o.channels(), 128);
+    EXPECT_EQ(o.columns, 1024);
+    EXPECT_NEAR(o.elevation_rad.front() / kDeg, 22.5, 1e-12);
+    EXPECT_NEAR(o.elevation_rad.back() / kDeg, -22.5, 1e-12);
+    const std::vector<PatternBeam> p = framePattern(o);
+    // A column's 128 beams fire together; columns are 1/(1024·10 Hz) apart.
+    for (int ch = 0; ch < 128; ++ch) EXPECT_EQ(p[size_t(5 * 128 + ch)].time_s, p[5 * 128].time_s);
+    EXPECT_NEAR(p[5 * 128].time_s, 5 / 10240.0, 1e-15);
+    LidarSpec wide = o;
+    configureLidar(wide, 10, 2048, "test");
+    EXPECT_EQ(framePattern(wide).size(), 2048u * 128);
+}
+
+TEST(Lidar, PresetsRefuseWhatTheSensorDoesNotOffer)
+{
+    auto refused = [](auto&& f, const std::string& needle) {
+        try {
+            f();
+            ADD_FAILURE() << "accepted; expected " << needle;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    LidarSpec o = lidarSpec("os1-128");
+    refused([&] { configureLidar(o, 20, 2048, "--columns"); }, "fires at most 20480 columns a second");
+    refused([&] { configureLidar(o, 15, 0, "--rate"); }, "spins at 10, 20 Hz, not 15");
+    refused([&] { configureLidar(o, 10, 1000, "--columns"); }, "offers 512, 1024, 2048 columns");
+    LidarSpec v = lidarSpec("vlp16");
+    refused([&] { configureLidar(v, 10, 1024, "--columns"); }, "follow from its rate");
+    refused([] { lidarSpec("vlp32"); }, "no lidar preset 'vlp32' (presets: hdl32e, os1-128, vlp16");
+    refused([] { parseReturnMode("both", "--returns"); }, "unknown return mode 'both'");
+    const Scene scene = parseScene(wallScene(5, 0.5), "s", ".");
+    const SurfaceSet surfaces(scene);
+    refused([&] { LidarScanner(scene, surfaces, scene.sensors.front(), lidarSpec("os1-128"), ReturnMode::Last, 1); },
+            "offers strongest, dual, not last");
+    // A preset file's bad keys name the file, its line and the key.
+    const auto dir = scratch("lidar_bad_presets");
+    const std::string head = "name = \"x\"\npattern = \"spinning\"\n";
+    refused([&] { lidarSpec(write(dir / "a.toml", head + "elevation_deg = [0, 1]\nfire_offset_us = [0]\n")); },
+            "a.toml:4: fire_offset_us must have one value per channel (2)");
+    refused([&] { lidarSpec(write(dir / "b.toml", head + "elevation_deg = [0]\ncolour = 3\n")); },
+            "unknown key 'colour': not a key of a lidar preset");
+    refused([&] { lidarSpec(write(dir / "c.toml", head + "elevation_uniform_deg = [1, -1, 512]\ncolumns = 8192\n")); },
+            "would fire more than 4,000,000 beams a frame");
+    refused([&] { lidarSpec(write(dir / "d.toml", head + "elevation_deg = [0]\nmax_echoes = 9\n")); },
+            "max_echoes must be 1–8");
+}
+
+TEST(Lidar, PatternFileBadLinesAreRefusedWithTheirLine)
+{
+    auto refused = [](const std::string& beams, const std::string& needle) {
+        try {
+            lidarSpec(patternedLidar("bad", beams));
+            ADD_FAILURE() << "accepted; expected " << needle;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    refused("0, 0, 0\n1, nan, 0.01\n", "pattern.csv:3: elevation_deg 'nan' is not a finite number");
+    refused("0, 0, 0.01\n1, 0, 0.01\n", "pattern.csv:3: time_s must increase from line to line");
+    refused("0, 0, 0.02\n1, 0, 0.01\n", "pattern.csv:3: time_s must increase");
+    refused("0, 0, 0.1\n", "pattern.csv:2: time_s must lie within the frame [0, 0.1");
+    refused("0, 0\n", "pattern.csv:2: expected azimuth_deg, elevation_deg, time_s[, channel]");
+    refused("0, 95, 0\n", "elevation_deg must lie within ±90");
+    refused("0, 0, 0, 1.5\n", "channel must be an integer");
+    refused("# nothing\n", "the pattern file has no beams");
+}
+
+TEST(Lidar, ReturnModesPickTheirEchoes)
+{
+    // Echoes in range order: a weak smoke echo, the strongest, a weaker last one.
+    std::vector<LidarEcho> e(3);
+    e[0].peak = 0.2, e[1].peak = 0.9, e[2].peak = 0.5;
+    using V = std::vector<size_t>;
+    EXPECT_EQ(selectReturns(e, ReturnMode::First, false), V{0});
+    EXPECT_EQ(selectReturns(e, ReturnMode::Last, false), V{2});
+    EXPECT_EQ(selectReturns(e, ReturnMode::Strongest, false), V{1});
+    EXPECT_EQ(selectReturns(e, ReturnMode::Dual, false), (V{1, 2}));  // strongest and last
+    EXPECT_EQ(selectReturns(e, ReturnMode::Dual, true), (V{1, 2}));  // strongest and second strongest
+    e[2].peak = 0.95;  // the last is the strongest: Velodyne's dual gives the second strongest beside it
+    EXPECT_EQ(selectReturns(e, ReturnMode::Dual, false), (V{1, 2}));
+    e[0].peak = 0.6;
+    EXPECT_EQ(selectReturns(e, ReturnMode::Dual, true), (V{1, 2}));
+    e.resize(1);
+    EXPECT_EQ(selectReturns(e, ReturnMode::Dual, false), V{0});
+    EXPECT_TRUE(selectReturns({}, ReturnMode::Strongest, false).empty());
+}
+
+TEST(Lidar, IntensityIsTheCalibratedReflectivityOfALambertianTarget)
+{
+    // 100·ρ·cos θ at any range in clear air (the lidar equation with the R² taken out).
+    const std::string preset = patternedLidar("flat", fan(21, 1.0));
+    for (double rho : {0.2, 0.8})
+        for (double d : {5.0, 20.0})
+            for (double yaw : {0.0, 60.0}) {
+                const LidarFrame f = frameOf(wallScene(d, rho, yaw), preset, ReturnMode::Strongest);
+                ASSERT_EQ(f.points.size(), 21u);
+                for (const LidarPoint& p : f.points) {
+                    // The incidence is the wall's turn less the beam's azimuth; the tolerance is
+                    // four times the receiver noise over the echo's peak, and the sampling's 1 %.
+                    const double cos_i = std::cos(yaw * kDeg - std::atan2(p.y, p.x)), peak = rho * cos_i / (d * d);
+                    const double noise = lidarSpec(preset).receiver.noise_floor;
+                    EXPECT_NEAR(p.intensity, 100 * rho * cos_i, 100 * rho * cos_i * (0.01 + 4 * noise / peak))
+                        << d << " " << yaw;
+                    EXPECT_EQ(p.source, uint8_t(EchoSource::Surface));
+                }
+            }
+}
+
+TEST(Lidar, AFogSlabBeforeAWallGivesTwoEchoesAttenuatedByTheLidarEquation)
+{
+    // A slab of optical depth τ = σ_t·ρ·0.5 m at 4.025–4.525 m (ten voxels of 5 cm whose centres
+    // lie in the box 4.01–4.51) before a wall at 10 m: its own echo first,
+    // then the wall's at 10 m with its intensity times T² = e^(−2τ).
+    const std::string preset = patternedLidar("slab", fan(41, 2.0));
+    const double density = 0.8, tau = 1.0 * density * 0.5;
+    const LidarFrame clear = frameOf(wallScene(10, 0.8), preset, ReturnMode::Dual);
+    const LidarFrame fog = frameOf(wallScene(10, 0.8, 0, density), preset, ReturnMode::Dual);
+    const LidarFrame first = frameOf(wallScene(10, 0.8, 0, density), preset, ReturnMode::First);
+    const LidarFrame last = frameOf(wallScene(10, 0.8, 0, density), preset, ReturnMode::Last);
+    ASSERT_EQ(clear.points.size(), 41u);  // one echo a beam: one point
+    ASSERT_EQ(fog.points.size(), 82u);
+    ASSERT_EQ(first.points.size(), 41u);
+    ASSERT_EQ(last.points.size(), 41u);
+    for (size_t i = 0; i < 41; ++i) {
+        const LidarPoint &smoke = fog.points[2 * i], &wall = fog.points[2 * i + 1];
+        EXPECT_EQ(smoke.source, uint8_t(EchoSource::Smoke));
+        EXPECT_EQ(wall.source, uint8_t(EchoSource::Surface));
+        const double c = std::cos(std::atan2(wall.y, wall.x));
+        EXPECT_NEAR(smoke.range_m * c, 4.025, 0.35);  // the slab's leading edge, within the pulse
+        EXPECT_NEAR(wall.range_m * c, 10.0, 0.01);
+        EXPECT_NEAR(wall.intensity / clear.points[i].intensity, std::exp(-2 * tau / c), 0.01);
+        EXPECT_EQ(smoke.return_index, 0);
+        EXPECT_EQ(wall.return_index, 1);
+        EXPECT_FLOAT_EQ(first.points[i].range_m, smoke.range_m);
+        EXPECT_FLOAT_EQ(last.points[i].range_m, wall.range_m);
+    }
+}
+
+TEST(Lidar, AMovingLidarsPointsFollowTheClosedFormOfItsMotion)
+{
+    // The robot drives at 2 m/s towards a wall at x = 30 m; a beam fired at scene time t sees the
+    // wall at x = 30 − 2t in the sensor's frame at that instant, whatever its azimuth (a thin beam:
+    // a wide footprint on an oblique wall reads nearer, as real ones do; a quiet receiver: its
+    // leading-edge jitter aside).
+    std::string scene = wallScene(30, 0.8, 0, 0, 0, 0, 40);
+    scene.replace(scene.find("[[sensors]]"), std::string::npos,
+                  "[[robots]]\nname = \"r\"\n[[robots.keyframes]]\ntime_s = 0\nposition = [0, 0, 0]\n"
+                  "[[robots.keyframes]]\ntime_s = 10\nposition = [20, 0, 0]\n"
+                  "[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nrobot = \"r\"\nposition = [0, 0, 1]\n");
+    const LidarFrame f =
+        frameOf(scene, patternedLidar("moving", fan(200, 40), "divergence_mrad = 0.01\nrange_at_10pct_m = 5000\n"),
+                ReturnMode::Strongest, 2.0);
+    ASSERT_EQ(f.points.size(), 200u);
+    EXPECT_NEAR(f.start_pose.t.x(), 4.0, 1e-9);
+    EXPECT_NEAR(f.end_pose.t.x(), 4.0 + 2 * 0.099 * 199 / 200, 1e-9);
+    double spread = 0;
+    for (const LidarPoint& p : f.points) {
+        EXPECT_NEAR(p.x, 30 - 2 * (2.0 + p.time_s), 0.006) << p.time_s;
+        spread = std::max(spread, double(std::abs(p.x - f.points.front().x)));
+    }
+    EXPECT_GT(spread, 0.19);  // the distortion is there to see: 0.2 m over the frame
+}
+
+TEST(Lidar, FramesDoNotDependOnTheThreadCount)
+{
+    const std::string scene = wallScene(10, 0.8, 20, 0.8);
+    auto frame = [&](int threads) {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        return frameOf(scene, "vlp16", ReturnMode::Dual, 0, 7);
+    };
+    const LidarFrame a = frame(1), b = frame(2);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    ASSERT_GT(a.points.size(), 1000u);
+    for (size_t i = 0; i < a.points.size(); ++i)
+        ASSERT_EQ(std::memcmp(&a.points[i], &b.points[i], sizeof(LidarPoint)), 0) << i;
+}
+
+namespace {
+
+/// Open3D's values of each field of a point cloud file, or empty when Debian's python3-open3d is
+/// missing.
+std::map<std::string, std::vector<double>> readWithOpen3d(const std::string& path)
+{
+    const std::string cmd =
+        "/usr/bin/python3 " SMOKESCAN_SOURCE_DIR "/tests/python/read_cloud.py " + path + " 2>/dev/null";
+    std::map<std::string, std::vector<double>> out;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return out;
+    std::string text;
+    char buf[65536];
+    for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) text.append(buf, n);
+    if (pclose(p) != 0) return {};
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream in(line);
+        std::string name;
+        in >> name;
+        for (double v; in >> v;) out[name].push_back(v);
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST(Lidar, PcdAndPlyFramesAreReadBackFieldByFieldByOpen3d)
+{
+    if (std::system("/usr/bin/python3 -c 'import open3d' >/dev/null 2>&1") != 0)
+        GTEST_SKIP() << "Debian's python3-open3d is not installed (scripts/setup.sh installs it)";
+    const LidarFrame f = frameOf(wallScene(10, 0.8, 20, 0.8), "vlp16", ReturnMode::Dual, 0, 3);
+    ASSERT_GT(f.points.size(), 1000u);
+    const auto dir = scratch("lidar_open3d");
+    for (const std::string ext : {"pcd", "ply"}) {
+        const std::string path = (dir / ("frame." + ext)).string();
+        (ext == "pcd" ? writePcd : writePly)(path, f);
+        const auto v = readWithOpen3d(path);
+        ASSERT_EQ(v.count("positions"), 1u) << ext;
+        const size_t n = f.points.size();
+        ASSERT_EQ(v.at("positions").size(), 3 * n) << ext;
+        for (const char* k : {"intensity", "ring", "return_index", "time", "source"})
+            ASSERT_EQ(v.at(k).size(), n) << ext << " " << k;
+        for (size_t i = 0; i < n; ++i) {
+            const LidarPoint& p = f.points[i];
+            ASSERT_EQ(v.at("positions")[3 * i], double(p.x)) << ext << i;
+            ASSERT_EQ(v.at("positions")[3 * i + 1], double(p.y));
+            ASSERT_EQ(v.at("positions")[3 * i + 2], double(p.z));
+            ASSERT_EQ(v.at("intensity")[i], double(p.intensity));
+            ASSERT_EQ(v.at("ring")[i], double(p.ring));
+            ASSERT_EQ(v.at("return_index")[i], double(p.return_index));
+            ASSERT_EQ(v.at("time")[i], double(p.time_s));
+            ASSERT_EQ(v.at("source")[i], double(p.source));
+        }
+    }
+}
