@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "cli_run.hpp"
+#include "smokescan/io/image.hpp"
 
 namespace fs = std::filesystem;
 
@@ -47,12 +48,18 @@ TEST(LidarCli, ScanWritesOnePointCloudPerFrameAtTheSensorsRate)
     EXPECT_FALSE(fs::exists(pts / "000003.pcd"));
     const fs::path ply = dir() / "vlp_points";
     fs::remove_all(ply);
-    const CliRun v = cli("scan plume --sensor vlp16 --rate 20 --points-format ply --points " + ply.string());
+    const std::string range = file("vlp_range.png"), top = file("vlp_top.png");
+    const CliRun v = cli("scan plume --sensor vlp16 --rate 20 --points-format ply --points " + ply.string() +
+                         " --range-image " + range + " --top-view " + top);
     ASSERT_EQ(v.status, 0) << v.err;
     EXPECT_NE(v.out.find("1 ply frames of the vlp16 (16 channels x 904 columns, 20 Hz, strongest returns)"),
               std::string::npos)
         << v.out;
     EXPECT_TRUE(fs::exists(ply / "000000.ply"));
+    const smokescan::Image r_im = smokescan::readImage(range), t_im = smokescan::readImage(top);
+    EXPECT_EQ(r_im.width, 904);  // a column per firing cycle
+    EXPECT_EQ(r_im.height, 16 * 14);  // 16 channels, each row 14 times
+    EXPECT_EQ(t_im.width, 800);
 }
 
 TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
@@ -67,6 +74,7 @@ TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
     expectBad(scan + "vlp16 --columns 1024", "columns follow from its rate", pts);
     expectBad(scan + "vlp16 --points-format las", "--points-format: must be pcd or ply", pts);
     expectBad(scan + "vlp16 --out x.log", "--out: is for the 2D lasers", pts);
+    expectBad(scan + "vlp16 --top-view " + (dir() / "t.bmpx").string(), "t.bmpx: unknown image format", pts);
     expectBad(scan + "vlp16 --from 0 --to 20000", "would make 200001 lidar frames (at most 100000)", pts);
     expectBad(scan + (dir() / "nosuch.toml").string(), "nosuch.toml", pts);
     expectBad("scan plume --sensor vlp16", "--points: a lidar's frames need a folder", pts);

@@ -13,6 +13,7 @@
 #include "scene_text.hpp"
 #include "scratch.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/lidar/frame_pictures.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -295,6 +296,24 @@ TEST(Lidar, FramesDoNotDependOnTheThreadCount)
     ASSERT_GT(a.points.size(), 1000u);
     for (size_t i = 0; i < a.points.size(); ++i)
         ASSERT_EQ(std::memcmp(&a.points[i], &b.points[i], sizeof(LidarPoint)), 0) << i;
+}
+
+TEST(Lidar, RangeImagePutsAheadInTheMiddleAndTopViewPutsPointsWhereTheyAre)
+{
+    // A wall 5 m ahead, nothing behind: the range image is lit around its middle column only, and
+    // the top view marks the wall's line x = 5 m.
+    const LidarFrame f = frameOf(wallScene(5, 0.8), "os1-128", ReturnMode::Strongest);
+    const Image im = rangeImage(f, lidarSpec("os1-128"), 0);
+    ASSERT_EQ(im.width, 1024);
+    ASSERT_EQ(im.height, 256);  // 128 rows, each twice
+    const int mid_row = im.height / 2;
+    EXPECT_GT(im.at(512, mid_row, 0), 0.1f);  // straight ahead
+    EXPECT_EQ(im.at(0, mid_row, 0), 0.0f);  // straight behind
+    EXPECT_EQ(im.at(256, mid_row, 0), 0.0f);  // to the left: the wall ends at ±50°
+    const Image top = topView(f, 10, 200);  // 10 px a metre, the sensor at (100, 100)
+    EXPECT_LT(top.at(150, 100, 0), 0.5f);  // a grey point on the wall at x = 5 m
+    EXPECT_EQ(top.at(50, 100, 0), 1.0f);  // nothing behind
+    EXPECT_THROW(rangeImage(f, lidarSpec(patternedLidar("flat2", fan(3, 1.0))), 0), Error);
 }
 
 namespace {

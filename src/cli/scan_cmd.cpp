@@ -121,10 +121,9 @@ void recordFiles(RunFiles& files, const ScanArgs& a)
 /// The options only a 3D lidar takes, and whether each was given.
 std::vector<std::pair<bool, const char*>> lidarOnly(const ScanArgs& a)
 {
-    return {{!a.lidar.points_dir.empty(), "--points"},
-            {a.lidar.returns_given, "--returns"},
-            {a.lidar.format != "pcd", "--points-format"},
-            {a.lidar.columns > 0, "--columns"}};
+    return {{!a.lidar.points_dir.empty(), "--points"},       {a.lidar.returns_given, "--returns"},
+            {a.lidar.format != "pcd", "--points-format"},    {a.lidar.columns > 0, "--columns"},
+            {!a.lidar.range_image.empty(), "--range-image"}, {!a.lidar.top_view.empty(), "--top-view"}};
 }
 
 /// A scan with a 3D lidar: the 2D lasers' options refused, the rest handed over.
@@ -271,6 +270,13 @@ void addScan(CLI::App& app, Runner& run)
         ->each([a](const std::string&) { a->lidar.returns_given = true; });
     c->add_option("--columns", a->lidar.columns, "3D lidar: columns a turn, among those its preset offers")
         ->check(intRange(1, 8192));
+    c->add_option("--range-image", a->lidar.range_image,
+                  "3D lidar: the first frame's range image (PNG): a row per channel, orange where smoke returned");
+    c->add_option("--top-view", a->lidar.top_view,
+                  "3D lidar: the first frame's points from above (PNG): surfaces grey, smoke echoes orange");
+    c->add_option("--top-view-width", a->lidar.top_view_m, "3D lidar: half the top view's width [m]")
+        ->capture_default_str()
+        ->check(range(0.1, 1e4));
     c->add_option("--out", a->out, "Laser log to write (2D lasers)");
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option(

@@ -8,9 +8,12 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_folder.hpp"
+#include "smokescan/io/image.hpp"
 #include "smokescan/io/run_files.hpp"
+#include "smokescan/lidar/frame_pictures.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/scene/scene.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
 
 namespace smokescan::cli {
 
@@ -20,17 +23,26 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     recordSceneInputs(files, a.scene, scene);
     files.input(a.sensor, "--sensor");
     files.outputFolder(a.points_dir, "--points");
+    files.output(a.range_image, "--range-image");
+    files.output(a.top_view, "--top-view");
+    for (const auto& [path, option] : {std::pair{a.range_image, "--range-image"}, std::pair{a.top_view, "--top-view"}})
+        if (!path.empty() && !isImageExtension(path)) throw Error(path, "unknown image format (png, exr, jpg, tif)");
     if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
     if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
     LidarSpec spec = lidarSpec(a.sensor);
     configureLidar(spec, a.rate_hz, a.columns, "--sensor " + a.sensor);
     const ReturnMode mode = parseReturnMode(a.returns, "--returns");
-    // Mounted where the scene's first sensor is (its pose and robot), or at the origin.
+    // Mounted where the scene's first sensor is (its position and robot), looking where it looks
+    // (the middle of its scan: an LMS200's 90°), or at the origin looking along +x.
     SensorMount mount;
     mount.name = spec.name;
     if (!scene.sensors.empty()) {
-        mount.pose = scene.sensors.front().pose;
-        mount.robot = scene.sensors.front().robot;
+        const SensorMount& first = scene.sensors.front();
+        const LrfSpec laser = specFor(first.config);
+        const double ahead = laser.angle0_rad + 0.5 * laser.dangle_rad * (laser.n_beams - 1);
+        mount.pose = first.pose;
+        mount.pose.R = first.pose.R * Eigen::AngleAxisd(ahead, Vec3::UnitZ()).toRotationMatrix();
+        mount.robot = first.robot;
     }
     const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? from : a.to;
     if (!(to >= from)) throw Error("--to", "must not precede --from");
@@ -51,6 +63,8 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         char name[32];
         std::snprintf(name, sizeof name, "%06lld.%s", k, a.format.c_str());
         (a.format == "pcd" ? writePcd : writePly)(out.path(name), f);
+        if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
+        if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
         points += (long long)f.points.size();
         for (const LidarPoint& p : f.points) smoke += p.source == uint8_t(EchoSource::Smoke);
         progress.update(k + 1, frames);

@@ -10,7 +10,9 @@ struct Scene;
 namespace smokescan::cli {
 
 struct LidarScanArgs {
-    std::string scene, sensor, returns = "strongest", points_dir, format = "pcd", range_image;
+    std::string scene, sensor, returns = "strongest", points_dir, format = "pcd";
+    std::string range_image, top_view;  ///< pictures of the first frame (PNG)
+    double top_view_m = 10;  ///< the top view's half width [m]
     double rate_hz = 0;  ///< 0: the preset's
     int columns = 0;  ///< 0: the preset's
     double from = 0, to = 0;  ///< NaN: the scene's start, its start (one frame)
