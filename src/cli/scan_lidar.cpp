@@ -13,7 +13,6 @@
 #include "smokescan/lidar/frame_pictures.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/scene/scene.hpp"
-#include "smokescan/sensor_config/lrf.hpp"
 
 namespace smokescan::cli {
 
@@ -32,18 +31,7 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     LidarSpec spec = lidarSpec(a.sensor);
     configureLidar(spec, a.rate_hz, a.columns, "--sensor " + a.sensor);
     const ReturnMode mode = parseReturnMode(a.returns, "--returns");
-    // Mounted where the scene's first sensor is (its position and robot), looking where it looks
-    // (the middle of its scan: an LMS200's 90°), or at the origin looking along +x.
-    SensorMount mount;
-    mount.name = spec.name;
-    if (!scene.sensors.empty()) {
-        const SensorMount& first = scene.sensors.front();
-        const LrfSpec laser = specFor(first.config);
-        const double ahead = laser.angle0_rad + 0.5 * laser.dangle_rad * (laser.n_beams - 1);
-        mount.pose = first.pose;
-        mount.pose.R = first.pose.R * Eigen::AngleAxisd(ahead, Vec3::UnitZ()).toRotationMatrix();
-        mount.robot = first.robot;
-    }
+    const SensorMount mount = defaultLidarMount(scene, spec.name);
     const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? from : a.to;
     if (!(to >= from)) throw Error("--to", "must not precede --from");
     const double period = 1 / spec.rate_hz;

@@ -20,23 +20,71 @@ EchoSource dominantSource(const BeamSignal& s, const WaveformEcho& e, double rea
     return EchoSource(int(std::max_element(power, power + 3) - power));
 }
 
+/// The echo's peak from the log-parabola through its largest sample and their neighbours (exact
+/// for a lone Gaussian pulse); the largest sample when one of them is not positive.
+double refinedPeak(const Waveform& f, const WaveformEcho& e)
+{
+    const long k = std::lround((e.peak_m - f.lo) / f.dr);
+    if (k < 1 || size_t(k + 1) >= f.w.size()) return e.peak;
+    const double a = f.w[size_t(k - 1)], b = f.w[size_t(k)], c = f.w[size_t(k + 1)];
+    if (!(a > 0 && b > 0 && c > 0)) return e.peak;
+    const double la = std::log(a), lb = std::log(b), lc = std::log(c), curv = la - 2 * lb + lc;
+    if (!(curv < 0)) return e.peak;
+    const double delta = 0.5 * (la - lc) / curv;
+    return std::exp(lb - 0.25 * (la - lc) * delta);
+}
+
+/// Where the echo's leading edge crosses half its peak: on the log-parabola through the samples
+/// around the crossing (exact for a lone Gaussian pulse); the linear crossing when one of them is
+/// not positive or the parabola does not cross there.
+double refinedLead(const Waveform& f, const WaveformEcho& e, double peak)
+{
+    const long j = long(std::ceil((e.lead_m - f.lo) / f.dr));
+    if (j < 1 || size_t(j + 1) >= f.w.size()) return e.lead_m;
+    const double y0 = f.w[size_t(j - 1)], y1 = f.w[size_t(j)], y2 = f.w[size_t(j + 1)];
+    if (!(y0 > 0 && y1 > 0 && y2 > 0)) return e.lead_m;
+    const double A = std::log(y1) - std::log(0.5 * peak), B = 0.5 * (std::log(y2) - std::log(y0)),
+                 C = 0.5 * (std::log(y2) + std::log(y0)) - std::log(y1);
+    // A + B·t + C·t² = 0 for t in [−1, 1] (t in samples from j), the root nearest the linear one.
+    const double t_lin = (e.lead_m - f.lo) / f.dr - double(j);
+    double t = NAN;
+    if (std::abs(C) < 1e-12) {
+        if (B != 0) t = -A / B;
+    } else {
+        const double disc = B * B - 4 * C * A;
+        if (disc >= 0) {
+            const double r1 = (-B + std::sqrt(disc)) / (2 * C), r2 = (-B - std::sqrt(disc)) / (2 * C);
+            t = std::abs(r1 - t_lin) < std::abs(r2 - t_lin) ? r1 : r2;
+        }
+    }
+    if (!(t >= -1 && t <= 1)) return e.lead_m;
+    return f.lo + (double(j) + t) * f.dr;
+}
+
 }  // namespace
 
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
 {
     const PhysicalParams& p = spec.receiver;
-    Waveform f = pulsedWaveform(spec.range_max_m, p, s);
+    // Two samples per pulse σ: the peak from a log-parabola, the leading edge near the Gaussian's
+    // inflection where the linear interpolation between samples is good to 1 % of σ.
+    Waveform f = pulsedWaveform(spec.range_max_m, p, s, 2);
     std::vector<LidarEcho> out;
     if (f.w.empty()) return out;
     if (rng)
-        for (double& v : f.w) v += p.noise_floor * rng->normal();
+        for (size_t i = 0; i < f.w.size(); i += 2) {
+            double a, b;
+            rng->normalPair(a, b);
+            f.w[i] += p.noise_floor * a;
+            if (i + 1 < f.w.size()) f.w[i + 1] += p.noise_floor * b;
+        }
     const double fwhm = 2.354820045 * f.sig_p;
     for (const WaveformEcho& e : waveformEchoes(f, p.threshold_snr * p.noise_floor, spec.max_echoes)) {
         LidarEcho x;
-        x.range_m = e.lead_m + 0.5 * fwhm + (rng ? spec.range_sigma_m * rng->normal() : 0.0);
+        x.peak = refinedPeak(f, e);
+        x.range_m = refinedLead(f, e, x.peak) + 0.5 * fwhm + (rng ? spec.range_sigma_m * rng->normal() : 0.0);
         if (!(x.range_m >= spec.range_min_m && x.range_m <= spec.range_max_m)) continue;
-        x.peak = e.peak;
-        x.intensity = std::min(255.0, 100 * e.peak * x.range_m * x.range_m / std::max(1e-9, p.overlap(x.range_m)));
+        x.intensity = std::min(255.0, 100 * x.peak * x.range_m * x.range_m / std::max(1e-9, p.overlap(x.range_m)));
         x.source = dominantSource(s, e, 2 * f.sig_p);
         out.push_back(x);
     }
@@ -68,6 +116,20 @@ std::vector<size_t> selectReturns(const std::vector<LidarEcho>& e, ReturnMode mo
     }
     }
     return {};
+}
+
+SensorMount defaultLidarMount(const Scene& scene, const std::string& name)
+{
+    SensorMount mount;
+    mount.name = name;
+    if (scene.sensors.empty()) return mount;
+    const SensorMount& first = scene.sensors.front();
+    const LrfSpec laser = specFor(first.config);
+    const double ahead = laser.angle0_rad + 0.5 * laser.dangle_rad * (laser.n_beams - 1);
+    mount.pose = first.pose;
+    mount.pose.R = first.pose.R * Eigen::AngleAxisd(ahead, Vec3::UnitZ()).toRotationMatrix();
+    mount.robot = first.robot;
+    return mount;
 }
 
 LidarScanner::LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount, LidarSpec spec,

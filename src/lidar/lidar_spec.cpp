@@ -99,6 +99,8 @@ void readReceiver(TomlTable& t, LidarSpec& s)
     p.saturation_power = kInf;
     const double r10 = t.between("range_at_10pct_m", 50, 0.1, 10000);
     p.noise_floor = 0.1 / (r10 * r10) / p.threshold_snr;
+    // Smoke echoes half a pulse σ apart, as the receiver samples its waveform (receiveEchoes).
+    p.smoke_bin_m = 0.5 * 299792458.0 * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
 }
 
 }  // namespace

@@ -11,8 +11,6 @@ namespace smokescan {
 namespace {
 
 constexpr double kC = 299792458.0;  // [m/s]
-// Smoke bins: 0.2 rad of fine phase (sinc loss 0.2 %), 0.4 of the Sick pulse's σ.
-constexpr double kBin_m = 0.1;
 // The common random numbers of pulsedErrorProbability.
 constexpr uint64_t kPredictiveSeed = 0x70726564;
 
@@ -80,7 +78,7 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
     for (const auto& g : beta) {
         const double a = std::max(g.t0_m, s0), b = std::min(g.t1_m, s1);
         if (!(b > a) || g.density <= 0) continue;
-        const int nb = std::max(1, int(std::ceil((b - a) / kBin_m)));
+        const int nb = std::max(1, int(std::ceil((b - a) / p.smoke_bin_m)));
         const double dx = (b - a) / nb;
         // σ_t is constant on a β segment (both profiles come from the same voxels); τ advances
         // bin by bin and ∫exp(−2τ) over a bin is exact.
@@ -218,12 +216,12 @@ namespace {
 
 }  // namespace
 
-Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s)
+Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s, int samples_per_sigma)
 {
     Waveform f;
     // Range-domain Gaussian pulse: FWHM in time → σ in range (half the path).
     f.sig_p = kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
-    f.dr = f.sig_p / 4;
+    f.dr = f.sig_p / samples_per_sigma;
     const double reach = 4 * f.sig_p;
     const double r_end = range_max_m + reach;
     double lo = r_end, hi = 0;
@@ -237,13 +235,19 @@ Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamS
     hi = std::min(hi, r_end);
     const int n = int(std::ceil((hi - lo) / f.dr)) + 1;
     f.w.assign(size_t(n), 0.0);
-    const double inv2s2 = 1.0 / (2 * f.sig_p * f.sig_p);
+    // Each echo's pulse exp(−x²/2σ²) on the grid by its recurrence: from one sample to the next
+    // the value is multiplied by a ratio that itself shrinks by exp(−dr²/σ²) (two exps an echo).
+    const double inv2s2 = 1.0 / (2 * f.sig_p * f.sig_p), shrink = std::exp(-2 * f.dr * f.dr * inv2s2);
     for (const Echo& e : s.echoes) {
+        if (!(e.power > 0)) continue;
         const int k0 = std::max(0, int(std::floor((e.range_m - reach - lo) / f.dr)));
         const int k1 = std::min(n - 1, int(std::ceil((e.range_m + reach - lo) / f.dr)));
+        const double x0 = lo + k0 * f.dr - e.range_m;
+        double g = e.power * std::exp(-x0 * x0 * inv2s2), ratio = std::exp(-(2 * x0 * f.dr + f.dr * f.dr) * inv2s2);
         for (int k = k0; k <= k1; ++k) {
-            const double x = lo + k * f.dr - e.range_m;
-            f.w[size_t(k)] += e.power * std::exp(-x * x * inv2s2);
+            f.w[size_t(k)] += g;
+            g *= ratio;
+            ratio *= shrink;
         }
     }
     return f;

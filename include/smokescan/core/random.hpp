@@ -25,6 +25,14 @@ public:
     uint64_t next() { return splitmix64(state_++); }
     /// Uniform in [0, 1).
     double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+    /// Two independent standard normals (both of Box–Muller's pair: half normal()'s cost each).
+    void normalPair(double& a, double& b)
+    {
+        const double u1 = 1.0 - uniform(), u2 = uniform();
+        const double r = std::sqrt(-2.0 * std::log(u1));
+        a = r * std::cos(2.0 * M_PI * u2);
+        b = r * std::sin(2.0 * M_PI * u2);
+    }
     /// Standard normal (Box–Muller).
     double normal()
     {

@@ -61,6 +61,11 @@ struct LidarFrame {
     std::vector<float> range_image;  ///< channels × columns: the first kept return's range, 0 none
 };
 
+/// @brief Where a lidar goes in a scene that has no lidar of its own: where the scene's first
+/// sensor stands (its position and robot), looking where that sensor looks (the middle of its
+/// scan: an LMS200's 90°), or at the origin looking along +x in a scene without sensors.
+SensorMount defaultLidarMount(const Scene& scene, const std::string& name);
+
 class LidarScanner {
 public:
     /// @param mount where the sensor sits (its pose and robot; its laser config is not used)

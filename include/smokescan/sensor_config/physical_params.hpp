@@ -58,6 +58,9 @@ struct PhysicalParams {
     double threshold_snr = 6.0;
     double valid_snr = 12.0;
     double max_echo_width = 4.0;
+    /// Smoke along a beam is summed into echoes this long [m]: for the URG-04LX and LMS200 0.1 m,
+    /// 0.2 rad of the fine AMCW phase (sinc loss 0.2 %) and 0.4 of the Sick pulse's σ.
+    double smoke_bin_m = 0.1;
 
     /// Overlap O(r) ∈ [0, 1] of the receiver's field of view with the beam at range r [m].
     double overlap(double r_m) const;

@@ -127,8 +127,9 @@ struct Waveform {
 };
 
 /// @brief The noise-free waveform of a beam's echoes up to range_max_m (and the pulse's reach
-/// beyond): noise alone stays below a detection threshold of 6 σ (probability ~1e-9 a sample).
-Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s);
+/// beyond), `samples_per_sigma` samples per pulse σ: noise alone stays below a detection threshold
+/// of 6 σ (probability ~1e-9 a sample).
+Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s, int samples_per_sigma = 4);
 
 /// One echo found in a waveform: a run of samples at or above the detection threshold.
 struct WaveformEcho {
