@@ -46,6 +46,8 @@ TEST(LidarCli, ScanWritesOnePointCloudPerFrameAtTheSensorsRate)
         EXPECT_EQ(text.size(), data + 12 + size_t(n) * 24);
     }
     EXPECT_FALSE(fs::exists(pts / "000003.pcd"));
+    // Each frame is its own turn of the head: the clouds drift between them.
+    EXPECT_NE(slurp(pts / "000000.pcd"), slurp(pts / "000001.pcd"));
     const fs::path ply = dir() / "vlp_points";
     fs::remove_all(ply);
     const std::string range = file("vlp_range.png"), top = file("vlp_top.png");
@@ -81,6 +83,21 @@ TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
     expectBad("scan bocas --sensor urg04lx --out " + file("u.log") + " --returns dual", "--returns: is for a 3D lidar",
               file("u.log"));
     expectBad("scan bocas --sensor urg04lx", "--out: a 2D laser's scans need a log", pts);
+    expectBad(scan + "vlp16 --target wall", "--target: is for the 2D lasers", pts);
+    expectBad(scan + "vlp16 --camera-offset 2", "--camera-offset: is for the 2D lasers", pts);
+    expectBad(scan + "vlp16 --top-view-width 5", "--top-view-width: needs --top-view", pts);
+    expectBad("scan bocas --sensor urg04lx --out " + file("u2.log") + " --top-view-width 5",
+              "--top-view-width: is for a 3D lidar", file("u2.log"));
+    expectBad("scan plume --sensor vlp32 --points " + pts, "no sensor named or of type 'vlp32'", pts);
+    // A preset's pattern file is an input: no output may replace it, and a pattern has no range image.
+    const fs::path pat = dir() / "pat";
+    fs::create_directories(pat);
+    std::ofstream(pat / "beams.png") << "0, 0, 0\n10, 0, 0.01\n";
+    std::ofstream(pat / "p.toml") << "name = \"p\"\npattern = \"file\"\npattern_file = \"beams.png\"\n";
+    expectBad(scan + (pat / "p.toml").string() + " --top-view " + (pat / "beams.png").string(), "pattern file", pts);
+    EXPECT_EQ(slurp(pat / "beams.png"), "0, 0, 0\n10, 0, 0.01\n");
+    expectBad(scan + (pat / "p.toml").string() + " --range-image " + (dir() / "r.png").string(),
+              "--range-image: the p fires a pattern file", pts);
     // An existing folder with files in it is never replaced.
     fs::create_directories(pts);
     std::ofstream(fs::path(pts) / "keep.txt") << "mine";

@@ -121,23 +121,39 @@ void recordFiles(RunFiles& files, const ScanArgs& a)
 /// The options only a 3D lidar takes, and whether each was given.
 std::vector<std::pair<bool, const char*>> lidarOnly(const ScanArgs& a)
 {
-    return {{!a.lidar.points_dir.empty(), "--points"},       {a.lidar.returns_given, "--returns"},
-            {a.lidar.format != "pcd", "--points-format"},    {a.lidar.columns > 0, "--columns"},
-            {!a.lidar.range_image.empty(), "--range-image"}, {!a.lidar.top_view.empty(), "--top-view"}};
+    return {{!a.lidar.points_dir.empty(), "--points"},
+            {a.lidar.returns_given, "--returns"},
+            {a.lidar.format != "pcd", "--points-format"},
+            {a.lidar.columns > 0, "--columns"},
+            {!a.lidar.range_image.empty(), "--range-image"},
+            {!a.lidar.top_view.empty(), "--top-view"},
+            {a.lidar.top_view_m != LidarScanArgs{}.top_view_m, "--top-view-width"}};
 }
 
 /// A scan with a 3D lidar: the 2D lasers' options refused, the rest handed over.
 int scanLidar(const Scene& scene, const ScanArgs& a)
 {
-    const std::vector<std::pair<bool, const char*>> laser_only = {{!a.out.empty(), "--out"},
-                                                                  {!a.tau_csv.empty(), "--tau"},
-                                                                  {!a.image.empty(), "--image"},
-                                                                  {!a.model.empty(), "--model"},
-                                                                  {!a.cfg.sensor_file.empty(), "--sensor-file"},
-                                                                  {a.cfg.penetration_power > 0, "--penetration-power"},
-                                                                  {!a.saturation_out.empty(), "--saturation-out"},
-                                                                  {a.saturation_render, "--saturation-render"},
-                                                                  {!a.frames_dir.empty(), "--saturation-frames"}};
+    const std::vector<std::pair<bool, const char*>> laser_only = {
+        {!a.out.empty(), "--out"},
+        {!a.tau_csv.empty(), "--tau"},
+        {!a.image.empty(), "--image"},
+        {!a.model.empty(), "--model"},
+        {!a.cfg.sensor_file.empty(), "--sensor-file"},
+        {a.cfg.penetration_power > 0, "--penetration-power"},
+        {!a.saturation_out.empty(), "--saturation-out"},
+        {a.saturation_render, "--saturation-render"},
+        {!a.frames_dir.empty(), "--saturation-frames"},
+        {a.image_range_m > 0, "--image-range"},
+        {a.bin_s > 0, "--bin"},
+        {a.target != ScanArgs{}.target, "--target"},
+        {!a.camera.empty(), "--camera"},
+        {a.calibration != ScanArgs{}.calibration, "--calibration"},
+        {a.sat.rate_hz != SaturationSimConfig{}.rate_hz, "--saturation-rate"},
+        {a.sat.sigma != SaturationSimConfig{}.sigma, "--saturation-sigma"},
+        {a.render.width != SaturationRenderConfig{}.width, "--saturation-width"},
+        {a.render.height != SaturationRenderConfig{}.height, "--saturation-height"},
+        {a.render.field.batch_spp != SaturationRenderConfig{}.field.batch_spp, "--saturation-spp"},
+        {!std::isnan(a.sat.clock_offset_s), "--camera-offset"}};
     for (const auto& [given, option] : laser_only)
         if (given)
             throw Error(option, "is for the 2D lasers; the " + a.cfg.sensor + " writes point clouds (--points DIR)");
@@ -158,9 +174,6 @@ int runScan(const ScanArgs& a0)
     const Scene scene = loadScene(a.scene);
     if (!a.cfg.sensor.empty() && scene.findSensor(a.cfg.sensor) < 0 && isLidarName(a.cfg.sensor))
         return scanLidar(scene, a);
-    if (a.out.empty()) throw Error("--out", "a 2D laser's scans need a log to go to (--out FILE)");
-    for (const auto& [given, option] : lidarOnly(a))
-        if (given) throw Error(option, "is for a 3D lidar (--sensor vlp16, hdl32e, os1-128 or a preset file)");
     RunFiles files;
     recordSceneInputs(files, a.scene, scene);
     recordFiles(files, a);
@@ -170,7 +183,10 @@ int runScan(const ScanArgs& a0)
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
     if (!std::isnan(a.to)) a.cfg.to_s = a.to;
     if (!a.model.empty()) a.cfg.model = sensorModelOption("--model", a.model);
-    const Scanner sc(scene, surfaces, a.cfg);
+    const Scanner sc(scene, surfaces, a.cfg);  // an unknown sensor is named before anything else
+    for (const auto& [given, option] : lidarOnly(a))
+        if (given) throw Error(option, "is for a 3D lidar (--sensor vlp16, hdl32e, os1-128 or a preset file)");
+    if (a.out.empty()) throw Error("--out", "a 2D laser's scans need a log to go to (--out FILE)");
     // The clock offset a sensor file learned (smokescan diagnose) is the default of --camera-offset.
     if (std::isnan(a.sat.clock_offset_s)) a.sat.clock_offset_s = sc.mount().config.extensions.clock_offset_s;
     const auto times = sc.times();

@@ -28,9 +28,17 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         if (!path.empty() && !isImageExtension(path)) throw Error(path, "unknown image format (png, exr, jpg, tif)");
     if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
     if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
+    if (a.top_view_m != 10 && a.top_view.empty()) throw Error("--top-view-width", "needs --top-view");
     LidarSpec spec = lidarSpec(a.sensor);
+    files.input(spec.pattern_file, "--sensor (its pattern file)");
     configureLidar(spec, a.rate_hz, a.columns, "--sensor " + a.sensor);
-    const ReturnMode mode = parseReturnMode(a.returns, "--returns");
+    if (!a.range_image.empty() && spec.pattern != PatternKind::Spinning)
+        throw Error("--range-image",
+                    "the " + spec.name + " fires a pattern file: it has no channels × columns to draw");
+    // Without --returns, the sensor's own first mode (strongest where it offers it).
+    const ReturnMode mode = a.returns_given  ? parseReturnMode(a.returns, "--returns")
+        : spec.offers(ReturnMode::Strongest) ? ReturnMode::Strongest
+                                             : spec.return_modes.front();
     const SensorMount mount = defaultLidarMount(scene, spec.name);
     const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? from : a.to;
     if (!(to >= from)) throw Error("--to", "must not precede --from");
@@ -57,11 +65,16 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         for (const LidarPoint& p : f.points) smoke += p.source == uint8_t(EchoSource::Smoke);
         progress.update(k + 1, frames);
     }
+    files.commit();  // the pictures first: the folder's rename is the last step that can fail
     out.commit();
-    files.commit();
-    say("wrote %s: %lld %s frames of the %s (%d channels x %d columns, %g Hz, %s returns), %lld points, %lld from smoke\n",
-        a.points_dir.c_str(), frames, a.format.c_str(), spec.name.c_str(), spec.channels(), frameColumns(spec),
-        spec.rate_hz, returnModeName(mode), points, smoke);
+    char shape[96];
+    if (spec.pattern == PatternKind::Spinning)
+        std::snprintf(shape, sizeof shape, "%d channels x %d columns", spec.channels(), frameColumns(spec));
+    else
+        std::snprintf(shape, sizeof shape, "%zu beams a frame", spec.file_beams.size());
+    say("wrote %s: %lld %s frames of the %s (%s, %g Hz, %s returns), %lld points, %lld from smoke\n",
+        a.points_dir.c_str(), frames, a.format.c_str(), spec.name.c_str(), shape, spec.rate_hz, returnModeName(mode),
+        points, smoke);
     return 0;
 }
 

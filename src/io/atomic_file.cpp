@@ -60,8 +60,9 @@ void installHandlers()
         sa.sa_handler = removeTemporariesAndDie;
         sigemptyset(&sa.sa_mask);
         // SIGPIPE too: a reader that closes early (`smokescan ... | head -c 1`) ends the run
-        // as it would have, but without a temporary left behind.
-        for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) {
+        // as it would have, but without a temporary left behind; SIGQUIT (Ctrl-\) and SIGXFSZ
+        // (a file-size limit) likewise, before their core dump.
+        for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGQUIT, SIGXFSZ}) {
             struct sigaction old {};
             ::sigaction(sig, nullptr, &old);
             if (old.sa_handler != SIG_IGN) ::sigaction(sig, &sa, nullptr);  // keep nohup's choice

@@ -80,6 +80,9 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
         }
     const double fwhm = 2.354820045 * f.sig_p;
     for (const WaveformEcho& e : waveformEchoes(f, p.threshold_snr * p.noise_floor, spec.max_echoes)) {
+        // An echo whose leading edge the waveform does not hold (nearer than half the pulse's
+        // length) has no measurable range: the blind zone every pulsed lidar has.
+        if (f.lo <= 0 && e.lead_m <= f.lo) continue;
         LidarEcho x;
         x.peak = refinedPeak(f, e);
         x.range_m = refinedLead(f, e, x.peak) + 0.5 * fwhm + (rng ? spec.range_sigma_m * rng->normal() : 0.0);

@@ -81,12 +81,14 @@ void readModes(TomlTable& t, LidarSpec& s)
     if (dual != "strongest_last" && dual != "strongest_second")
         t.error("dual", "must be \"strongest_last\" or \"strongest_second\"");
     s.dual_second_strongest = dual == "strongest_second";
-    s.max_echoes = int(t.integer("max_echoes", 3));
-    if (s.max_echoes < 1 || s.max_echoes > 8) t.error("max_echoes", "must be 1–8");
+    const long long echoes = t.integer("max_echoes", 3);
+    if (echoes < 1 || echoes > 8) t.error("max_echoes", "must be 1–8");
+    s.max_echoes = int(echoes);
 }
 
 /// The receiver: a footprint of five sub-rays, overlap complete by 0.3 m, the noise floor that
-/// puts a 10 % Lambertian target's echo at the detection threshold at range_at_10pct_m.
+/// puts a 10 % Lambertian target's echo at range_at_10pct_m 1.28 σ above the detection threshold:
+/// its peak sample alone is detected there 90 % of the time (datasheets quote ranges at ≥ 90 %).
 void readReceiver(TomlTable& t, LidarSpec& s)
 {
     PhysicalParams& p = s.receiver;
@@ -98,7 +100,7 @@ void readReceiver(TomlTable& t, LidarSpec& s)
     p.overlap_floor = 0.01;
     p.saturation_power = kInf;
     const double r10 = t.between("range_at_10pct_m", 50, 0.1, 10000);
-    p.noise_floor = 0.1 / (r10 * r10) / p.threshold_snr;
+    p.noise_floor = 0.1 / (r10 * r10) / (p.threshold_snr + 1.2816);
     // Smoke echoes half a pulse σ apart, as the receiver samples its waveform (receiveEchoes).
     p.smoke_bin_m = 0.5 * 299792458.0 * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
 }
@@ -146,7 +148,7 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
     s.rate_hz = t.between("rate_hz", 10, 0.01, lidar_limits::kRateHz);
     s.rates_hz = t.has("rates_hz") ? t.numbers("rates_hz", 64) : std::vector<double>{s.rate_hz};
     for (double r : s.rates_hz)
-        if (!(r > 0 && r <= lidar_limits::kRateHz)) t.error("rates_hz", "must hold rates in (0, 100] Hz");
+        if (!(r >= 0.01 && r <= lidar_limits::kRateHz)) t.error("rates_hz", "must hold rates in [0.01, 100] Hz");
     if (std::find(s.rates_hz.begin(), s.rates_hz.end(), s.rate_hz) == s.rates_hz.end())
         t.error("rate_hz", "must be one of rates_hz");
     s.range_min_m = t.between("range_min_m", 0.5, 0, 1e4);
@@ -158,7 +160,8 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
     if (s.pattern == PatternKind::File) {
         const std::string file = t.strReq("pattern_file");
         const std::filesystem::path base = std::filesystem::path(source).parent_path();
-        s.file_beams = readPatternFile((base / file).string(), 1 / s.rate_hz);
+        s.pattern_file = (base / file).string();
+        s.file_beams = readPatternFile(s.pattern_file, 1 / s.rate_hz);
         s.columns = 1;
     } else {
         const std::string spin = t.str("spin", "cw");
@@ -172,18 +175,26 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
             s.firing_cycle_s = t.between("firing_cycle_us", 50, 0.01, 1e6) * 1e-6;
             if (t.has("columns")) t.error("columns", "is set by firing_cycle_us for this sensor");
         } else {
-            s.columns = int(t.integer("columns", 1024));
-            s.columns_allowed = t.has("columns_allowed") ? [&] {
-                std::vector<int> c;
-                for (double x : t.numbers("columns_allowed", 64)) c.push_back(int(x));
-                return c;
-            }()
-                                                         : std::vector<int>{s.columns};
+            const long long columns = t.integer("columns", 1024);
+            if (columns < 1 || columns > lidar_limits::kColumns) t.error("columns", "must be 1–8192");
+            s.columns = int(columns);
+            if (t.has("columns_allowed")) {
+                for (double x : t.numbers("columns_allowed", 64)) {
+                    if (!(x >= 1 && x <= lidar_limits::kColumns && x == std::floor(x)))
+                        t.error("columns_allowed", "must hold whole column counts 1–8192");
+                    s.columns_allowed.push_back(int(x));
+                }
+                if (std::find(s.columns_allowed.begin(), s.columns_allowed.end(), s.columns) == s.columns_allowed.end())
+                    t.error("columns", "must be one of columns_allowed");
+            } else {
+                s.columns_allowed = {s.columns};
+            }
         }
-        s.max_column_rate_hz = t.nonneg("max_column_rate_hz", 0);
+        for (double a : s.azimuth_offset_rad)
+            if (std::abs(a) > 2 * M_PI) t.error("azimuth_offset_deg", "must lie within ±360°");
         for (double f : s.fire_offset_s)
-            if (s.firing_cycle_s > 0 && f >= s.firing_cycle_s)
-                t.error("fire_offset_us", "must lie within the firing cycle");
+            if (f < 0) t.error("fire_offset_us", "must not be negative (a channel fires within its column)");
+        s.max_column_rate_hz = t.nonneg("max_column_rate_hz", 0);
         configureLidar(s, s.rate_hz, 0, source);
     }
     t.finish("a lidar preset");
@@ -196,7 +207,7 @@ void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string
         std::string out;
         for (const auto& x : v) {
             char buf[32];
-            std::snprintf(buf, sizeof buf, "%g", double(x));
+            std::snprintf(buf, sizeof buf, "%.10g", double(x));
             out += (out.empty() ? "" : ", ") + std::string(buf);
         }
         return out;
@@ -210,6 +221,12 @@ void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string
     }
     if (s.pattern == PatternKind::File) {
         if (columns > 0) throw Error(where, "the " + s.name + " fires a pattern file: it has no columns to set");
+        if (!s.file_beams.empty() && !(s.file_beams.back().time_s < 1 / s.rate_hz))
+            throw Error(where,
+                        "the " + s.name + "'s pattern fires until " +
+                            fmtList(std::vector<double>{s.file_beams.back().time_s}) + " s, beyond a frame of " +
+                            fmtList(std::vector<double>{1 / s.rate_hz}) + " s at " +
+                            fmtList(std::vector<double>{s.rate_hz}) + " Hz");
         return;
     }
     if (s.firing_cycle_s > 0) {
@@ -232,6 +249,13 @@ void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string
                         fmtList(std::vector<double>{s.rate_hz}) + " Hz is not one of its modes");
     if ((long long)s.columns * s.channels() > lidar_limits::kBeamsPerFrame)
         throw Error(where, "the " + s.name + " would fire more than 4,000,000 beams a frame");
+    // Every channel fires within its column, or columns would overlap.
+    const double column_s = s.firing_cycle_s > 0 ? s.firing_cycle_s : 1 / (s.rate_hz * s.columns);
+    for (double f : s.fire_offset_s)
+        if (!(f < column_s))
+            throw Error(where,
+                        "the " + s.name + "'s channels fire up to " + fmtList(std::vector<double>{f * 1e6}) +
+                            " us into a column of " + fmtList(std::vector<double>{column_s * 1e6}) + " us");
 }
 
 int frameColumns(const LidarSpec& s) { return s.pattern == PatternKind::File ? 1 : s.columns; }

@@ -11,7 +11,7 @@
 /// device, FIFO or stream (`/dev/null`, `/dev/stdout`, a pipe) is appended to at commit, from a
 /// temporary in the temp folder. Every write and the close are checked ("No space left on
 /// device" is an error, not a short file). An uncommitted temporary is removed when the object is
-/// destroyed, and also on SIGINT, SIGTERM, SIGHUP and SIGPIPE.
+/// destroyed, and also on SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGQUIT and SIGXFSZ.
 #include <fstream>
 #include <memory>
 #include <string>

@@ -22,7 +22,7 @@
 /// | fire_offset_us          | 0       | µs   | each channel's firing time within its column               |
 /// | fire_offset_step_us     | 0       | µs   | channel n fires n × step into its column instead           |
 /// | range_min_m, range_max_m| 0.5, 100| m    | range window; beyond it no return                          |
-/// | range_at_10pct_m        | 50      | m    | a 10 % Lambertian target is detected to here in clear air: sets the receiver noise |
+/// | range_at_10pct_m        | 50      | m    | a 10 % Lambertian target is detected here ≥ 90 % of the time in clear air: sets the receiver noise |
 /// | range_sigma_m           | 0.02    | m    | range noise (1 σ) of a strong echo                         |
 /// | divergence_mrad         | 3       | mrad | full beam divergence (the footprint)                       |
 /// | pulse_fwhm_ns           | 5       | ns   | pulse width: echoes closer than ~c·FWHM/2 merge            |
@@ -68,6 +68,7 @@ struct LidarSpec {
     double max_column_rate_hz = 0;  ///< 0: no limit
     std::vector<double> elevation_rad, azimuth_offset_rad, fire_offset_s;  ///< per channel
     std::vector<PatternBeam> file_beams;  ///< pattern = file
+    std::string pattern_file;  ///< its path (an input of the run)
     double range_min_m = 0.5, range_max_m = 100;
     double range_sigma_m = 0.02;
     int max_echoes = 3;
