@@ -71,15 +71,11 @@ double valueOf(const T& v)
 bool flatBetween(const Replay::PhysicalTable& t, size_t b, double u0, double u1)
 {
     const size_t G = size_t(t.grid);
-    const double* row = t.err.data() + b * G;
     const auto cell = [&](double u) { return std::clamp(std::floor((u - t.u_lo) / t.du), -1.0, double(G - 1)); };
-    const long j0 = long(cell(u0)), j1 = long(cell(u1)) + 1;
-    double lo = j0 < 0 ? t.err_clear[b] : row[j0], hi = lo;
-    for (long j = std::max(0L, j0); j <= std::min(long(G) - 1, j1); ++j) {
-        lo = std::min(lo, row[j]);
-        hi = std::max(hi, row[j]);
-    }
-    return hi - lo < 1e-12;
+    const long j0 = long(cell(u0)), j1 = std::min(long(G) - 1, long(cell(u1)) + 1);
+    // The table's flat stretches, found once (physicalTables): one lookup, not a walk over the cells.
+    const int reach = j0 < 0 ? t.flat_reach_clear[b] : t.flat_reach[b * G + size_t(j0)];
+    return reach >= j1;
 }
 
 }  // namespace

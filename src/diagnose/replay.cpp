@@ -230,6 +230,25 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
             evaluate(b, std::exp(t.u_lo + t.du * double(j)), t.err[i], t.range[i], t.sd[i]);
         }
     });
+    // Where each beam's error table is flat, for the predictive terms' shortcut (finishTerms).
+    t.flat_reach.assign(B * G, 0);
+    t.flat_reach_clear.assign(B, -1);
+    auto reach = [&](const double* row, double lo, double hi, size_t from) {
+        size_t k = from;
+        while (k + 1 < G && std::max(hi, row[k + 1]) - std::min(lo, row[k + 1]) < 1e-12) {
+            ++k;
+            lo = std::min(lo, row[k]);
+            hi = std::max(hi, row[k]);
+        }
+        return int(k);
+    };
+    tbb::parallel_for(size_t(0), B, [&](size_t b) {
+        const double* row = t.err.data() + b * G;
+        for (size_t j = 0; j < G; ++j) t.flat_reach[b * G + j] = reach(row, row[j], row[j], j);
+        const double c = t.err_clear[b];
+        if (std::max(c, row[0]) - std::min(c, row[0]) < 1e-12)
+            t.flat_reach_clear[b] = reach(row, std::min(c, row[0]), std::max(c, row[0]), 0);
+    });
 }
 
 /// The scene's own columns at each scan (SmokeShape::Timeline: every scan, split into the

@@ -131,6 +131,9 @@ struct Replay {
         int grid = 0;
         std::vector<double> err, range, sd;  ///< [beam · grid + j]
         std::vector<double> err_clear, range_clear, sd_clear;  ///< [beam]
+        /// The last grid point k ≥ j with err[j..k] flat (max − min < 1e-12) [beam · grid + j], and
+        /// the last with the clear value and err[0..k] flat [beam] (−1: err[0] differs from it).
+        std::vector<int> flat_reach, flat_reach_clear;
     } physical;
     bool isPhysical() const { return config.model == SensorModel::Physical; }
 
