@@ -9,10 +9,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
 
 #include "plant.hpp"
 #include "random_room.hpp"
+#include "scratch.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
 
 using namespace smokescan;
@@ -279,7 +281,7 @@ TEST(DiagnoseRooms, EachCauseAboveItsDetectabilityIsFoundWithItsTarget)
 TEST(DiagnoseRooms, Explore)
 {
     // SMOKESCAN_EXPLORE=N rooms from seed 5000; SMOKESCAN_EXPLORE_PLANT=k plants cause k (−1: clean);
-    // SMOKESCAN_EXPLORE_MODEL=physical diagnoses with the physical model.
+    // SMOKESCAN_EXPLORE_MODEL=physical diagnoses with the physical model, and simulates with it too.
     if (!std::getenv("SMOKESCAN_EXPLORE")) GTEST_SKIP() << "set SMOKESCAN_EXPLORE=N";
     const int n = std::atoi(std::getenv("SMOKESCAN_EXPLORE"));
     const int which = std::getenv("SMOKESCAN_EXPLORE_PLANT") ? std::atoi(std::getenv("SMOKESCAN_EXPLORE_PLANT")) : -1;
@@ -289,13 +291,18 @@ TEST(DiagnoseRooms, Explore)
     for (int s = 0; s < n; ++s) {
         const uint64_t seed = first + uint64_t(s);
         const auto t0 = std::chrono::steady_clock::now();
-        RoomRun r = simulateRoom(seed);
+        const char* model = std::getenv("SMOKESCAN_EXPLORE_MODEL");  // paper (default) or physical
+        const bool physical = model && std::string(model) == "physical";
+        std::string sensor_file;
+        if (physical) {
+            sensor_file = (scratch("explore_physical") / "urg_physical.toml").string();
+            std::ofstream(sensor_file) << "type = \"urg04lx\"\nmodel = \"physical\"\n";
+        }
+        RoomRun r = simulateRoom(seed, sensor_file);
         Planted p;
         if (which >= 0) p = plantInRoom(which, r, seed);
         const auto t1 = std::chrono::steady_clock::now();
-        const char* model = std::getenv("SMOKESCAN_EXPLORE_MODEL");  // paper (default) or physical
-        const DiagnosisResult d =
-            diagnoseRoom(r.run, model && std::string(model) == "physical" ? SensorModel::Physical : SensorModel::Paper);
+        const DiagnosisResult d = diagnoseRoom(r.run, physical ? SensorModel::Physical : SensorModel::Paper);
         const auto t2 = std::chrono::steady_clock::now();
         std::printf(
             "%llu %s: %zu scans, sim %.1f s, diagnose %.1f s; planted %s %s %.4g (effect %.3g, detectable "

@@ -16,6 +16,7 @@
 #include "smokescan/lidar/frame_pictures.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensors/scanner.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;
@@ -105,6 +106,33 @@ TEST(Lidar, Vlp16PatternIsTheDatasheets)
     LidarSpec fast = s;
     configureLidar(fast, 20, 0, "test");
     EXPECT_EQ(fast.columns, 904);
+}
+
+TEST(Lidar, TheTwoDLasersArePlanarFansScannedAtOneInstant)
+{
+    // The URG-04LX's 682 steps and the LMS200's 361 half degrees as patterns: in the scan plane,
+    // at the laser's own angles, all at the scan's time; the Scanner fires exactly these.
+    const LrfSpec urg = urg04lx(), lms = lms200(0.5, 8);
+    const std::vector<PatternBeam> u = planarFan(urg), l = planarFan(lms);
+    ASSERT_EQ(u.size(), 682u);
+    ASSERT_EQ(l.size(), 361u);
+    EXPECT_NEAR(u.front().azimuth_rad, (44 - 384) * 2 * M_PI / 1024, 1e-12);
+    EXPECT_NEAR(u.back().azimuth_rad, (725 - 384) * 2 * M_PI / 1024, 1e-12);
+    EXPECT_NEAR(l.front().azimuth_rad, 0, 1e-12);
+    EXPECT_NEAR(l.back().azimuth_rad, M_PI, 1e-12);
+    for (const auto* fan : {&u, &l})
+        for (const PatternBeam& b : *fan) {
+            EXPECT_EQ(b.elevation_rad, 0);
+            EXPECT_EQ(b.time_s, 0);
+            EXPECT_EQ(b.channel, 0);
+        }
+    const Scene scene = loadScene("bocas");
+    const SurfaceSet surfaces(scene);
+    ScanConfig cfg;
+    cfg.sensor = "urg04lx";
+    const Scan scan = Scanner(scene, surfaces, cfg).scanAt(100, 0);
+    ASSERT_EQ(scan.angle_rad.size(), u.size());
+    for (size_t i = 0; i < u.size(); ++i) EXPECT_EQ(scan.angle_rad[i], u[i].azimuth_rad);
 }
 
 TEST(Lidar, Hdl32eAndOs1PatternsAreTheDatasheets)

@@ -30,6 +30,7 @@ Scanner::Scanner(const Scene& scene, const SurfaceSet& surfaces, const ScanConfi
             throw Error(mount_.config.sensor_file.empty() ? scene.source : mount_.config.sensor_file,
                         "[extensions] name surface '" + name + "', which the scene " + scene.source + " does not have");
     model_ = makeBeamModel(mount_.config);
+    fan_ = planarFan(model_->spec());
     if (!std::isfinite(cfg_.from_s)) cfg_.from_s = scene.t_start_s;
     if (!std::isfinite(cfg_.to_s)) cfg_.to_s = scene.t_end_s;
     if (!(cfg_.rate_hz > 0) || !std::isfinite(cfg_.rate_hz)) throw Error("--rate", "must be finite and > 0");
@@ -45,7 +46,7 @@ std::vector<double> Scanner::times() const
     return t;
 }
 
-Ray Scanner::beamRay(int i) const { return scene_.sensorAt(mount_, cfg_.from_s).beamRay(spec().angle(i)); }
+Ray Scanner::beamRay(int i) const { return scene_.sensorAt(mount_, cfg_.from_s).beamRay(fan_[size_t(i)].azimuth_rad); }
 
 Scan Scanner::scanAt(double t_s, uint64_t index) const
 {
@@ -54,15 +55,15 @@ Scan Scanner::scanAt(double t_s, uint64_t index) const
     const SensorMount at = scene_.sensorAt(mount_, t_s);  // on its robot, when it rides on one
     Scan scan;
     scan.time_s = t_s;
-    const int n = spec().n_beams;
+    const int n = int(fan_.size());
     scan.angle_rad.resize(size_t(n));
     scan.value.resize(size_t(n));
     scan.beams.resize(cfg_.keep_beams ? size_t(n) : 0);
     tbb::parallel_for(0, n, [&](int i) {
         KeyedRng rng(cfg_.seed, index, uint64_t(i));
-        BeamResult r =
-            model_->read(world, LaserBeam(at.beamRay(spec().angle(i)), spec().angle(i)), rng, cfg_.keep_beams);
-        scan.angle_rad[size_t(i)] = spec().angle(i);
+        const double angle = fan_[size_t(i)].azimuth_rad;  // every beam at the scan's time (planarFan)
+        BeamResult r = model_->read(world, LaserBeam(at.beamRay(angle), angle), rng, cfg_.keep_beams);
+        scan.angle_rad[size_t(i)] = angle;
         scan.value[size_t(i)] = r.value;
         if (cfg_.keep_beams) scan.beams[size_t(i)] = std::move(r);
     });

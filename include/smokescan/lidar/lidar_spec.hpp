@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "smokescan/sensor_config/beam_pattern.hpp"
 #include "smokescan/sensor_config/physical_params.hpp"
 
 namespace smokescan {
@@ -46,14 +47,6 @@ ReturnMode parseReturnMode(const std::string& name, const std::string& where);
 
 /// How a lidar fires its beams.
 enum class PatternKind { Spinning, File };
-
-/// One beam of a lidar's pattern, in the sensor frame (x ahead, y left, z up).
-struct PatternBeam {
-    double azimuth_rad = 0;  ///< from +x towards +y, at the start of the frame (spin added per beam)
-    double elevation_rad = 0;  ///< above the x–y plane
-    int channel = 0;  ///< ring
-    double time_s = 0;  ///< firing time from the frame's start
-};
 
 struct LidarSpec {
     std::string name, source;  ///< preset name; the file it was read from (messages)

@@ -9,6 +9,7 @@
 
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
+#include "smokescan/sensor_config/beam_pattern.hpp"
 #include "smokescan/sensors/beam_model.hpp"
 
 namespace smokescan {
@@ -64,6 +65,7 @@ private:
     ScanConfig cfg_;
     SensorMount mount_;
     std::shared_ptr<const BeamModel> model_;
+    std::vector<PatternBeam> fan_;  ///< the laser's beams (sensor_config/beam_pattern.hpp)
 };
 
 }  // namespace smokescan
