@@ -73,6 +73,15 @@ std::string wallScene(double d, double rho, double yaw_deg = 0, double density =
     return s.str();
 }
 
+/// The scene with its sensor riding a robot "r" whose keyframes (TOML tables) are given.
+std::string onRobot(std::string scene, const std::string& keyframes)
+{
+    scene.replace(scene.find("[[sensors]]"), std::string::npos,
+                  "[[robots]]\nname = \"r\"\n" + keyframes +
+                      "[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nrobot = \"r\"\nposition = [0, 0, 1]\n");
+    return scene;
+}
+
 LidarFrame frameOf(const std::string& scene_text, const std::string& preset, ReturnMode mode, double t = 0,
                    uint64_t seed = 1)
 {
@@ -380,11 +389,9 @@ TEST(Lidar, AMovingLidarsPointsFollowTheClosedFormOfItsMotion)
     // wall at x = 30 − 2t in the sensor's frame at that instant, whatever its azimuth (a thin beam:
     // a wide footprint on an oblique wall reads nearer, as real ones do; a quiet receiver: its
     // leading-edge jitter aside).
-    std::string scene = wallScene(30, 0.8, 0, 0, 0, 0, 40);
-    scene.replace(scene.find("[[sensors]]"), std::string::npos,
-                  "[[robots]]\nname = \"r\"\n[[robots.keyframes]]\ntime_s = 0\nposition = [0, 0, 0]\n"
-                  "[[robots.keyframes]]\ntime_s = 10\nposition = [20, 0, 0]\n"
-                  "[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nrobot = \"r\"\nposition = [0, 0, 1]\n");
+    const std::string scene = onRobot(wallScene(30, 0.8, 0, 0, 0, 0, 40),
+                                      "[[robots.keyframes]]\ntime_s = 0\nposition = [0, 0, 0]\n"
+                                      "[[robots.keyframes]]\ntime_s = 10\nposition = [20, 0, 0]\n");
     const LidarFrame f =
         frameOf(scene, patternedLidar("moving", fan(200, 40), "divergence_mrad = 0.01\nrange_at_10pct_m = 5000\n"),
                 ReturnMode::Strongest, 2.0);
@@ -404,11 +411,9 @@ TEST(Lidar, ATurningLidarsPointsFollowTheClosedFormOfItsTurn)
     // The robot turns on the spot at 9°/s before a wall at x = 20 m: a beam at azimuth α fired at
     // scene time t leaves along α + ψ(t), ψ = 9°/s · t, and is written in the sensor's frame of
     // that instant: at range 20/cos(α + ψ), at (r·cos α, r·sin α).
-    std::string scene = wallScene(20, 0.8, 0, 0, 0, 0, 40);
-    scene.replace(scene.find("[[sensors]]"), std::string::npos,
-                  "[[robots]]\nname = \"r\"\n[[robots.keyframes]]\ntime_s = 0\nposition = [0, 0, 0]\nyaw_deg = 0\n"
-                  "[[robots.keyframes]]\ntime_s = 10\nposition = [0, 0, 0]\nyaw_deg = 90\n"
-                  "[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nrobot = \"r\"\nposition = [0, 0, 1]\n");
+    const std::string scene = onRobot(wallScene(20, 0.8, 0, 0, 0, 0, 40),
+                                      "[[robots.keyframes]]\ntime_s = 0\nposition = [0, 0, 0]\nyaw_deg = 0\n"
+                                      "[[robots.keyframes]]\ntime_s = 10\nposition = [0, 0, 0]\nyaw_deg = 90\n");
     const std::string preset =
         patternedLidar("turning", fan(200, 30), "divergence_mrad = 0.01\nrange_at_10pct_m = 5000\n");
     const LidarFrame f = frameOf(scene, preset, ReturnMode::Strongest, 2.0);
@@ -498,6 +503,17 @@ TEST(Lidar, FramesDoNotDependOnTheThreadCount)
     ASSERT_GT(a.points.size(), 1000u);
     for (size_t i = 0; i < a.points.size(); ++i)
         ASSERT_EQ(std::memcmp(&a.points[i], &b.points[i], sizeof(LidarPoint)), 0) << i;
+    // Another seed draws other noise on the same geometry: the same wall, other ranges.
+    const std::string clear = wallScene(10, 0.8, 20);
+    const LidarFrame c = frameOf(clear, "vlp16", ReturnMode::Strongest, 0, 8);
+    const LidarFrame d = frameOf(clear, "vlp16", ReturnMode::Strongest, 0, 7);
+    ASSERT_EQ(c.points.size(), d.points.size());
+    int differ = 0;
+    for (size_t i = 0; i < c.points.size(); ++i) {
+        differ += c.points[i].range_m != d.points[i].range_m;
+        EXPECT_NEAR(c.points[i].range_m, d.points[i].range_m, 0.2) << i;  // within the noise
+    }
+    EXPECT_GT(differ, int(c.points.size()) * 9 / 10);
 }
 
 TEST(Lidar, RangeImagePutsAheadInTheMiddleAndTopViewPutsPointsWhereTheyAre)
@@ -512,6 +528,11 @@ TEST(Lidar, RangeImagePutsAheadInTheMiddleAndTopViewPutsPointsWhereTheyAre)
     EXPECT_GT(im.at(512, mid_row, 0), 0.1f);  // straight ahead
     EXPECT_EQ(im.at(0, mid_row, 0), 0.0f);  // straight behind
     EXPECT_EQ(im.at(256, mid_row, 0), 0.0f);  // to the left: the wall ends at ±50°
+    // The frame's own range image (channels × columns, in firing order) holds each beam's first
+    // kept range.
+    ASSERT_EQ(f.range_image.size(), size_t(128 * 1024));
+    for (const LidarPoint& p : f.points)
+        EXPECT_EQ(f.range_image[size_t(p.ring) * 1024 + p.beam / 128], p.range_m) << p.beam;
     const Image top = topView(f, 10, 200);  // 10 px a metre, the sensor at (100, 100)
     EXPECT_LT(top.at(150, 100, 0), 0.5f);  // a grey point on the wall at x = 5 m
     EXPECT_EQ(top.at(50, 100, 0), 1.0f);  // nothing behind

@@ -66,8 +66,8 @@ double refinedLead(const Waveform& f, const WaveformEcho& e, double peak)
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
 {
     const PhysicalParams& p = spec.receiver;
-    // Two samples per pulse σ: the peak from a log-parabola, the leading edge near the Gaussian's
-    // inflection where the linear interpolation between samples is good to 1 % of σ.
+    // Two samples per pulse σ: the peak and the leading edge each from a log-parabola through the
+    // samples around them, exact for a lone Gaussian pulse.
     Waveform f = pulsedWaveform(spec.range_max_m, p, s, 2);
     std::vector<LidarEcho> out;
     if (f.w.empty()) return out;
