@@ -40,16 +40,17 @@ inline DrawnRoom drawRoom(uint64_t seed)
     auto pick = [&](int n) { return std::min(n - 1, int(rng.uniform() * n)); };
     DrawnRoom d;
     SceneText s;
-    // Materials: the NIR reflectivity is what the physical model sees; the paper model does not.
+    // Materials: the NIR reflectivity is what the physical model sees (the URG-04LX at 785 nm, the
+    // LMS200 at 905 nm; the same here); the paper model does not.
     s.raw(
         "[scene]\nname = \"drawn\"\nt_start_s = 0\nt_end_s = 400\n"
-        "[[materials]]\nname = \"white\"\nalbedo = [0.85, 0.85, 0.85]\nnir_905 = 0.88\n"
-        "[[materials]]\nname = \"grey\"\nalbedo = [0.4, 0.4, 0.4]\nnir_905 = 0.45\n"
-        "[[materials]]\nname = \"black\"\nalbedo = [0.05, 0.05, 0.05]\nnir_905 = 0.06\n"
-        "[[materials]]\nname = \"aluminium\"\nalbedo = [0.7, 0.7, 0.72]\nnir_905 = 0.7\nspecular = 0.9\n"
-        "roughness = 0.15\n"
-        "[[materials]]\nname = \"paper\"\nalbedo = [0.8, 0.1, 0.1]\nnir_905 = 0.8\n"
-        "[[materials]]\nname = \"dark_paper\"\nalbedo = [0.1, 0.1, 0.6]\nnir_905 = 0.2\n");
+        "[[materials]]\nname = \"white\"\nalbedo = [0.85, 0.85, 0.85]\nnir_785 = 0.88\nnir_905 = 0.88\n"
+        "[[materials]]\nname = \"grey\"\nalbedo = [0.4, 0.4, 0.4]\nnir_785 = 0.45\nnir_905 = 0.45\n"
+        "[[materials]]\nname = \"black\"\nalbedo = [0.05, 0.05, 0.05]\nnir_785 = 0.06\nnir_905 = 0.06\n"
+        "[[materials]]\nname = \"aluminium\"\nalbedo = [0.7, 0.7, 0.72]\nnir_785 = 0.7\nnir_905 = 0.7\n"
+        "specular = 0.9\nroughness = 0.15\n"
+        "[[materials]]\nname = \"paper\"\nalbedo = [0.8, 0.1, 0.1]\nnir_785 = 0.8\nnir_905 = 0.8\n"
+        "[[materials]]\nname = \"dark_paper\"\nalbedo = [0.1, 0.1, 0.6]\nnir_785 = 0.2\nnir_905 = 0.2\n");
     const char* walls[] = {"white", "grey", "black", "aluminium"};
     // The room about the URG at the origin: x in [−back, length − back], y in [−side, width − side].
     double length, width;

@@ -308,7 +308,7 @@ TEST(DiagnoseRooms, ThePhysicalModelNamesNothingOnCleanRunsAndFindsWhatActsOnAny
     // model's smoke errors): a target reading long, range noise growing with the column, a dirty
     // window; each in a room where the run states it detectable, found alone with its target.
     std::vector<double> pulls;
-    for (const auto& [which, seed] : {std::pair{0, 6102}, std::pair{3, 6130}, std::pair{5, 6150}}) {
+    for (const auto& [which, seed] : {std::pair{0, 6105}, std::pair{3, 6130}, std::pair{5, 6150}}) {
         RoomRun r = simulateRoom(uint64_t(seed), sensor);
         const Planted p = plantInRoom(which, r, uint64_t(seed));
         const DiagnosisResult d = diagnoseRoom(r.run, SensorModel::Physical);
