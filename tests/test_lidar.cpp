@@ -231,6 +231,8 @@ TEST(Lidar, PresetsRefuseWhatTheSensorDoesNotOffer)
             "rates_hz must hold rates in [0.01, 100] Hz");
     refused([&] { lidarSpec(write(dir / "l.toml", head + "elevation_deg = [0]\nazimuth_offset_deg = [1e300]\n")); },
             "azimuth_offset_deg must lie within ±360°");
+    refused([&] { lidarSpec(write(dir / "m.toml", head + "elevation_uniform_deg = [100, -10, 3]\n")); },
+            "m.toml:3: elevation_uniform_deg must lie within ±90°");
     // A pattern timed for 10 Hz cannot run at 20 Hz: its beams would leave the frame.
     LidarSpec slow = lidarSpec(patternedLidar("slow", "0, 0, 0\n1, 0, 0.08\n", "rates_hz = [10, 20]\n"));
     refused([&] { configureLidar(slow, 20, 0, "--rate"); }, "fires until 0.08 s, beyond a frame of 0.05 s at 20 Hz");

@@ -26,6 +26,7 @@ void readElevations(TomlTable& t, LidarSpec& s)
     std::vector<double> deg;
     if (t.has("elevation_deg") == t.has("elevation_uniform_deg"))
         t.error("elevation_deg", "give either elevation_deg or elevation_uniform_deg for a spinning lidar");
+    const std::string key = t.has("elevation_deg") ? "elevation_deg" : "elevation_uniform_deg";
     if (t.has("elevation_deg")) {
         deg = t.numbers("elevation_deg", lidar_limits::kChannels);
     } else {
@@ -35,9 +36,9 @@ void readElevations(TomlTable& t, LidarSpec& s)
         const int n = int(u[2]);
         for (int i = 0; i < n; ++i) deg.push_back(n == 1 ? u[0] : u[0] + (u[1] - u[0]) * i / (n - 1));
     }
-    if (deg.empty()) t.error("elevation_deg", "must list at least one channel");
+    if (deg.empty()) t.error(key, "must list at least one channel");
     for (double d : deg)
-        if (std::abs(d) > 90) t.error("elevation_deg", "must lie within ±90°");
+        if (std::abs(d) > 90) t.error(key, "must lie within ±90°");
     for (double d : deg) s.elevation_rad.push_back(d * kDeg);
 }
 
