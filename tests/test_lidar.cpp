@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -201,38 +202,31 @@ TEST(Lidar, PresetsRefuseWhatTheSensorDoesNotOffer)
     const SurfaceSet surfaces(scene);
     refused([&] { LidarScanner(scene, surfaces, scene.sensors.front(), lidarSpec("os1-128"), ReturnMode::Last, 1); },
             "offers strongest, dual, not last");
-    // A preset file's bad keys name the file, its line and the key.
+    // A preset file's bad keys name the file, its line and the key: {file, keys after name and
+    // pattern, what the error says}.
     const auto dir = scratch("lidar_bad_presets");
     const std::string head = "name = \"x\"\npattern = \"spinning\"\n";
-    refused([&] { lidarSpec(write(dir / "a.toml", head + "elevation_deg = [0, 1]\nfire_offset_us = [0]\n")); },
-            "a.toml:4: fire_offset_us must have one value per channel (2)");
-    refused([&] { lidarSpec(write(dir / "b.toml", head + "elevation_deg = [0]\ncolour = 3\n")); },
-            "unknown key 'colour': not a key of a lidar preset");
-    refused([&] { lidarSpec(write(dir / "c.toml", head + "elevation_uniform_deg = [1, -1, 512]\ncolumns = 8192\n")); },
-            "would fire more than 4,000,000 beams a frame");
-    refused([&] { lidarSpec(write(dir / "d.toml", head + "elevation_deg = [0]\nmax_echoes = 9\n")); },
-            "max_echoes must be 1–8");
-    refused([&] { lidarSpec(write(dir / "e.toml", head + "elevation_deg = [0]\nmax_echoes = 4294967299\n")); },
-            "max_echoes must be 1–8");
-    refused([&] { lidarSpec(write(dir / "f.toml", head + "elevation_deg = [0]\ncolumns = 4294967808\n")); },
-            "columns must be 1–8192");
-    refused(
-        [&] {
-            lidarSpec(write(dir / "g.toml", head + "elevation_deg = [0]\ncolumns = 256\ncolumns_allowed = [512]\n"));
-        },
-        "columns must be one of columns_allowed");
-    refused([&] { lidarSpec(write(dir / "h.toml", head + "elevation_deg = [0]\ncolumns_allowed = [1024, 1024.7]\n")); },
-            "columns_allowed must hold whole column counts");
-    refused([&] { lidarSpec(write(dir / "i.toml", head + "elevation_deg = [0, 1]\nfire_offset_us = [0, 1e9]\n")); },
-            "fire up to 1000000000 us into a column of 97.65625 us");
-    refused([&] { lidarSpec(write(dir / "j.toml", head + "elevation_deg = [0, 1]\nfire_offset_us = [0, -1]\n")); },
-            "fire_offset_us must not be negative");
-    refused([&] { lidarSpec(write(dir / "k.toml", head + "elevation_deg = [0]\nrates_hz = [10, 0.001]\n")); },
-            "rates_hz must hold rates in [0.01, 100] Hz");
-    refused([&] { lidarSpec(write(dir / "l.toml", head + "elevation_deg = [0]\nazimuth_offset_deg = [1e300]\n")); },
-            "azimuth_offset_deg must lie within ±360°");
-    refused([&] { lidarSpec(write(dir / "m.toml", head + "elevation_uniform_deg = [100, -10, 3]\n")); },
-            "m.toml:3: elevation_uniform_deg must lie within ±90°");
+    const std::array<std::array<const char*, 3>, 13> bad = {{
+        {"a.toml", "elevation_deg = [0, 1]\nfire_offset_us = [0]\n",
+         "a.toml:4: fire_offset_us must have one value per channel (2)"},
+        {"b.toml", "elevation_deg = [0]\ncolour = 3\n", "unknown key 'colour': not a key of a lidar preset"},
+        {"c.toml", "elevation_uniform_deg = [1, -1, 512]\ncolumns = 8192\n",
+         "would fire more than 4,000,000 beams a frame"},
+        {"d.toml", "elevation_deg = [0]\nmax_echoes = 9\n", "max_echoes must be 1–8"},
+        {"e.toml", "elevation_deg = [0]\nmax_echoes = 4294967299\n", "max_echoes must be 1–8"},
+        {"f.toml", "elevation_deg = [0]\ncolumns = 4294967808\n", "columns must be 1–8192"},
+        {"g.toml", "elevation_deg = [0]\ncolumns = 256\ncolumns_allowed = [512]\n",
+         "columns must be one of columns_allowed"},
+        {"h.toml", "elevation_deg = [0]\ncolumns_allowed = [1024, 1024.7]\n",
+         "columns_allowed must hold whole column counts"},
+        {"i.toml", "elevation_deg = [0, 1]\nfire_offset_us = [0, 1e9]\n",
+         "fire up to 1000000000 us into a column of 97.65625 us"},
+        {"j.toml", "elevation_deg = [0, 1]\nfire_offset_us = [0, -1]\n", "fire_offset_us must not be negative"},
+        {"k.toml", "elevation_deg = [0]\nrates_hz = [10, 0.001]\n", "rates_hz must hold rates in [0.01, 100] Hz"},
+        {"l.toml", "elevation_deg = [0]\nazimuth_offset_deg = [1e300]\n", "azimuth_offset_deg must lie within ±360°"},
+        {"m.toml", "elevation_uniform_deg = [100, -10, 3]\n", "m.toml:3: elevation_uniform_deg must lie within ±90°"},
+    }};
+    for (const auto& row : bad) refused([&] { lidarSpec(write(dir / row[0], head + row[1])); }, row[2]);
     // A pattern timed for 10 Hz cannot run at 20 Hz: its beams would leave the frame.
     LidarSpec slow = lidarSpec(patternedLidar("slow", "0, 0, 0\n1, 0, 0.08\n", "rates_hz = [10, 20]\n"));
     refused([&] { configureLidar(slow, 20, 0, "--rate"); }, "fires until 0.08 s, beyond a frame of 0.05 s at 20 Hz");

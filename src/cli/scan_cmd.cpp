@@ -164,7 +164,6 @@ int scanLidar(const Scene& scene, const ScanArgs& a)
     l.from = a.from;
     l.to = a.to;
     l.seed = a.cfg.seed;
-    l.quiet = a.quiet;
     return runLidarScan(scene, l);
 }
 

@@ -28,7 +28,8 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         if (!path.empty() && !isImageExtension(path)) throw Error(path, "unknown image format (png, exr, jpg, tif)");
     if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
     if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
-    if (a.top_view_m != 10 && a.top_view.empty()) throw Error("--top-view-width", "needs --top-view");
+    if (a.top_view_m != LidarScanArgs{}.top_view_m && a.top_view.empty())
+        throw Error("--top-view-width", "needs --top-view");
     LidarSpec spec = lidarSpec(a.sensor);
     files.input(spec.pattern_file, "--sensor (its pattern file)");
     configureLidar(spec, a.rate_hz, a.columns, "--sensor " + a.sensor);

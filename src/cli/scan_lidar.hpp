@@ -17,7 +17,6 @@ struct LidarScanArgs {
     int columns = 0;  ///< 0: the preset's
     double from = 0, to = 0;  ///< NaN: the scene's start, its start (one frame)
     uint64_t seed = 1;
-    bool quiet = false;
     bool returns_given = false;  ///< --returns on the command line
 };
 

@@ -9,6 +9,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/sensors/physical_model.hpp"
 #include "toml_reader.hpp"
 
 namespace smokescan {
@@ -103,7 +104,7 @@ void readReceiver(TomlTable& t, LidarSpec& s)
     const double r10 = t.between("range_at_10pct_m", 50, 0.1, 10000);
     p.noise_floor = 0.1 / (r10 * r10) / (p.threshold_snr + 1.2816);
     // Smoke echoes half a pulse σ apart, as the receiver samples its waveform (receiveEchoes).
-    p.smoke_bin_m = 0.5 * 299792458.0 * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
+    p.smoke_bin_m = 0.5 * pulseSigma_m(p);
 }
 
 }  // namespace

@@ -216,11 +216,15 @@ namespace {
 
 }  // namespace
 
+double pulseSigma_m(const PhysicalParams& p)
+{
+    return kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;  // FWHM in time → σ in range (half the path)
+}
+
 Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s, int samples_per_sigma)
 {
     Waveform f;
-    // Range-domain Gaussian pulse: FWHM in time → σ in range (half the path).
-    f.sig_p = kC * p.pulse_fwhm_ns * 1e-9 / 2 / 2.354820045;
+    f.sig_p = pulseSigma_m(p);
     f.dr = f.sig_p / samples_per_sigma;
     const double reach = 4 * f.sig_p;
     const double r_end = range_max_m + reach;

@@ -118,6 +118,9 @@ double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const 
 /// σ/A_hi over its wavenumber, and the datasheet noise at the range, in quadrature.
 double amcwRangeSigma(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s);
 
+/// @brief The transmitted pulse's σ in range [m]: its FWHM in time, over the two ways, as a Gaussian's σ.
+double pulseSigma_m(const PhysicalParams& p);
+
 /// A beam's received waveform: Gaussian pulses (the transmitted pulse's shape) at each echo's
 /// range, sampled every dr [m] from lo [m]; empty when no echo lies within range.
 struct Waveform {
