@@ -140,6 +140,62 @@ TEST(PhysicalModel, SmokeBackscatterMatchesClosedForm)
     EXPECT_NEAR(s.smoke_power, ref, 2e-3 * ref);  // 5 cm bins, 1/r² taken at the bin centre
 }
 
+TEST(PhysicalModel, SmokeOnPointsKeepsTheBackscattersPowerAndCentre)
+{
+    // The lidar's way: smoke on points 8 cm apart instead of echoes. A slab on [3.03, 4.97] m
+    // (edges off the points), σ = 0.8/m: the points' total equals π·β·∫ e^{−2σr}/r² dr and their
+    // power-weighted centre the integral's, both against a fine midpoint sum. Then two of four
+    // sub-rays stop at 4.0 m: beyond it half the power, before it all of it.
+    PhysicalParams p;
+    p.overlap_start_m = 0.5;
+    p.overlap_full_m = 1.0;
+    p.smoke_cell_m = 0.08;
+    const double sigma = 0.8, beta = sigma * 0.01, s0 = 3.03, s1 = 4.97;
+    const std::vector<ProfileSegment> sig{{s0, s1, sigma}}, bet{{s0, s1, beta}};
+    auto integral = [&](double a, double b, double& centre) {
+        double sum = 0, moment = 0;
+        const int n = 200000;
+        for (int k = 0; k < n; ++k) {
+            const double r = a + (k + 0.5) * (b - a) / n,
+                         dP = M_PI * beta * std::exp(-2 * sigma * (r - s0)) / (r * r) * (b - a) / n;
+            sum += dP;
+            moment += r * dP;
+        }
+        centre = moment / sum;
+        return sum;
+    };
+    BeamSignal s;
+    depositSmokeCells(p, TauProfile(sig), bet, 10.0, {}, s);
+    ASSERT_EQ(s.smoke_cell_m, 0.08);
+    EXPECT_TRUE(s.echoes.empty());
+    double total = 0, moment = 0;
+    for (size_t k = 0; k < s.smoke_cells.size(); ++k) {
+        total += s.smoke_cells[k];
+        moment += double(k) * 0.08 * s.smoke_cells[k];
+    }
+    double centre = 0;
+    const double ref = integral(s0, s1, centre);
+    // 1/r² is taken at each piece's centre of T², exact to second order: h²/4r² = 1.3e-4 at
+    // 3.5 m (h = 8 cm), and the centre moves by h²/6r = 0.3 mm (seen: 1.34e-4 and 0.31 mm).
+    EXPECT_NEAR(total, ref, 3e-4 * ref);
+    EXPECT_NEAR(s.smoke_power, ref, 3e-4 * ref);
+    EXPECT_NEAR(moment / total, centre, 6e-4);  // the points' centre where the smoke's is [m]
+    // No point outside the slab's two neighbours.
+    for (size_t k = 0; k < s.smoke_cells.size(); ++k)
+        if (double(k) * 0.08 < s0 - 0.08 || double(k) * 0.08 > s1 + 0.08) EXPECT_EQ(s.smoke_cells[k], 0.0) << k;
+
+    BeamSignal half;
+    depositSmokeCells(p, TauProfile(sig), bet, 10.0, {4.0, 4.0, 10.0, 10.0}, half);
+    ASSERT_EQ(half.smoke_cells.size(), s.smoke_cells.size());
+    // Point 50 sits at 4.0 m, where two sub-rays stop: the points before it keep all their
+    // power, those after it half.
+    for (size_t k = 0; k < s.smoke_cells.size(); ++k) {
+        if (k < 50) EXPECT_NEAR(half.smoke_cells[k], s.smoke_cells[k], 1e-12 * ref) << k;
+        if (k > 50) EXPECT_NEAR(half.smoke_cells[k], 0.5 * s.smoke_cells[k], 1e-12 * ref) << k;
+    }
+    EXPECT_NEAR(half.smoke_cells[50], 0.75 * s.smoke_cells[50], 0.05 * s.smoke_cells[50]);
+}
+
 TEST(PhysicalModel, HokuyoInHomogeneousSmokeRangesThenErrorsNoShortReadings)
 {
     // Blue paper 2.5 m ahead, smoke density from 0 to three times the paper's threshold

@@ -15,8 +15,14 @@ namespace {
 EchoSource dominantSource(const BeamSignal& s, const WaveformEcho& e, double reach_m)
 {
     double power[3] = {0, 0, 0};
+    const double a = e.lead_m - reach_m, b = e.trail_m + reach_m;
     for (const Echo& x : s.echoes)
-        if (x.range_m >= e.lead_m - reach_m && x.range_m <= e.trail_m + reach_m) power[int(x.source)] += x.power;
+        if (x.range_m >= a && x.range_m <= b) power[int(x.source)] += x.power;
+    if (!s.smoke_cells.empty()) {
+        const size_t k0 = size_t(std::max(0.0, std::ceil(a / s.smoke_cell_m)));
+        const size_t k1 = std::min(s.smoke_cells.size(), size_t(std::max(0.0, std::floor(b / s.smoke_cell_m)) + 1));
+        for (size_t k = k0; k < k1; ++k) power[int(EchoSource::Smoke)] += s.smoke_cells[k];
+    }
     return EchoSource(int(std::max_element(power, power + 3) - power));
 }
 
@@ -145,6 +151,11 @@ LidarScanner::LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const
         throw Error("--returns", "the " + spec_.name + " offers " + modes + ", not " + returnModeName(mode));
     }
     pattern_ = framePattern(spec_);
+    local_.reserve(pattern_.size());
+    for (const PatternBeam& b : pattern_) {
+        const double ce = std::cos(b.elevation_rad);
+        local_.emplace_back(ce * std::cos(b.azimuth_rad), ce * std::sin(b.azimuth_rad), std::sin(b.elevation_rad));
+    }
 }
 
 LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
@@ -157,7 +168,8 @@ LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
     fr.end_pose = scene_.sensorAt(mount_, fr.end_s).pose;
     fr.channels = spec_.channels();
     fr.columns = frameColumns(spec_);
-    const SmokeField field = SmokeField::at(scene_.volumes, 0.5 * (fr.start_s + fr.end_s));
+    SmokeField field = SmokeField::at(scene_.volumes, 0.5 * (fr.start_s + fr.end_s));
+    field.prepare(spec_.wavelength_nm);
     const size_t n = pattern_.size();
     const bool moving = mount_.robot >= 0;
     // Up to two points a beam, in fixed slots: the frame is the same whatever the thread count.
@@ -166,8 +178,7 @@ LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
         const PatternBeam& b = pattern_[i];
         const Pose pose = moving ? scene_.sensorAt(mount_, start_s + b.time_s).pose : fr.start_pose;
-        const double ce = std::cos(b.elevation_rad);
-        const Vec3 local(ce * std::cos(b.azimuth_rad), ce * std::sin(b.azimuth_rad), std::sin(b.elevation_rad));
+        const Vec3& local = local_[i];
         const Ray ray{pose.t, pose.rotate(local).normalized()};
         const BeamSignal sig = traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_,
                                                surfaces_, field, nullptr, nullptr);

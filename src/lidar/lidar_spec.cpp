@@ -103,8 +103,10 @@ void readReceiver(TomlTable& t, LidarSpec& s)
     p.saturation_power = kInf;
     const double r10 = t.between("range_at_10pct_m", 50, 0.1, 10000);
     p.noise_floor = 0.1 / (r10 * r10) / (p.threshold_snr + 1.2816);
-    // Smoke echoes half a pulse σ apart, as the receiver samples its waveform (receiveEchoes).
-    p.smoke_bin_m = 0.5 * pulseSigma_m(p);
+    // Smoke summed onto points a quarter of the pulse's σ apart, two to each of the waveform's
+    // samples (receiveEchoes samples it every σ/2).
+    p.smoke_cell_m = 0.25 * pulseSigma_m(p);
+    p.smoke_bin_m = 2 * p.smoke_cell_m;
 }
 
 }  // namespace

@@ -21,6 +21,14 @@ SmokeField SmokeField::at(const std::vector<SmokeVolume>& volumes, double t_s)
     return f;
 }
 
+void SmokeField::prepare(double wavelength_nm)
+{
+    for (Entry& e : entries_) {
+        e.wavelength_nm = wavelength_nm;
+        e.sigma_t = e.volume->medium.sigmaT(wavelength_nm);
+    }
+}
+
 SmokeField SmokeField::scaledRegional(double k) const
 {
     SmokeField f = *this;
@@ -34,7 +42,7 @@ BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuer
     BeamSmoke out;
     std::vector<std::vector<ProfileSegment>> parts, beta_parts;
     for (const Entry& e : entries_) {
-        const double sigma = e.volume->medium.sigmaT(q.wavelength_nm);
+        const double sigma = e.wavelength_nm == q.wavelength_nm ? e.sigma_t : e.volume->medium.sigmaT(q.wavelength_nm);
         std::vector<ProfileSegment> prof;
         const double col = e.scale * e.grid->integrate(ray, t0, t1, q.recon, q.want_profile ? &prof : nullptr);
         out.tau += sigma * col;

@@ -13,6 +13,11 @@ double smoothstep(double x)
 
 }  // namespace
 
+double PhysicalParams::overlapSettled_m() const
+{
+    return std::max({window_m, overlap_start_m, overlap_full_m, overlap_blur_m > 0 ? overlap_blur_m : overlap_start_m});
+}
+
 double PhysicalParams::overlap(double r) const
 {
     if (r < window_m) return 0.0;  // inside the housing

@@ -16,10 +16,19 @@ std::vector<Vec3> footprint(const Vec3& d, double half_angle_rad, int n)
     const Vec3 helper = std::abs(d.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX();
     const Vec3 u = d.cross(helper).normalized(), v = d.cross(u);
     const double t = std::tan(0.7 * half_angle_rad);
-    for (int k = 0; k < n - 1; ++k) {
-        const double a = 2 * M_PI * k / (n - 1);
-        out.push_back((d + t * (std::cos(a) * u + std::sin(a) * v)).normalized());
+    // The ring's cosines and sines, once for each thread and ring size.
+    thread_local int ring_n = 0;
+    thread_local std::vector<std::pair<double, double>> ring;
+    if (ring_n != n) {
+        ring.clear();
+        for (int k = 0; k < n - 1; ++k) {
+            const double a = 2 * M_PI * k / (n - 1);
+            ring.emplace_back(std::cos(a), std::sin(a));
+        }
+        ring_n = n;
     }
+    out.reserve(size_t(n));
+    for (const auto& [c, s] : ring) out.push_back((d + t * (c * u + s * v)).normalized());
     return out;
 }
 
@@ -64,7 +73,10 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
     BeamSmoke smoke = field.trace(ray, 0.0, t_end, q);
     const TauProfile tau(smoke.sigma_t_profile);
     std::sort(blocked.begin(), blocked.end());
-    appendSmokeEchoes(p, tau, smoke.beta_profile, 0.0, t_end, 0.0, 1.0, 0.0, blocked, EchoSource::Smoke, sig);
+    if (p.smoke_cell_m > 0)
+        depositSmokeCells(p, tau, smoke.beta_profile, t_end, blocked, sig);
+    else
+        appendSmokeEchoes(p, tau, smoke.beta_profile, 0.0, t_end, 0.0, 1.0, 0.0, blocked, EchoSource::Smoke, sig);
 
     for (size_t j = 0; j < dirs.size(); ++j) {
         const SurfaceHit& h = hits[j];

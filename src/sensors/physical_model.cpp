@@ -103,6 +103,55 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
     }
 }
 
+void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
+                       double s1, const std::vector<double>& blocked, BeamSignal& out)
+{
+    const double c = p.smoke_cell_m, inv_c = 1 / c;
+    out.smoke_cell_m = c;
+    if (beta.empty()) return;
+    out.smoke_cells.assign(size_t(std::max(0.0, std::min(beta.back().t1_m, s1)) * inv_c) + 2, 0.0);
+    const double settled = p.overlapSettled_m(), O_settled = p.overlap(settled);
+    const double n_sub = blocked.empty() ? 1.0 : double(blocked.size());
+    auto blockedAfter = blocked.begin();  // the first sub-ray stop beyond the piece's start
+    for (const auto& g : beta) {
+        const double a = std::max(g.t0_m, 0.0), b = std::min(g.t1_m, s1);
+        if (!(b > a) || g.density <= 0) continue;
+        // σ_t is constant on a β segment (both profiles come from the same voxels), so over a
+        // piece [x, y]: ∫T² = T²(x)·(1 − exp(−2σ(y − x)))/(2σ).
+        const double sig = tau.sigmaAt(0.5 * (a + b));
+        double T2 = std::exp(-2 * tau.tau(a));
+        const double full_step = std::exp(-2 * sig * c);
+        long k = long(a * inv_c);  // the piece lies between points k and k + 1
+        if (double(k + 1) * c <= a) ++k;
+        for (double x = a; x < b;) {
+            const double edge = double(k + 1) * c;
+            double y = std::min(b, edge);
+            while (blockedAfter != blocked.end() && *blockedAfter <= x) ++blockedAfter;
+            if (blockedAfter != blocked.end() && *blockedAfter < y) y = *blockedAfter;
+            const double open = blocked.empty() ? 1.0 : double(blocked.end() - blockedAfter) / n_sub;
+            if (open <= 0) return;
+            const double len = y - x;
+            const double step = x == double(k) * c && y == edge ? full_step : std::exp(-2 * sig * len);
+            const double T2int = 2 * sig * len > 1e-6 ? T2 * (1 - step) / (2 * sig) : T2 * len * (1 - sig * len);
+            // The centre of T² over the piece: O(r)/r² there, and the power shared from there
+            // between the points around it, the nearer taking more (the centre kept).
+            const double h = 2 * sig * len;
+            const double u = h > 1e-4 ? 1 / (2 * sig) - len * step / (1 - step) : len * (0.5 - h / 12);
+            const double r = x + u, O = r >= settled ? O_settled : p.overlap(r);
+            const double P = open * M_PI * g.density * O / (r * r) * T2int;
+            if (P > 0) {
+                const double f = std::clamp(r * inv_c - double(k), 0.0, 1.0);
+                out.smoke_cells[size_t(k)] += (1 - f) * P;
+                out.smoke_cells[size_t(k) + 1] += f * P;
+                out.smoke_power += P;
+            }
+            T2 *= step;
+            if (y == edge) ++k;
+            x = y;
+        }
+    }
+}
+
 namespace {
 
 /// Phasors at both modulation frequencies: the starting values (the receiver's noise) plus the
@@ -214,6 +263,41 @@ double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const 
 
 namespace {
 
+/// The smoke's points (q to a sample, point m at m·dr/q) convolved with the pulse onto the
+/// waveform: exp(−x²/2σ²) at whole multiples of the points' spacing, ± reach.
+void addSmokeCells(Waveform& f, const std::vector<double>& cells, int q, double reach, int n)
+{
+    // kernel[r][t + K]: the weight of a point r points past sample j_c on sample j_c + t.
+    const long K = long(std::ceil(reach / f.dr - 1e-9));
+    const double cell_sig = f.dr / q / f.sig_p;
+    // The same for every beam of a sensor: kept for each thread while the spacing stays.
+    thread_local std::vector<double> kernel;
+    thread_local double kernel_key[3] = {0, 0, 0};
+    if (kernel_key[0] != q || kernel_key[1] != double(K) || kernel_key[2] != cell_sig) {
+        kernel.assign(size_t(q) * size_t(2 * K + 1), 0.0);
+        for (int r = 0; r < q; ++r)
+            for (long t = -K; t <= K; ++t) {
+                const double x = double(q * t - r) * cell_sig;
+                kernel[size_t(r) * size_t(2 * K + 1) + size_t(t + K)] = std::exp(-0.5 * x * x);
+            }
+        kernel_key[0] = q;
+        kernel_key[1] = double(K);
+        kernel_key[2] = cell_sig;
+    }
+    const long first = std::lround(f.lo / f.dr);  // the waveform's first sample
+    double* w = f.w.data();
+    for (size_t m = 0; m < cells.size(); ++m) {
+        const double P = cells[m];
+        if (!(P > 0)) continue;
+        const long jc = long(m) / q, r = long(m) - q * jc;
+        const double* kr = kernel.data() + size_t(r) * size_t(2 * K + 1) + K;
+        const long t0 = std::max(-K, first - jc), t1 = std::min(K, first + n - 1 - jc);
+        double* wc = w + (jc - first + t0);
+        const double* kc = kr + t0;
+        for (long t = 0; t <= t1 - t0; ++t) wc[t] += P * kc[t];
+    }
+}
+
 }  // namespace
 
 double pulseSigma_m(const PhysicalParams& p)
@@ -234,11 +318,34 @@ Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamS
             lo = std::min(lo, e.range_m - reach);
             hi = std::max(hi, e.range_m + reach);
         }
+    // Smoke summed in cells centred on the samples: the grid starts on a cell's centre.
+    const bool cells = !s.smoke_cells.empty();
+    int q = 1;  // smoke points a sample
+    if (cells) {
+        q = int(std::lround(f.dr / s.smoke_cell_m));
+        if (q < 1 || std::abs(q * s.smoke_cell_m - f.dr) > 1e-9 * f.dr)
+            throw Error("pulsed waveform",
+                        "smoke points every " + std::to_string(s.smoke_cell_m) + " m on a waveform sampled every " +
+                            std::to_string(f.dr) + " m");
+        size_t k0 = 0, k1 = 0;
+        bool any = false;
+        for (size_t k = 0; k < s.smoke_cells.size(); ++k)
+            if (s.smoke_cells[k] > 0 && double(k) * s.smoke_cell_m < r_end) {
+                if (!any) k0 = k;
+                k1 = k;
+                any = true;
+            }
+        if (any) {
+            lo = std::min(lo, double(k0) * s.smoke_cell_m - reach);
+            hi = std::max(hi, double(k1) * s.smoke_cell_m + reach);
+        }
+    }
     if (!(hi > lo)) return f;
-    f.lo = lo = std::max(0.0, lo);
+    f.lo = lo = cells ? std::max(0.0, std::floor(lo / f.dr)) * f.dr : std::max(0.0, lo);
     hi = std::min(hi, r_end);
     const int n = int(std::ceil((hi - lo) / f.dr)) + 1;
     f.w.assign(size_t(n), 0.0);
+    if (cells) addSmokeCells(f, s.smoke_cells, q, reach, n);
     // Each echo's pulse exp(−x²/2σ²) on the grid by its recurrence: from one sample to the next
     // the value is multiplied by a ratio that itself shrinks by exp(−dr²/σ²) (two exps an echo).
     const double inv2s2 = 1.0 / (2 * f.sig_p * f.sig_p), shrink = std::exp(-2 * f.dr * f.dr * inv2s2);

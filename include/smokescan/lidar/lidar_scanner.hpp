@@ -87,6 +87,7 @@ private:
     ReturnMode mode_;
     uint64_t seed_;
     std::vector<PatternBeam> pattern_;
+    std::vector<Vec3> local_;  ///< each beam's unit direction in the sensor frame
 };
 
 }  // namespace smokescan

@@ -61,6 +61,8 @@ public:
         const SmokeVolume* volume;
         std::shared_ptr<const DensityGrid> grid;
         double scale;  ///< timeline scale at this time
+        double wavelength_nm = -1;  ///< the wavelength `sigma_t` was evaluated at (-1: none)
+        double sigma_t = 0;  ///< the medium's σ_t at wavelength_nm [1/m per unit density]
     };
 
     SmokeField() = default;
@@ -71,6 +73,10 @@ public:
     BeamSmoke trace(const Ray& ray, double t0_m, double t1_m, const BeamQuery& q) const;
 
     const std::vector<Entry>& entries() const { return entries_; }
+
+    /// @brief Evaluates each medium's σ_t at this wavelength once: beams traced at it then skip
+    /// the spectral power law (the same values, sooner).
+    void prepare(double wavelength_nm);
 
     /// @brief The same field with every regional volume's density multiplied by k (local plumes
     /// unchanged): columns through regional smoke scale by k exactly.

@@ -61,9 +61,15 @@ struct PhysicalParams {
     /// Smoke along a beam is summed into echoes this long [m]: for the URG-04LX and LMS200 0.1 m,
     /// 0.2 rad of the fine AMCW phase (sinc loss 0.2 %) and 0.4 of the Sick pulse's σ.
     double smoke_bin_m = 0.1;
+    /// When > 0, the smoke's backscatter along the central ray is summed onto points this far
+    /// apart (BeamSignal::smoke_cells) instead of echoes [m]: the 3D lidars set it to half their
+    /// waveform's sample spacing, and the smoke goes onto the waveform by one fixed kernel.
+    double smoke_cell_m = 0;
 
     /// Overlap O(r) ∈ [0, 1] of the receiver's field of view with the beam at range r [m].
     double overlap(double r_m) const;
+    /// The range from which O(r) no longer changes [m]: O(r) = O(this) for every r beyond it.
+    double overlapSettled_m() const;
 };
 
 /// @brief Defaults for a sensor type, calibrated values included.

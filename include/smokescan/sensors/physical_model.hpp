@@ -40,6 +40,11 @@ struct BeamSignal {
     std::vector<Echo> echoes;  ///< sorted by range
     double surface_power = 0, smoke_power = 0, mirror_power = 0;
     bool surface_in_range = false;  ///< some sub-ray hit a surface within the sensor's range
+    /// The smoke's backscatter power on points k·c, c = smoke_cell_m, when the sensor sums it on a
+    /// grid (PhysicalParams::smoke_cell_m > 0): each piece of the path between two points shared
+    /// between them so that its centre stays; empty otherwise, and the smoke is in `echoes`.
+    std::vector<double> smoke_cells;
+    double smoke_cell_m = 0;
 };
 
 /// Optical depth along a beam from a piecewise-constant σ_t profile: τ(r) in O(log n).
@@ -76,6 +81,14 @@ double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wavel
 void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
                        double s0, double s1, double range_offset_m, double gain, double lobe_ratio,
                        const std::vector<double>& blocked, EchoSource source, BeamSignal& out);
+
+/// @brief The smoke's backscatter along s ∈ [0, s1] of the direct path summed onto points at the
+/// multiples of p.smoke_cell_m (out.smoke_cells): the path cut at the points and where sub-rays
+/// stop, T² integrated exactly over each piece, O(r)/r² at its middle, its power shared between
+/// the two points around it in proportion to their nearness (its centre kept).
+/// @param blocked sorted distances at which each of the footprint's sub-rays stops (may be empty)
+void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
+                       double s1, const std::vector<double>& blocked, BeamSignal& out);
 
 /// @brief Traces a beam's footprint (sub-rays) through the surfaces and the smoke and collects
 /// its echoes: surfaces, smoke along the central ray, and mirror paths of specular surfaces.
