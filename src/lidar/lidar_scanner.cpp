@@ -78,12 +78,7 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
     std::vector<LidarEcho> out;
     if (f.w.empty()) return out;
     if (rng)
-        for (size_t i = 0; i < f.w.size(); i += 2) {
-            double a, b;
-            rng->normalPair(a, b);
-            f.w[i] += p.noise_floor * a;
-            if (i + 1 < f.w.size()) f.w[i + 1] += p.noise_floor * b;
-        }
+        for (double& w : f.w) w += p.noise_floor * rng->normalZiggurat();
     const double fwhm = 2.354820045 * f.sig_p;
     for (const WaveformEcho& e : waveformEchoes(f, p.threshold_snr * p.noise_floor, spec.max_echoes)) {
         // An echo whose leading edge the waveform does not hold (nearer than half the pulse's
@@ -91,7 +86,7 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
         if (f.lo <= 0 && e.lead_m <= f.lo) continue;
         LidarEcho x;
         x.peak = refinedPeak(f, e);
-        x.range_m = refinedLead(f, e, x.peak) + 0.5 * fwhm + (rng ? spec.range_sigma_m * rng->normal() : 0.0);
+        x.range_m = refinedLead(f, e, x.peak) + 0.5 * fwhm + (rng ? spec.range_sigma_m * rng->normalZiggurat() : 0.0);
         if (!(x.range_m >= spec.range_min_m && x.range_m <= spec.range_max_m)) continue;
         x.intensity = std::min(255.0, 100 * x.peak * x.range_m * x.range_m / std::max(1e-9, p.overlap(x.range_m)));
         x.source = dominantSource(s, e, 2 * f.sig_p);

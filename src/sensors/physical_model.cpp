@@ -113,14 +113,25 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     const double settled = p.overlapSettled_m(), O_settled = p.overlap(settled);
     const double n_sub = blocked.empty() ? 1.0 : double(blocked.size());
     auto blockedAfter = blocked.begin();  // the first sub-ray stop beyond the piece's start
+    double last_end = -1, last_T2 = 1;  // where the last segment ended, and T² there
     for (const auto& g : beta) {
         const double a = std::max(g.t0_m, 0.0), b = std::min(g.t1_m, s1);
         if (!(b > a) || g.density <= 0) continue;
         // σ_t is constant on a β segment (both profiles come from the same voxels), so over a
         // piece [x, y]: ∫T² = T²(x)·(1 − exp(−2σ(y − x)))/(2σ).
         const double sig = tau.sigmaAt(0.5 * (a + b));
-        double T2 = std::exp(-2 * tau.tau(a));
-        const double full_step = std::exp(-2 * sig * c);
+        // A smoke segment usually starts where the last ended: T² carried on from there.
+        double T2 = a == last_end ? last_T2 : std::exp(-2 * tau.tau(a));
+        // Over a piece of length len: the step of T², ∫T² / T²(start), and the centre of T².
+        auto piece = [sig](double len, double& step, double& integral, double& centre) {
+            const double h = 2 * sig * len;
+            step = std::exp(-h);
+            integral = h > 1e-6 ? (1 - step) / (2 * sig) : len * (1 - 0.5 * h);
+            centre = h > 1e-4 ? 1 / (2 * sig) - len * step / (1 - step) : len * (0.5 - h / 12);
+        };
+        double full_step, full_integral, full_centre;  // a whole piece between two points
+        piece(c, full_step, full_integral, full_centre);
+        const double density_pi = M_PI * g.density;
         long k = long(a * inv_c);  // the piece lies between points k and k + 1
         if (double(k + 1) * c <= a) ++k;
         for (double x = a; x < b;) {
@@ -130,15 +141,12 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
             if (blockedAfter != blocked.end() && *blockedAfter < y) y = *blockedAfter;
             const double open = blocked.empty() ? 1.0 : double(blocked.end() - blockedAfter) / n_sub;
             if (open <= 0) return;
-            const double len = y - x;
-            const double step = x == double(k) * c && y == edge ? full_step : std::exp(-2 * sig * len);
-            const double T2int = 2 * sig * len > 1e-6 ? T2 * (1 - step) / (2 * sig) : T2 * len * (1 - sig * len);
-            // The centre of T² over the piece: O(r)/r² there, and the power shared from there
-            // between the points around it, the nearer taking more (the centre kept).
-            const double h = 2 * sig * len;
-            const double u = h > 1e-4 ? 1 / (2 * sig) - len * step / (1 - step) : len * (0.5 - h / 12);
+            double step = full_step, integral = full_integral, u = full_centre;
+            if (!(x == double(k) * c && y == edge)) piece(y - x, step, integral, u);
+            // O(r)/r² at the centre of T², and the power shared from there between the points
+            // around the piece, the nearer taking more (the centre kept).
             const double r = x + u, O = r >= settled ? O_settled : p.overlap(r);
-            const double P = open * M_PI * g.density * O / (r * r) * T2int;
+            const double P = open * density_pi * O / (r * r) * T2 * integral;
             if (P > 0) {
                 const double f = std::clamp(r * inv_c - double(k), 0.0, 1.0);
                 out.smoke_cells[size_t(k)] += (1 - f) * P;
@@ -149,6 +157,8 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
             if (y == edge) ++k;
             x = y;
         }
+        last_end = b;
+        last_T2 = T2;
     }
 }
 

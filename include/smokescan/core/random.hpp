@@ -25,14 +25,6 @@ public:
     uint64_t next() { return splitmix64(state_++); }
     /// Uniform in [0, 1).
     double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-    /// Two independent standard normals (both of Box–Muller's pair: half normal()'s cost each).
-    void normalPair(double& a, double& b)
-    {
-        const double u1 = 1.0 - uniform(), u2 = uniform();
-        const double r = std::sqrt(-2.0 * std::log(u1));
-        a = r * std::cos(2.0 * M_PI * u2);
-        b = r * std::sin(2.0 * M_PI * u2);
-    }
     /// Standard normal (Box–Muller).
     double normal()
     {
@@ -40,8 +32,20 @@ public:
         return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
     }
 
+    /// Standard normal by the ziggurat (see zigguratNormal): exact, about five times as fast.
+    double normalZiggurat();
+
 private:
     uint64_t state_;
 };
+
+/// @brief A standard normal drawn by Marsaglia and Tsang's ziggurat (J. Stat. Softw. 5(8), 2000)
+/// in Doornik's form (2005): 128 layers of equal area under exp(−x²/2), a layer and a uniform
+/// from one 64-bit draw; 99 % of draws are a multiply and a compare, the rest take the wedge's
+/// exact test or the tail beyond R = 3.4426 by Marsaglia's exponential rejection. Exact: the
+/// result has the normal distribution, not an approximation of it.
+double zigguratNormal(KeyedRng& rng);
+
+inline double KeyedRng::normalZiggurat() { return zigguratNormal(*this); }
 
 }  // namespace smokescan
