@@ -40,6 +40,21 @@ TEST(Cli, ScanWritesThePapersLogAndSummary)
     EXPECT_EQ(slurp(tau).substr(0, 22), "time_s,beam,angle_rad,");
 }
 
+TEST(Cli, AReportThatCannotBeWrittenIsAnErrorNotASilentZero)
+{
+    // Standard output on a full disk: the run's files are written, but the report is lost, and
+    // the exit status says so (as coreutils' tools do).
+    if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this machine";
+    const std::string log = file("full.log"), err = file("full.err");
+    const std::string cmd =
+        std::string(SMOKESCAN_CLI) + " scan bocas --from 0 --to 1 --out " + log + " >/dev/full 2>" + err;
+    const int rc = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(rc));
+    EXPECT_EQ(WEXITSTATUS(rc), 1);
+    EXPECT_NE(slurp(err).find("smokescan: standard output: cannot write the report"), std::string::npos) << slurp(err);
+    EXPECT_TRUE(fs::exists(log));
+}
+
 TEST(Cli, ScanImageDrawsTheSeriesLikeFig10)
 {
     const std::string log = file("plume.log"), png = file("plume.png");

@@ -1,6 +1,9 @@
 // smokescan: laser range finders and cameras in smoke. A thin CLI over the library.
 #include <glog/logging.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <new>
 #include <string>
@@ -90,7 +93,18 @@ int main(int argc, char** argv)
         return 2;
     }
     try {
-        return run ? run() : 0;
+        const int rc = run ? run() : 0;
+        // A report that could not be written (a full disk, a closed pipe's reader gone) is a
+        // failure the user must see, not a silent 0.
+        std::cout.flush();
+        errno = 0;
+        if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+            const int e = errno;
+            std::cerr << "smokescan: standard output: cannot write the report"
+                      << (e ? " (" + std::string(std::strerror(e)) + ")" : std::string()) << '\n';
+            return rc ? rc : 1;
+        }
+        return rc;
     } catch (const std::bad_alloc&) {
         std::cerr << "smokescan: out of memory (the run needs more than this machine has; see docs/limits.md)\n";
     } catch (const std::exception& e) {
