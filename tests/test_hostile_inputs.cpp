@@ -85,7 +85,7 @@ TEST(Hardening, APlotWithMoreGroupsThanItsKeyHoldsDoesNotAbort)
 TEST(Hardening, PositionsBeyondTheSceneReachAreRefusedWhenRead)
 {
     // 1.8e18 m reached Embree's assertion.
-    const std::string out = file("far.log");
+    const std::string out = file("far_scan.log");
     const std::string far =
         file("far.toml", "[[sensors]]\nname = \"h\"\ntype = \"urg04lx\"\nposition = [2e18, 0.0, 0.5]\n");
     expectBad("scan " + far + " --to 1 --out " + out, "sensors[0].position must lie within 1000 km of the origin", out);
