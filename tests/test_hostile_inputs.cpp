@@ -181,6 +181,12 @@ TEST(Hardening, OptionValuesBeyondMeaningAreOneLineErrors)
              {"fit --laser " + run.log + " --saturation " + run.sat + " --scene bocas --offset 1e300 --out " + out,
               "--offset: '1e300' is outside", out},
              {"saturation " + png + " --rect 'a,b=0,0,1,1' --out " + out, "must be 1-64 letters", out},
+             // A seed does not wrap around: -1 and 10^23 were 2^64 - 1 both.
+             {"scan bocas --to 1 --seed -1 --out " + out, "--seed: '-1' is not a seed", out},
+             {"scan plume --sensor vlp16 --to 0.1 --seed 99999999999999999999999 --points " + out,
+              "is not a seed (a whole number from 0 to 18446744073709551615)", out},
+             {"render bocas --seed 1e3 --out " + png, "--seed: '1e3' is not a seed", png},
+             {diag + " --seed ''", "--seed: '' is not a seed", dir_out},
          })
         expectBad(c.args, c.needle, c.out);
     const CliRun r = cli("frobnicate");

@@ -85,6 +85,22 @@ CLI::Validator range(double lo, double hi)
         name);
 }
 
+const CLI::Validator& seedRule()
+{
+    static const CLI::Validator v(
+        [](std::string& text) {
+            char* end = nullptr;
+            errno = 0;
+            const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+            if (digits) std::strtoull(text.c_str(), &end, 10);
+            if (!digits || errno == ERANGE)
+                return "'" + text + "' is not a seed (a whole number from 0 to 18446744073709551615)";
+            return std::string();
+        },
+        "SEED");
+    return v;
+}
+
 CLI::Validator intRange(long long lo, long long hi)
 {
     return CLI::Validator(
