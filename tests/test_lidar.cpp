@@ -250,6 +250,8 @@ TEST(Lidar, PatternFileBadLinesAreRefusedWithTheirLine)
     refused("0, 95, 0\n", "elevation_deg must lie within ±90");
     refused("0, 0, 0, 1.5\n", "channel must be an integer");
     refused("# nothing\n", "the pattern file has no beams");
+    refused("0, 0, 0,\n", "pattern.csv:2: ends with a comma (an empty field)");
+    refused("0x10, 0, 0\n", "pattern.csv:2: azimuth_deg '0x10' is not a decimal number");
 }
 
 TEST(Lidar, ReturnModesPickTheirEchoes)

@@ -29,6 +29,9 @@ double number(const std::string& text, const std::string& where, const char* wha
 {
     errno = 0;
     char* end = nullptr;
+    // Decimal only: strtod would also take hexadecimal ("0x10" as 16).
+    if (text.find_first_of("xX") != std::string::npos)
+        throw Error(where, std::string(what) + " '" + text + "' is not a decimal number");
     const double v = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
         throw Error(where, std::string(what) + " '" + text + "' is not a finite number");
@@ -49,6 +52,7 @@ std::vector<PatternBeam> readPatternFile(const std::string& path, double period_
         if (hash != std::string::npos) line.resize(hash);
         if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
         const std::vector<std::string> f = fields(line);
+        if (line.find_last_not_of(" \t\r") == line.rfind(',')) throw Error(where, "ends with a comma (an empty field)");
         if (f.size() != 3 && f.size() != 4)
             throw Error(where, "expected azimuth_deg, elevation_deg, time_s[, channel]");
         if ((long long)beams.size() >= lidar_limits::kBeamsPerFrame)
