@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "cli_run.hpp"
 #include "smokescan/io/image.hpp"
@@ -46,6 +47,27 @@ TEST(LidarCli, ScanWritesOnePointCloudPerFrameAtTheSensorsRate)
         EXPECT_EQ(text.size(), data + 12 + size_t(n) * 24);
     }
     EXPECT_FALSE(fs::exists(pts / "000003.pcd"));
+    // frames.csv: a line a frame, its file and start time (--from + k / 10 Hz), the sensor's pose;
+    // each PCD's VIEWPOINT is that start pose (the plume's LMS200 stands still at z = 0.5 m).
+    std::istringstream index(slurp(pts / "frames.csv"));
+    std::string line;
+    ASSERT_TRUE(std::getline(index, line));
+    EXPECT_EQ(line.substr(0, 24), "frame,file,start_s,end_s");
+    for (int k = 0; k < 3; ++k) {
+        ASSERT_TRUE(std::getline(index, line)) << k;
+        std::vector<std::string> cell;
+        std::istringstream row(line);
+        for (std::string c; std::getline(row, c, ',');) cell.push_back(c);
+        ASSERT_EQ(cell.size(), 18u) << line;
+        EXPECT_EQ(cell[1], "00000" + std::to_string(k) + ".pcd");
+        EXPECT_NEAR(std::stod(cell[2]), 20 + 0.1 * k, 1e-9);
+        EXPECT_NEAR(std::stod(cell[3]) - std::stod(cell[2]), 0.1 * 1023 / 1024, 1e-6);  // the last column's firing
+        std::string viewpoint = cell[4];
+        for (int i = 5; i < 11; ++i) viewpoint += " " + cell[size_t(i)];
+        EXPECT_EQ(pcdHeader(pts / cell[1], "VIEWPOINT"), viewpoint);
+        EXPECT_EQ(std::stod(cell[6]), 0.5);
+    }
+    EXPECT_FALSE(std::getline(index, line));
     // Each frame is its own turn of the head: the clouds drift between them.
     EXPECT_NE(slurp(pts / "000000.pcd"), slurp(pts / "000001.pcd"));
     const fs::path ply = dir() / "vlp_points";

@@ -432,6 +432,20 @@ TEST(Lidar, ATurningLidarsPointsFollowTheClosedFormOfItsTurn)
     // The frame's poses: 18° at its start, 18.9° at its last beam.
     EXPECT_NEAR(std::atan2(f.start_pose.R(1, 0), f.start_pose.R(0, 0)) / kDeg, 18, 1e-6);
     EXPECT_NEAR(std::atan2(f.end_pose.R(1, 0), f.end_pose.R(0, 0)) / kDeg, 9 * (2.0 + 0.099 * 199 / 200), 1e-6);
+    // frames.csv's line: the times, and the poses as quaternions about z (qw = cos ψ/2, qz = sin ψ/2).
+    std::vector<double> v;
+    std::istringstream row(frameIndexRow(f, "000000.pcd"));
+    for (std::string cell; std::getline(row, cell, ',');)
+        if (cell != "000000.pcd") v.push_back(std::stod(cell));
+    ASSERT_EQ(v.size(), 17u);  // frame, start_s, end_s, 7 + 7 pose values
+    EXPECT_EQ(v[1], 2.0);
+    EXPECT_NEAR(v[2], 2.0 + 0.099 * 199 / 200, 1e-9);
+    const double psi0 = 18 * kDeg, psi1 = 9 * kDeg * (2.0 + 0.099 * 199 / 200);
+    EXPECT_NEAR(v[6], std::cos(psi0 / 2), 1e-8);
+    EXPECT_NEAR(v[9], std::sin(psi0 / 2), 1e-8);
+    EXPECT_NEAR(v[13], std::cos(psi1 / 2), 1e-8);
+    EXPECT_NEAR(v[16], std::sin(psi1 / 2), 1e-8);
+    EXPECT_EQ(frameIndexHeader().substr(0, 40), "frame,file,start_s,end_s,start_x_m,start");
 }
 
 TEST(Lidar, AReceiverResolvesAtMostItsMaxEchoes)

@@ -7,6 +7,7 @@
 #include "progress.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
+#include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/io/run_files.hpp"
@@ -55,16 +56,23 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     const long long frames = (long long)frames_wanted;
     const Progress progress("scanning", "lidar frames");
     long long points = 0, smoke = 0;
+    std::string index = frameIndexHeader();
     for (long long k = 0; k < frames; ++k) {
         const LidarFrame f = scanner.frame(from + double(k) * period, uint64_t(k));
         char name[32];
         std::snprintf(name, sizeof name, "%06lld.%s", k, a.format.c_str());
         (a.format == "pcd" ? writePcd : writePly)(out.path(name), f);
+        index += frameIndexRow(f, name);
         if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
         if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
         points += (long long)f.points.size();
         for (const LidarPoint& p : f.points) smoke += p.source == uint8_t(EchoSource::Smoke);
         progress.update(k + 1, frames);
+    }
+    {
+        AtomicFile csv(out.path("frames.csv"));
+        csv.stream() << index;
+        csv.commit();
     }
     files.commit();  // the pictures first: the folder's rename is the last step that can fail
     out.commit();

@@ -1,5 +1,7 @@
 #include "smokescan/lidar/point_cloud_io.hpp"
 
+#include <Eigen/Geometry>
+#include <cstdio>
 #include <cstring>
 #include <ostream>
 
@@ -28,7 +30,40 @@ void pack(std::ostream& o, const LidarPoint& p)
     o.write(buf, std::streamsize(at));
 }
 
+/// A pose as "tx ty tz qw qx qy qz" (the quaternion with qw ≥ 0), separated by `sep`.
+std::string poseText(const Pose& pose, char sep)
+{
+    Eigen::Quaterniond q(pose.R);
+    q.normalize();
+    if (q.w() < 0) q.coeffs() *= -1;
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g", pose.t.x(), sep, pose.t.y(), sep,
+                  pose.t.z(), sep, q.w(), sep, q.x(), sep, q.y(), sep, q.z());
+    return buf;
+}
+
+std::string seconds(double t)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.9g", t);
+    return buf;
+}
+
 }  // namespace
+
+std::string frameIndexHeader()
+{
+    std::string h = "frame,file,start_s,end_s";
+    for (const char* when : {"start", "end"})
+        for (const char* c : {"x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"}) h += std::string(",") + when + "_" + c;
+    return h + "\n";
+}
+
+std::string frameIndexRow(const LidarFrame& frame, const std::string& file)
+{
+    return std::to_string(frame.index) + "," + file + "," + seconds(frame.start_s) + "," + seconds(frame.end_s) + "," +
+        poseText(frame.start_pose, ',') + "," + poseText(frame.end_pose, ',') + "\n";
+}
 
 void writePcd(const std::string& path, const LidarFrame& frame)
 {
@@ -36,10 +71,12 @@ void writePcd(const std::string& path, const LidarFrame& frame)
     AtomicFile f(path);
     std::ostream& o = f.stream();
     const size_t n = frame.points.size();
-    o << "# .PCD v0.7 - Point Cloud Data file format (smokescan lidar frame " << frame.index << ")\n"
+    o << "# .PCD v0.7 - Point Cloud Data file format (smokescan lidar frame " << frame.index << ", start_s "
+      << seconds(frame.start_s) << ")\n"
       << "VERSION 0.7\nFIELDS x y z intensity ring return_index time source\n"
       << "SIZE 4 4 4 4 2 1 4 1\nTYPE F F F F U U F U\nCOUNT 1 1 1 1 1 1 1 1\n"
-      << "WIDTH " << n << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << n << "\nDATA binary\n";
+      << "WIDTH " << n << "\nHEIGHT 1\nVIEWPOINT " << poseText(frame.start_pose, ' ') << "\nPOINTS " << n
+      << "\nDATA binary\n";
     for (const LidarPoint& p : frame.points) pack(o, p);
     f.commit();
 }
@@ -49,6 +86,8 @@ void writePly(const std::string& path, const LidarFrame& frame)
     AtomicFile f(path);
     std::ostream& o = f.stream();
     o << "ply\nformat binary_little_endian 1.0\ncomment smokescan lidar frame " << frame.index << "\n"
+      << "comment start_s " << seconds(frame.start_s) << "\ncomment viewpoint " << poseText(frame.start_pose, ' ')
+      << "\n"
       << "element vertex " << frame.points.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\nproperty float intensity\n"
       << "property uint16 ring\nproperty uchar return_index\nproperty float time\nproperty uchar source\n"
