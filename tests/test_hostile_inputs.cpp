@@ -187,8 +187,20 @@ TEST(Hardening, OptionValuesBeyondMeaningAreOneLineErrors)
               "is not a seed (a whole number from 0 to 18446744073709551615)", out},
              {"render bocas --seed 1e3 --out " + png, "--seed: '1e3' is not a seed", png},
              {diag + " --seed ''", "--seed: '' is not a seed", dir_out},
+             {"calibrate bocas --densities 0.001,0.002 --spp 1 --width 16 --height 12 --seed +1 --out " + out,
+              "--seed: '+1' is not a seed", out},
+             {"omnirange bocas --seed ' 5' --out " + out, "--seed: ' 5' is not a seed", out},
+             {"scan bocas --to 1 --seed 18446744073709551616 --out " + out, "is not a seed", out},
          })
         expectBad(c.args, c.needle, c.out);
+    // A seed is decimal as written (CLI11 alone read 010 as octal 8), up to 2^64 - 1.
+    for (const auto& [seed, header] : std::vector<std::pair<std::string, std::string>>{
+             {"010", "seed=10\n"}, {"09", "seed=9\n"}, {"18446744073709551615", "seed=18446744073709551615\n"}}) {
+        const std::string log = file("seeded.log");
+        const CliRun ok = cli("scan bocas --to 0.1 --seed " + seed + " --out " + log);
+        ASSERT_EQ(ok.status, 0) << ok.err;
+        EXPECT_NE(slurp(log).find(header), std::string::npos) << seed;
+    }
     const CliRun r = cli("frobnicate");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("unknown command 'frobnicate' (scan, "), std::string::npos) << r.err;

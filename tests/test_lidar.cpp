@@ -369,8 +369,8 @@ TEST(Lidar, AFogSlabBeforeAWallGivesTwoEchoesAttenuatedByTheLidarEquation)
         const double c = std::cos(std::atan2(wall.y, wall.x));
         const auto [range, intensity] = slabEcho(4.025 / c, 4.525 / c, 0.8, beta, sigma_p);
         // The receiver sums the smoke onto points a quarter of the pulse's σ apart (8 cm), each
-        // piece of the path shared between the two around it: within 1 cm and 2 % (seen: 4.1 mm
-        // and 0.9 %).
+        // piece of the path shared between the two around it: within 1 cm and 2 % (seen: 4.9 mm
+        // and 0.8 %).
         EXPECT_NEAR(smoke.range_m, range, 0.01);
         EXPECT_NEAR(smoke.intensity, intensity, 0.02 * intensity);
         worst_range = std::max(worst_range, std::abs(smoke.range_m - range));

@@ -207,7 +207,7 @@ void addCalibration(CLI::App& app, Runner& run)
     c->add_option("--height", a->cfg.height, "Frame height [px]")
         ->capture_default_str()
         ->check(intRange(1, limits::kFrameSide));
-    c->add_option("--seed", a->cfg.seed, "Render seed")->check(seedRule())->capture_default_str();
+    c->add_option("--seed", a->cfg.seed, "Render seed")->transform(seedRule())->capture_default_str();
     c->add_option("--camera", a->cfg.camera, "Scene camera (default: the first)");
     c->add_option("--target-prefix", a->cfg.target_prefix, "Surface-name prefix of the target's patches")
         ->capture_default_str()

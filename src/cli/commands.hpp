@@ -32,7 +32,8 @@ const CLI::Validator& nonnegative();
 CLI::Validator range(double lo, double hi);
 /// An integer in [lo, hi].
 CLI::Validator intRange(long long lo, long long hi);
-/// A seed: a whole number from 0 to 2⁶⁴ − 1 written in decimal digits (no sign, no wrap-around).
+/// A seed: a whole number from 0 to 2⁶⁴ − 1 written in decimal digits (no sign, no wrap-around;
+/// leading zeros are decimal, not octal). A transform: add it with ->transform().
 const CLI::Validator& seedRule();
 /// A text that is not empty (a surface-name prefix: "" would make every surface the target).
 const CLI::Validator& nonEmpty();

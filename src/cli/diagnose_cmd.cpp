@@ -199,7 +199,7 @@ void addDiagnose(CLI::App& app, Runner& run)
     c->add_option("--max-findings", a->diag.max_findings, "Greedy rounds at most")
         ->capture_default_str()
         ->check(intRange(1, 8));
-    c->add_option("--seed", a->diag.seed, "Seed of the sign-flip draws")->check(seedRule())->capture_default_str();
+    c->add_option("--seed", a->diag.seed, "Seed of the sign-flip draws")->transform(seedRule())->capture_default_str();
     c->callback([a, &run] { run = [a] { return runDiagnose(*a); }; });
 }
 

@@ -96,8 +96,8 @@ int main(int argc, char** argv)
         const int rc = run ? run() : 0;
         // A report that could not be written (a full disk, a closed pipe's reader gone) is a
         // failure the user must see, not a silent 0.
-        std::cout.flush();
         errno = 0;
+        std::cout.flush();
         if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
             const int e = errno;
             std::cerr << "smokescan: standard output: cannot write the report"

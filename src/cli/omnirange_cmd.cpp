@@ -190,7 +190,7 @@ void addOmnirange(CLI::App& app, Runner& run)
     c->add_option("--to", a->to, "Last frame time [s] (default: scene end)")->check(finite());
     c->add_option("--rate", a->rate_hz, "Frames per second [Hz]")->capture_default_str()->check(positive());
     c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
-    c->add_option("--seed", a->cfg.seed, "Noise seed")->check(seedRule())->capture_default_str();
+    c->add_option("--seed", a->cfg.seed, "Noise seed")->transform(seedRule())->capture_default_str();
     c->add_option("--threshold", a->cfg.range.threshold, "Θ: a pixel is free when its bin's share is at least this")
         ->capture_default_str();
     c->add_option("--n-behind", a->cfg.range.filter.n_behind, "N: non-free pixels behind a hit point")

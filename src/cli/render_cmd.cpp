@@ -131,7 +131,7 @@ void addRender(CLI::App& app, Runner& run)
     c->add_option("--camera", a->cfg.camera, "Scene camera name (default: the first)");
     c->add_option("--width", a->width, "Override the camera's width [px]")->check(intRange(1, limits::kFrameSide));
     c->add_option("--height", a->height, "Override the camera's height [px]")->check(intRange(1, limits::kFrameSide));
-    c->add_option("--seed", a->cfg.seed, "Random seed")->check(seedRule())->capture_default_str();
+    c->add_option("--seed", a->cfg.seed, "Random seed")->transform(seedRule())->capture_default_str();
     c->add_option("--max-depth", a->cfg.max_depth, "Scattering/bounce events per path")
         ->capture_default_str()
         ->check(intRange(0, limits::kPathDepth));

@@ -304,7 +304,7 @@ void addScan(CLI::App& app, Runner& run)
                   "Sensor file (TOML) with the model and its parameters (docs/sensors.md)");
     c->add_option("--penetration-power", a->cfg.penetration_power, "Paper model penetration power [density·m]")
         ->check(positive());
-    c->add_option("--seed", a->cfg.seed, "Noise seed")->check(seedRule())->capture_default_str();
+    c->add_option("--seed", a->cfg.seed, "Noise seed")->transform(seedRule())->capture_default_str();
     c->add_option("--target", a->target, "Surface-name prefix the summary counts as the target")
         ->capture_default_str()
         ->check(nonEmpty());

@@ -92,9 +92,10 @@ const CLI::Validator& seedRule()
             char* end = nullptr;
             errno = 0;
             const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
-            if (digits) std::strtoull(text.c_str(), &end, 10);
+            const unsigned long long v = digits ? std::strtoull(text.c_str(), &end, 10) : 0;
             if (!digits || errno == ERANGE)
                 return "'" + text + "' is not a seed (a whole number from 0 to 18446744073709551615)";
+            text = std::to_string(v);  // decimal as written: CLI11 would read "010" as octal
             return std::string();
         },
         "SEED");

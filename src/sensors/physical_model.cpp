@@ -37,6 +37,14 @@ double TauProfile::tau(double r) const
     return cum_[i] + seg_[i].density * std::max(0.0, r - seg_[i].t0_m);
 }
 
+double TauProfile::stretchEnd(double r) const
+{
+    auto it =
+        std::upper_bound(seg_.begin(), seg_.end(), r, [](double v, const ProfileSegment& g) { return v < g.t1_m; });
+    if (it == seg_.end()) return kInf;
+    return it->t0_m <= r ? it->t1_m : it->t0_m;
+}
+
 double TauProfile::sigmaAt(double r) const
 {
     auto it =
@@ -117,45 +125,48 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     for (const auto& g : beta) {
         const double a = std::max(g.t0_m, 0.0), b = std::min(g.t1_m, s1);
         if (!(b > a) || g.density <= 0) continue;
-        // σ_t is constant on a β segment (both profiles come from the same voxels), so over a
-        // piece [x, y]: ∫T² = T²(x)·(1 − exp(−2σ(y − x)))/(2σ).
-        const double sig = tau.sigmaAt(0.5 * (a + b));
         // A smoke segment usually starts where the last ended: T² carried on from there.
         double T2 = a == last_end ? last_T2 : std::exp(-2 * tau.tau(a));
-        // Over a piece of length len: the step of T², ∫T² / T²(start), and the centre of T².
-        auto piece = [sig](double len, double& step, double& integral, double& centre) {
-            const double h = 2 * sig * len;
-            step = std::exp(-h);
-            integral = h > 1e-6 ? (1 - step) / (2 * sig) : len * (1 - 0.5 * h);
-            centre = h > 1e-4 ? 1 / (2 * sig) - len * step / (1 - step) : len * (0.5 - h / 12);
-        };
-        double full_step, full_integral, full_centre;  // a whole piece between two points
-        piece(c, full_step, full_integral, full_centre);
         const double density_pi = M_PI * g.density;
-        long k = long(a * inv_c);  // the piece lies between points k and k + 1
-        if (double(k + 1) * c <= a) ++k;
-        for (double x = a; x < b;) {
-            const double edge = double(k + 1) * c;
-            double y = std::min(b, edge);
-            while (blockedAfter != blocked.end() && *blockedAfter <= x) ++blockedAfter;
-            if (blockedAfter != blocked.end() && *blockedAfter < y) y = *blockedAfter;
-            const double open = blocked.empty() ? 1.0 : double(blocked.end() - blockedAfter) / n_sub;
-            if (open <= 0) return;
-            double step = full_step, integral = full_integral, u = full_centre;
-            if (!(x == double(k) * c && y == edge)) piece(y - x, step, integral, u);
-            // O(r)/r² at the centre of T², and the power shared from there between the points
-            // around the piece, the nearer taking more (the centre kept).
-            const double r = x + u, O = r >= settled ? O_settled : p.overlap(r);
-            const double P = open * density_pi * O / (r * r) * T2 * integral;
-            if (P > 0) {
-                const double f = std::clamp(r * inv_c - double(k), 0.0, 1.0);
-                out.smoke_cells[size_t(k)] += (1 - f) * P;
-                out.smoke_cells[size_t(k) + 1] += f * P;
-                out.smoke_power += P;
+        // The segment in stretches of constant σ_t (a volume that only absorbs may change σ_t
+        // inside a β segment), so that over a piece [x, y]: ∫T² = T²(x)·(1 − exp(−2σ(y − x)))/(2σ).
+        for (double sa = a; sa < b;) {
+            const double sb = std::min(b, tau.stretchEnd(sa)), sig = tau.sigmaAt(0.5 * (sa + sb));
+            // Over a piece of length len: the step of T², ∫T² / T²(start), and the centre of T².
+            auto piece = [sig](double len, double& step, double& integral, double& centre) {
+                const double h = 2 * sig * len;
+                step = std::exp(-h);
+                integral = h > 1e-6 ? (1 - step) / (2 * sig) : len * (1 - 0.5 * h);
+                centre = h > 1e-4 ? 1 / (2 * sig) - len * step / (1 - step) : len * (0.5 - h / 12);
+            };
+            double full_step, full_integral, full_centre;  // a whole piece between two points
+            piece(c, full_step, full_integral, full_centre);
+            long k = long(sa * inv_c);  // the piece lies between points k and k + 1
+            if (double(k + 1) * c <= sa) ++k;
+            for (double x = sa; x < sb;) {
+                const double edge = double(k + 1) * c;
+                double y = std::min(sb, edge);
+                while (blockedAfter != blocked.end() && *blockedAfter <= x) ++blockedAfter;
+                if (blockedAfter != blocked.end() && *blockedAfter < y) y = *blockedAfter;
+                const double open = blocked.empty() ? 1.0 : double(blocked.end() - blockedAfter) / n_sub;
+                if (open <= 0) return;
+                double step = full_step, integral = full_integral, u = full_centre;
+                if (!(x == double(k) * c && y == edge)) piece(y - x, step, integral, u);
+                // O(r)/r² at the centre of T², and the power shared from there between the
+                // points around the piece, the nearer taking more (the centre kept).
+                const double r = x + u, O = r >= settled ? O_settled : p.overlap(r);
+                const double P = open * density_pi * O / (r * r) * T2 * integral;
+                if (P > 0) {
+                    const double f = std::clamp(r * inv_c - double(k), 0.0, 1.0);
+                    out.smoke_cells[size_t(k)] += (1 - f) * P;
+                    out.smoke_cells[size_t(k) + 1] += f * P;
+                    out.smoke_power += P;
+                }
+                T2 *= step;
+                if (y == edge) ++k;
+                x = y;
             }
-            T2 *= step;
-            if (y == edge) ++k;
-            x = y;
+            sa = sb;
         }
         last_end = b;
         last_T2 = T2;
@@ -302,6 +313,7 @@ void addSmokeCells(Waveform& f, const std::vector<double>& cells, int q, double 
         const long jc = long(m) / q, r = long(m) - q * jc;
         const double* kr = kernel.data() + size_t(r) * size_t(2 * K + 1) + K;
         const long t0 = std::max(-K, first - jc), t1 = std::min(K, first + n - 1 - jc);
+        if (t1 < t0) continue;  // a point beyond the waveform's reach
         double* wc = w + (jc - first + t0);
         const double* kc = kr + t0;
         for (long t = 0; t <= t1 - t0; ++t) wc[t] += P * kc[t];

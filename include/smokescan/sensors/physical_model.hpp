@@ -53,6 +53,9 @@ public:
     explicit TauProfile(const std::vector<ProfileSegment>& sigma_t);
     double tau(double r_m) const;
     double sigmaAt(double r_m) const;  ///< σ_t [1/m] at r (0 outside the segments)
+    /// Where the stretch of constant σ_t holding r ends [m]: its segment's end, the next
+    /// segment's start in a gap, +inf beyond the last.
+    double stretchEnd(double r_m) const;
 
 private:
     std::vector<ProfileSegment> seg_;
