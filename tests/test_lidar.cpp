@@ -632,3 +632,126 @@ TEST(Lidar, PcdAndPlyFramesAreReadBackFieldByFieldByOpen3d)
         }
     }
 }
+
+namespace {
+
+void expectRefused(const std::string& bytes, const std::string& needle)
+{
+    try {
+        parsePointCloud(bytes, "bad.pcd");
+        ADD_FAILURE() << "accepted; expected " << needle;
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    }
+}
+
+const char* kPcdHeader = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+
+}  // namespace
+
+TEST(Lidar, FramesWrittenAreReadBackFieldByFieldWithTheirTimeAndPose)
+{
+    // A turning robot before a fog slab and a wall, dual returns: points from smoke and from the
+    // wall, both return indexes, firing times across the frame, a pose that is not the identity.
+    const std::string scene = onRobot(wallScene(10, 0.8, 0, 0.8),
+                                      "[[robots.keyframes]]\ntime_s = 0\nposition = [1, 2, 0]\nyaw_deg = 0\n"
+                                      "[[robots.keyframes]]\ntime_s = 10\nposition = [1, 2, 0]\nyaw_deg = 90\n");
+    const LidarFrame f = frameOf(scene, patternedLidar("readback", fan(41, 25.0)), ReturnMode::Dual, 2.0);
+    std::set<int> kinds;  // (source, return index) pairs seen
+    for (const LidarPoint& p : f.points) kinds.insert(10 * p.source + p.return_index);
+    ASSERT_GT(f.points.size(), 41u);
+    EXPECT_EQ(kinds, (std::set<int>{0, 1, 10}));  // surface first or second, smoke first
+    const auto dir = scratch("lidar_readback");
+    writePcd((dir / "f.pcd").string(), f);
+    writePly((dir / "f.ply").string(), f);
+    for (const char* name : {"f.pcd", "f.ply"}) {
+        const PointCloudFile r = readPointCloud((dir / name).string());
+        ASSERT_EQ(r.points.size(), f.points.size()) << name;
+        EXPECT_EQ(r.skipped, 0u);
+        EXPECT_EQ(r.fields,
+                  (std::vector<std::string>{"x", "y", "z", "intensity", "ring", "return_index", "time", "source"}));
+        for (size_t i = 0; i < f.points.size(); ++i) {
+            const LidarPoint &a = f.points[i], &b = r.points[i];
+            EXPECT_EQ(a.x, b.x);
+            EXPECT_EQ(a.y, b.y);
+            EXPECT_EQ(a.z, b.z);
+            EXPECT_EQ(a.intensity, b.intensity);
+            EXPECT_EQ(a.ring, b.ring);
+            EXPECT_EQ(a.return_index, b.return_index);
+            EXPECT_EQ(a.time_s, b.time_s);
+            EXPECT_EQ(a.source, b.source);
+            EXPECT_NEAR(b.range_m, a.range_m, 1e-5 * a.range_m);
+        }
+        EXPECT_EQ(r.start_s, 2.0) << name;
+        ASSERT_TRUE(r.has_viewpoint) << name;
+        EXPECT_NEAR((r.viewpoint.t - f.start_pose.t).norm(), 0, 1e-8);
+        EXPECT_NEAR((r.viewpoint.R - f.start_pose.R).norm(), 0, 1e-8);  // 18° about z
+    }
+}
+
+TEST(Lidar, DriversCloudsAreReadWithTheirOwnFieldsAndNoReturnsSkipped)
+{
+    // An Ouster-like organised cloud, ASCII: t in nanoseconds, fields smokescan does not take
+    // (reflectivity, ambient), a COUNT 3 field, and NaN where the beam had no return.
+    const std::string ouster =
+        "# from a driver\nVERSION 0.7\nFIELDS x y z intensity t reflectivity ring normal\n"
+        "SIZE 4 4 4 4 4 2 2 4\nTYPE F F F F U U U F\nCOUNT 1 1 1 1 1 1 1 3\n"
+        "WIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n"
+        "1.5 0 0.25 12 50000000 7 3 0 0 1\n"
+        "nan nan nan 0 51000000 0 4 0 0 1\n"
+        "0 -2 0 30 52000000 9 5 0 0 1\n";
+    const PointCloudFile o = parsePointCloud(ouster, "os.pcd");
+    ASSERT_EQ(o.points.size(), 2u);
+    EXPECT_EQ(o.skipped, 1u);
+    EXPECT_FLOAT_EQ(o.points[0].x, 1.5f);
+    EXPECT_FLOAT_EQ(o.points[0].range_m, std::sqrt(1.5f * 1.5f + 0.25f * 0.25f));
+    EXPECT_FLOAT_EQ(o.points[0].time_s, 0.05f);
+    EXPECT_EQ(o.points[0].ring, 3);
+    EXPECT_EQ(o.points[1].ring, 5);
+    EXPECT_EQ(o.points[1].beam, 2u);  // its index in the file, the skipped point counted
+    EXPECT_TRUE(std::isnan(o.start_s));
+    // A PLY in ASCII with double coordinates and a face element after the vertices.
+    const std::string ply =
+        "ply\nformat ascii 1.0\ncomment by hand\nelement vertex 2\nproperty double x\n"
+        "property double y\nproperty double z\nproperty ushort ring\nelement face 0\n"
+        "property list uchar int vertex_indices\nend_header\n3 4 0 7\n-1 0 0 8\n";
+    const PointCloudFile p = parsePointCloud(ply, "hand.ply");
+    ASSERT_EQ(p.points.size(), 2u);
+    EXPECT_FLOAT_EQ(p.points[0].range_m, 5.0f);
+    EXPECT_EQ(p.points[1].ring, 8);
+}
+
+TEST(Lidar, BadPointCloudsAreOneLineErrorsNamingTheLine)
+{
+    const std::string h = kPcdHeader;
+    expectRefused(h + "WIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA binary\n" + std::string(30, '\0'),
+                  "bad.pcd: holds 2 whole points of the 3 its header gives (truncated)");
+    expectRefused(h + "WIDTH 1\nPOINTS 1\nDATA binary_compressed\n", "bad.pcd:8: DATA binary_compressed is not read");
+    expectRefused("VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nPOINTS 0\nDATA ascii\n", "bad.pcd: has no field 'z'");
+    expectRefused("FIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nPOINTS 0\nDATA ascii\n", "field 'z' has type F of 2 bytes");
+    expectRefused("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 2 1\nPOINTS 0\nDATA ascii\n",
+                  "field 'y' has 2 values a point, not 1");
+    expectRefused(h + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n", "POINTS 3 is not WIDTH × HEIGHT");
+    expectRefused(h + "POINTS 2\nDATA ascii\n1 2 3\n1 2\n", "bad.pcd:9: 2 values, not the 3 the header gives");
+    expectRefused(h + "POINTS 2\nDATA ascii\n1 2 3\n", "bad.pcd:9: the file ends after 1 of 2 points");
+    expectRefused(h + "POINTS 1\nDATA ascii\n1 2 x3\n", "bad.pcd:8: 'x3' is not a finite number");
+    expectRefused(h + "POINTS 99999999\nDATA ascii\n", "POINTS '99999999' is not a whole number from 0 to 8000000");
+    expectRefused(h + "POINTS 1\n", "the header ends without its data");
+    expectRefused(h + "COLOUR 1\nDATA ascii\n", "bad.pcd:6: 'COLOUR' is not a PCD header line");
+    expectRefused("ply\nformat binary_big_endian 1.0\nelement vertex 0\nend_header\n",
+                  "bad.pcd:2: 'format binary_big_endian 1.0': ascii or binary_little_endian 1.0 are read");
+    expectRefused(
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n" +
+            std::string(12, '\0'),
+        "holds 1 whole points of the 4 its header gives (truncated)");
+    expectRefused("ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\nend_header\n",
+                  "property type 'half' is not a PLY scalar type");
+    try {
+        readPointCloud(scratch("lidar_readback_dir").string());
+        ADD_FAILURE() << "a folder was read";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("is a folder, not a point-cloud file"), std::string::npos) << e.what();
+    }
+}

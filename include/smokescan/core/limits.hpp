@@ -14,6 +14,8 @@ namespace smokescan::limits {
 inline constexpr size_t kTextInputBytes = size_t(512) << 20;
 /// Bytes of a scene or sensor file (TOML): its parsed tables take about 15 times the text's size.
 inline constexpr size_t kTomlInputBytes = size_t(32) << 20;
+/// Bytes of one point-cloud file read back (8 M points of 64 bytes).
+inline constexpr size_t kPointCloudBytes = size_t(512) << 20;
 /// Scans in one `scan` run.
 inline constexpr int64_t kScans = 1'000'000;
 /// Rows of `scan`'s summary table (--bin).

@@ -18,7 +18,9 @@
 /// during the frame (each point is in the sensor frame of its own firing time). A folder of
 /// frames also gets frames.csv (frameIndexHeader, frameIndexRow): each frame's file, start and
 /// end time and its start and end pose.
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "smokescan/lidar/lidar_scanner.hpp"
 
@@ -28,6 +30,28 @@ namespace smokescan {
 void writePcd(const std::string& path, const LidarFrame& frame);
 /// @brief Writes the frame's points as a binary little-endian PLY file (whole or not at all).
 void writePly(const std::string& path, const LidarFrame& frame);
+
+/// What a point-cloud file held (readPointCloud).
+struct PointCloudFile {
+    /// Its points with a finite x, y, z, in the file's order: x, y, z, intensity, ring,
+    /// return_index, time and source from the fields of those names (Ouster's `t` in ns as time),
+    /// 0 where the file has no such field; range_m from x, y, z; beam = the point's index in the file.
+    std::vector<LidarPoint> points;
+    std::vector<std::string> fields;  ///< every field's name, in the file's order
+    size_t skipped = 0;  ///< points without a finite x, y, z (a driver's "no return")
+    double start_s = NAN;  ///< the frame's start time when the header gives it (smokescan's files)
+    bool has_viewpoint = false;
+    Pose viewpoint;  ///< PCD's VIEWPOINT (PLY: `comment viewpoint`)
+};
+
+/// @brief Reads a point-cloud file: PCD v0.7 (DATA ascii or binary) or PLY 1.0 (ascii or binary
+/// little endian), told apart by their first line. Fields other than the ones PointCloudFile
+/// takes are skipped; x, y and z must be there. At most 8 M points and kPointCloudBytes.
+/// @throw Error naming the file (and header line) for a bad header, a truncated body, a field of
+/// an unknown type, or an unsupported encoding (PCD's binary_compressed, big-endian PLY).
+PointCloudFile readPointCloud(const std::string& path);
+/// @brief The same from the file's bytes; `name` names it in errors.
+PointCloudFile parsePointCloud(const std::string& bytes, const std::string& name);
 
 /// @brief frames.csv's header line (with its newline): frame, file, start_s, end_s, then the
 /// start pose (start_x_m … start_qz) and the end pose (end_x_m … end_qz), quaternions w x y z.
