@@ -54,7 +54,10 @@ TEST(Cli, AReportThatCannotBeWrittenIsAnErrorNotASilentZero)
     EXPECT_NE(slurp(err).find("smokescan: standard output: cannot write the report (No space left on device)"),
               std::string::npos)
         << slurp(err);
-    EXPECT_TRUE(fs::exists(log));
+    EXPECT_TRUE(fs::exists(log));  // So is the help text.
+    const int help = std::system((std::string(SMOKESCAN_CLI) + " --help >/dev/full 2>" + err).c_str());
+    ASSERT_TRUE(WIFEXITED(help));
+    EXPECT_EQ(WEXITSTATUS(help), 1);
 }
 
 TEST(Cli, ScanImageDrawsTheSeriesLikeFig10)

@@ -111,6 +111,18 @@ TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
     expectBad("scan bocas --sensor urg04lx --out " + file("u2.log") + " --top-view-width 5",
               "--top-view-width: is for a 3D lidar", file("u2.log"));
     expectBad("scan plume --sensor vlp32 --points " + pts, "no sensor named or of type 'vlp32'", pts);
+    // Folder names refused before the work, not after it: a name too long for the file system,
+    // a folder named by '.', and a picture inside the points folder.
+    expectBad("scan plume --sensor vlp16 --points " + (dir() / std::string(300, 'a')).string(),
+              "has a name of 300 bytes (at most 255)", pts);
+    fs::create_directories(dir() / "dotted");
+    expectBad("scan plume --sensor vlp16 --points " + (dir() / "dotted" / ".").string(), "names its folder by '.'",
+              (dir() / "dotted" / "000000.pcd").string());
+    fs::create_directories(dir() / "inside");
+    expectBad("scan plume --sensor vlp16 --points " + (dir() / "inside").string() + " --range-image " +
+                  (dir() / "inside" / "r.png").string(),
+              "--range-image: '" + (dir() / "inside" / "r.png").string() + "' lies inside the --points folder",
+              (dir() / "inside" / "r.png").string());
     // A preset's pattern file is an input: no output may replace it, and a pattern has no range image.
     const fs::path pat = dir() / "pat";
     fs::create_directories(pat);

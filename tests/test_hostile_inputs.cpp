@@ -305,6 +305,43 @@ TEST(Hardening, EveryCommandProtectsTheFilesItsSceneReads)
     }
 }
 
+TEST(RunFiles, AFolderThatCannotBePlacedTakesTheFilesBack)
+{
+    // The files are placed, then the run's folder (its last step) fails: the file that replaced
+    // the user's is taken back to the old content, the new one removed, the folder left as found.
+    const fs::path d = scratch("folder_last");
+    const std::string old_file = (d / "range.png").string(), new_file = (d / "top.png").string();
+    std::ofstream(old_file) << "the user's picture";
+    fs::remove(new_file);
+    const std::string dir = (d / "points").string();
+    fs::remove_all(dir);
+    RunFiles files;
+    files.output(old_file, "--range-image");
+    files.output(new_file, "--top-view");
+    files.outputFolder(dir, "--points");
+    AtomicFolder out(dir, "the point-cloud folder", "--points");
+    std::ofstream(out.path("000000.pcd")) << "a frame";
+    std::ofstream(files.stage(old_file)) << "new range";
+    std::ofstream(files.stage(new_file)) << "new top";
+    fs::create_directory(dir);
+    std::ofstream(dir + "/mine") << "appeared during the run";
+    EXPECT_THROW(files.commit([&] { out.commit(); }), Error);
+    EXPECT_EQ(slurp(old_file), "the user's picture");
+    EXPECT_FALSE(fs::exists(new_file));
+    EXPECT_EQ(slurp(dir + "/mine"), "appeared during the run");
+    EXPECT_FALSE(fs::exists(dir + "/000000.pcd"));
+    // And when the folder can be placed, everything is.
+    fs::remove_all(dir);
+    RunFiles again;
+    again.output(new_file, "--top-view");
+    AtomicFolder out2(dir, "the point-cloud folder", "--points");
+    std::ofstream(out2.path("000000.pcd")) << "a frame";
+    std::ofstream(again.stage(new_file)) << "new top";
+    again.commit([&] { out2.commit(); });
+    EXPECT_EQ(slurp(new_file), "new top");
+    EXPECT_EQ(slurp(dir + "/000000.pcd"), "a frame");
+}
+
 TEST(RunFiles, AnOutputThatCannotBePlacedPutsBackWhatTheEarlierOnesReplaced)
 {
     // A folder appears at the second output during the run: the first had already replaced the

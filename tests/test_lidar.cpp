@@ -252,6 +252,23 @@ TEST(Lidar, PatternFileBadLinesAreRefusedWithTheirLine)
     refused("# nothing\n", "the pattern file has no beams");
     refused("0, 0, 0,\n", "pattern.csv:2: ends with a comma (an empty field)");
     refused("0x10, 0, 0\n", "pattern.csv:2: azimuth_deg '0x10' is not a decimal number");
+    // A byte-order mark is skipped and an underflowing time is its tiny value, not an error.
+    const auto bom = scratch("lidar_bom") / "beams.csv";
+    write(bom,
+          "\xEF\xBB\xBF"
+          "0, 0, 0\n1, 0, 1e-310\n");
+    const std::vector<PatternBeam> read = readPatternFile(bom.string(), 0.1);
+    ASSERT_EQ(read.size(), 2u);
+    EXPECT_GT(read[1].time_s, 0.0);
+    EXPECT_LT(read[1].time_s, 1e-300);
+    const auto empty = scratch("lidar_empty") / "e.toml";
+    write(empty, "name = \"e\"\npattern = \"file\"\npattern_file = \"\"\n");
+    try {
+        lidarSpec(empty.string());
+        ADD_FAILURE() << "an empty pattern_file was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("e.toml:3: pattern_file is empty"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Lidar, ReturnModesPickTheirEchoes)
@@ -739,6 +756,7 @@ TEST(Lidar, BadPointCloudsAreOneLineErrorsNamingTheLine)
     expectRefused(h + "POINTS 99999999\nDATA ascii\n", "POINTS '99999999' is not a whole number from 0 to 8000000");
     expectRefused(h + "POINTS 1\n", "the header ends without its data");
     expectRefused(h + "COLOUR 1\nDATA ascii\n", "bad.pcd:6: 'COLOUR' is not a PCD header line");
+    expectRefused("\n \n", "the header ends without its data");  // found by the fuzzer: a line of blanks
     expectRefused("ply\nformat binary_big_endian 1.0\nelement vertex 0\nend_header\n",
                   "bad.pcd:2: 'format binary_big_endian 1.0': ascii or binary_little_endian 1.0 are read");
     expectRefused(

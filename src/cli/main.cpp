@@ -80,22 +80,9 @@ int main(int argc, char** argv)
         }
         level = next;
     }
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {  // one line, as every other error
-        std::cerr << "smokescan: " << smokescan::printable(e.what()) << " (see --help)\n";
-        return 2;
-    }
-    try {
-        const int rc = run ? run() : 0;
-        // A report that could not be written (a full disk, a closed pipe's reader gone) is a
-        // failure the user must see, not a silent 0.
+    // A report or help text that could not be written (a full disk, a closed pipe's reader gone)
+    // is a failure the user must see, not a silent 0.
+    auto written = [](int rc) {
         errno = 0;
         std::cout.flush();
         if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
@@ -105,6 +92,21 @@ int main(int argc, char** argv)
             return rc ? rc : 1;
         }
         return rc;
+    };
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return written(app.exit(e));
+    } catch (const CLI::CallForAllHelp& e) {
+        return written(app.exit(e));
+    } catch (const CLI::CallForVersion& e) {
+        return written(app.exit(e));
+    } catch (const CLI::ParseError& e) {  // one line, as every other error
+        std::cerr << "smokescan: " << smokescan::printable(e.what()) << " (see --help)\n";
+        return 2;
+    }
+    try {
+        return written(run ? run() : 0);
     } catch (const std::bad_alloc&) {
         std::cerr << "smokescan: out of memory (the run needs more than this machine has; see docs/limits.md)\n";
     } catch (const std::exception& e) {

@@ -251,8 +251,9 @@ int runScan(const ScanArgs& a0)
         const CameraStream stream = cameraStream(scene, a, times, predictor.get(), renderer.get(), frames.get());
         writeSaturationCsv(files.stage(a.saturation_out), stream.series, stream.header);
     }
-    files.commit();
-    if (frames) frames->commit();
+    files.commit([&] {
+        if (frames) frames->commit();
+    });
     if (!a.quiet) say("%s", summary.text().c_str());
     say("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), times.size(), a.tau_csv.empty() ? "" : ", ",
         a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str(), a.saturation_out.empty() ? "" : ", ",

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.hpp"
 #include "progress.hpp"
@@ -16,6 +17,7 @@
 #include "smokescan/scene/scene.hpp"
 
 namespace smokescan::cli {
+namespace fs = std::filesystem;
 
 int runLidarScan(const Scene& scene, const LidarScanArgs& a)
 {
@@ -28,6 +30,15 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     for (const auto& [path, option] : {std::pair{a.range_image, "--range-image"}, std::pair{a.top_view, "--top-view"}})
         if (!path.empty() && !isImageExtension(path)) throw Error(path, "unknown image format (png, exr, jpg, tif)");
     if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
+    for (const auto& [path, option] :
+         {std::pair{a.range_image, "--range-image"}, std::pair{a.top_view, "--top-view"}}) {
+        std::error_code e1, e2;
+        if (!path.empty() &&
+            fs::weakly_canonical(fs::absolute(path), e1).parent_path() ==
+                fs::weakly_canonical(fs::absolute(a.points_dir), e2) &&
+            !e1 && !e2)
+            throw Error(option, "'" + path + "' lies inside the --points folder, which must be new or empty");
+    }
     if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
     if (a.top_view_m != LidarScanArgs{}.top_view_m && a.top_view.empty())
         throw Error("--top-view-width", "needs --top-view");
@@ -74,16 +85,15 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         csv.stream() << index;
         csv.commit();
     }
-    files.commit();  // the pictures first: the folder's rename is the last step that can fail
-    out.commit();
+    files.commit([&] { out.commit(); });  // the folder last: when it fails, the pictures are taken back
     char shape[96];
     if (spec.pattern == PatternKind::Spinning)
         std::snprintf(shape, sizeof shape, "%d channels x %d columns", spec.channels(), frameColumns(spec));
     else
         std::snprintf(shape, sizeof shape, "%zu beams a frame", spec.file_beams.size());
     say("wrote %s: %lld %s frames of the %s (%s, %g Hz, %s returns), %lld points, %lld from smoke\n",
-        a.points_dir.c_str(), frames, a.format.c_str(), spec.name.c_str(), shape, spec.rate_hz, returnModeName(mode),
-        points, smoke);
+        printable(a.points_dir).c_str(), frames, a.format.c_str(), spec.name.c_str(), shape, spec.rate_hz,
+        returnModeName(mode), points, smoke);
     return 0;
 }
 

@@ -20,6 +20,10 @@ AtomicFolder::AtomicFolder(std::string dir, std::string what, const std::string&
 {
     if (dir_.empty()) throw Error(option, "names no folder");
     while (dir_.size() > 1 && dir_.back() == '/') dir_.pop_back();  // "diag/" is the folder diag
+    const std::string name = fs::path(dir_).filename().string();
+    if (name == "." || name == "..")
+        throw Error(dir_, "names its folder by '" + name + "'; give the folder's own name (" + option + ")");
+    if (name.size() > 255) throw Error(dir_, "has a name of " + std::to_string(name.size()) + " bytes (at most 255)");
     struct stat st {};
     if (::lstat(dir_.c_str(), &st) == 0) {
         if (S_ISLNK(st.st_mode)) throw Error(dir_, "is a symbolic link (" + option + " writes a new folder)");
@@ -62,8 +66,14 @@ void AtomicFolder::commit()
     // only an empty folder is replaced (rmdir removes nothing else).
     struct stat st {};
     if (::lstat(dir_.c_str(), &st) == 0) {
-        if (!S_ISDIR(st.st_mode) || ::rmdir(dir_.c_str()) != 0)
+        if (!S_ISDIR(st.st_mode))
             throw Error(dir_, "appeared during the run and is not an empty folder; not replacing it");
+        if (::rmdir(dir_.c_str()) != 0) {
+            const int e = errno;
+            if (e == ENOTEMPTY || e == EEXIST)
+                throw Error(dir_, "appeared during the run and is not an empty folder; not replacing it");
+            throw Error(dir_, "cannot replace the empty folder (" + std::string(std::strerror(e)) + ")");
+        }
     }
     std::error_code ec;
     fs::rename(tmp_, dir_, ec);

@@ -130,7 +130,7 @@ std::string RunFiles::stage(const std::string& path)
     return staged_.back()->tempPath();
 }
 
-void RunFiles::commit()
+void RunFiles::commit(const std::function<void()>& last)
 {
     // Devices and pipes first: a write into one can fail (/dev/full) and cannot be taken back, so
     // the files are renamed into place only once every device took its content.
@@ -161,6 +161,7 @@ void RunFiles::commit()
             f->commit();
             placed.push_back(f->path());
         }
+        if (last) last();
     } catch (...) {
         for (const std::string& p : placed) {
             const auto k = std::find_if(kept.begin(), kept.end(), [&](const auto& x) { return x.first == p; });

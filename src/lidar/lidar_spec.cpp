@@ -163,6 +163,7 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
     readModes(t, s);
     if (s.pattern == PatternKind::File) {
         const std::string file = t.strReq("pattern_file");
+        if (file.empty()) t.error("pattern_file", "is empty: name the CSV of the beams");
         const std::filesystem::path base = std::filesystem::path(source).parent_path();
         s.pattern_file = (base / file).string();
         s.file_beams = readPatternFile(s.pattern_file, 1 / s.rate_hz);

@@ -33,7 +33,8 @@ double number(const std::string& text, const std::string& where, const char* wha
     if (text.find_first_of("xX") != std::string::npos)
         throw Error(where, std::string(what) + " '" + text + "' is not a decimal number");
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+    const bool overflow = errno == ERANGE && std::abs(v) > 1;  // an underflow (1e-400) is its tiny value
+    if (text.empty() || *end != '\0' || overflow || !std::isfinite(v))
         throw Error(where, std::string(what) + " '" + text + "' is not a finite number");
     return v;
 }
@@ -42,7 +43,8 @@ double number(const std::string& text, const std::string& where, const char* wha
 
 std::vector<PatternBeam> readPatternFile(const std::string& path, double period_s)
 {
-    const std::string text = readTextInput(path, "pattern file", size_t(256) << 20);
+    std::string text = readTextInput(path, "pattern file", size_t(256) << 20);
+    if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte-order mark
     std::istringstream in(text);
     std::vector<PatternBeam> beams;
     std::string line;

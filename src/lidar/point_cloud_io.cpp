@@ -1,6 +1,7 @@
 #include "smokescan/lidar/point_cloud_io.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ostream>
@@ -36,16 +37,19 @@ std::string poseText(const Pose& pose, char sep)
     Eigen::Quaterniond q(pose.R);
     q.normalize();
     if (q.w() < 0) q.coeffs() *= -1;
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g", pose.t.x(), sep, pose.t.y(), sep,
-                  pose.t.z(), sep, q.w(), sep, q.x(), sep, q.y(), sep, q.z());
+    // Rounding's residue of a right angle (6e-17) and −0 written as 0.
+    auto clean = [](double v) { return std::abs(v) < 1e-15 ? 0.0 : v; };
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%.17g%c%.17g%c%.17g%c%.17g%c%.17g%c%.17g%c%.17g", clean(pose.t.x()), sep,
+                  clean(pose.t.y()), sep, clean(pose.t.z()), sep, clean(q.w()), sep, clean(q.x()), sep, clean(q.y()),
+                  sep, clean(q.z()));
     return buf;
 }
 
 std::string seconds(double t)
 {
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.9g", t);
+    std::snprintf(buf, sizeof buf, "%.17g", t);  // a double exactly (epoch times too)
     return buf;
 }
 

@@ -277,6 +277,7 @@ PointCloudFile readPcd(const std::string& path, const std::string& bytes)
             continue;
         }
         const std::vector<std::string> w = words(line);
+        if (w.empty()) continue;  // a line of blanks
         const std::string& key = w[0];
         const std::vector<std::string> v(w.begin() + 1, w.end());
         if (key == "VERSION") continue;

@@ -10,6 +10,7 @@
 /// place at the end, so a run that fails midway leaves none of its outputs (and no temporaries:
 /// they are removed on destruction and on SIGINT/SIGTERM/SIGHUP).
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -43,8 +44,10 @@ public:
     /// @brief A new temporary to write `path`'s content to (path must have been recorded).
     /// @return the temporary's name (same folder and extension as `path`)
     std::string stage(const std::string& path);
-    /// @brief Moves every staged output into place, in the order staged.
-    void commit();
+    /// @brief Moves every staged output into place, in the order staged, then runs `last` (an
+    /// output folder's own commit): when `last` fails, the files are taken back (what they
+    /// replaced restored) before its error goes on, so that the run changes all or nothing.
+    void commit(const std::function<void()>& last = {});
 
 private:
     void record(const std::string& path, const std::string& option);

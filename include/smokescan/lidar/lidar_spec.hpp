@@ -101,7 +101,7 @@ std::vector<PatternBeam> framePattern(const LidarSpec& spec);
 int frameColumns(const LidarSpec& spec);
 
 /// @brief Reads a pattern file: CSV lines `azimuth_deg, elevation_deg, time_s[, channel]` ('#'
-/// comments), times non-decreasing within [0, 1/rate), at most kBeamsPerFrame beams.
+/// comments), times increasing within [0, 1/rate), at most kBeamsPerFrame beams.
 /// @throw Error naming the file and line.
 std::vector<PatternBeam> readPatternFile(const std::string& path, double frame_period_s);
 
