@@ -16,6 +16,11 @@ namespace smokescan {
 
 std::string readTextInput(const std::string& path, const std::string& what, size_t max_bytes)
 {
+    return readInputBytes(path, what, max_bytes, true);
+}
+
+std::string readInputBytes(const std::string& path, const std::string& what, size_t max_bytes, bool text_only)
+{
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw Error(path, "no such " + what);
     if (S_ISDIR(st.st_mode)) throw Error(path, "is a folder, not a " + what);
@@ -36,7 +41,7 @@ std::string readTextInput(const std::string& path, const std::string& what, size
             ::close(fd);
             throw Error(path, "cannot read (" + std::string(std::strerror(e)) + ")");
         }
-        if (std::memchr(buf, '\0', size_t(n))) {
+        if (text_only && std::memchr(buf, '\0', size_t(n))) {
             ::close(fd);
             throw Error(path,
                         "is not text (a NUL byte near byte " + std::to_string(text.size()) + "); expected a " + what);

@@ -1,10 +1,7 @@
 // Point-cloud frames read back (point_cloud_io.hpp: readPointCloud): PCD v0.7 (ascii or binary)
 // and PLY 1.0 (ascii or binary little endian), smokescan's own and lidar drivers' fields.
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -15,6 +12,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
+#include "smokescan/io/text_input.hpp"
 #include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 
@@ -43,36 +41,6 @@ Slot slotOf(const std::string& name)
     for (const auto& [n, s] : kNames)
         if (name == n) return s;
     return Slot::None;
-}
-
-std::string fileBytes(const std::string& path)
-{
-    struct stat st {};
-    if (::stat(path.c_str(), &st) != 0) throw Error(path, "no such point-cloud file");
-    if (S_ISDIR(st.st_mode)) throw Error(path, "is a folder, not a point-cloud file");
-    if (S_ISREG(st.st_mode) && size_t(st.st_size) > limits::kPointCloudBytes)
-        throw Error(path,
-                    "is over the " + std::to_string(limits::kPointCloudBytes >> 20) + " MiB a point cloud may have");
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw Error(path, "cannot read (" + std::string(std::strerror(errno)) + ")");
-    std::string bytes;
-    char buf[1 << 16];
-    for (;;) {
-        const ssize_t n = ::read(fd, buf, sizeof buf);
-        if (n == 0) break;
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0 || bytes.size() + size_t(n) > limits::kPointCloudBytes) {
-            const int e = errno;
-            ::close(fd);
-            throw Error(path,
-                        n < 0 ? "cannot read (" + std::string(std::strerror(e)) + ")"
-                              : "gives more than the " + std::to_string(limits::kPointCloudBytes >> 20) +
-                                " MiB a point cloud may have");
-        }
-        bytes.append(buf, size_t(n));
-    }
-    ::close(fd);
-    return bytes;
 }
 
 /// A header line at `at` (without its newline), `at` moved past it; throws past `end_of_header`.
@@ -420,6 +388,9 @@ PointCloudFile parsePointCloud(const std::string& bytes, const std::string& name
     return readPcd(name, bytes);
 }
 
-PointCloudFile readPointCloud(const std::string& path) { return parsePointCloud(fileBytes(path), path); }
+PointCloudFile readPointCloud(const std::string& path)
+{
+    return parsePointCloud(readInputBytes(path, "point-cloud file", limits::kPointCloudBytes), path);
+}
 
 }  // namespace smokescan

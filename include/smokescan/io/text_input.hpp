@@ -16,6 +16,10 @@ namespace smokescan {
 /// @throw Error naming `path` for each case above.
 std::string readTextInput(const std::string& path, const std::string& what, size_t max_bytes = limits::kTextInputBytes);
 
+/// @brief The same for any bytes (a binary file): with `text_only`, a NUL byte is refused as
+/// readTextInput refuses it, as soon as it is read.
+std::string readInputBytes(const std::string& path, const std::string& what, size_t max_bytes, bool text_only = false);
+
 /// @brief Comma-separated finite numbers ("0,0.001,2e-3").
 /// @param what names the text in the error (an option, "FILE:LINE")
 /// @throw Error(what, "'tok' is not a finite number") for an empty or bad item.
