@@ -340,7 +340,7 @@ Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamS
             lo = std::min(lo, e.range_m - reach);
             hi = std::max(hi, e.range_m + reach);
         }
-    // Smoke summed in cells centred on the samples: the grid starts on a cell's centre.
+    // Smoke on points q to a sample (BeamSignal::smoke_cells): the grid starts on a point.
     const bool cells = !s.smoke_cells.empty();
     int q = 1;  // smoke points a sample
     if (cells) {
