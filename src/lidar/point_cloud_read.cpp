@@ -173,12 +173,14 @@ void readBody(const std::string& bytes, size_t at, bool binary, long long n, con
         p.beam = uint32_t(out.points.size() + out.skipped);
         out.points.push_back(p);
     };
-    out.points.reserve(size_t(n));
+    // Room for the points the bytes can hold, not for what a header claims.
+    const size_t room = (bytes.size() - std::min(at, bytes.size())) / (binary ? record : 2 * tokens);
+    out.points.reserve(std::min(size_t(n), room));
     if (binary) {
-        if ((bytes.size() - at) / record < size_t(n))
+        if (room < size_t(n))
             throw Error(path,
-                        "holds " + std::to_string((bytes.size() - at) / record) + " whole points of the " +
-                            std::to_string(n) + " its header gives (truncated)");
+                        "holds " + std::to_string(room) + " whole points of the " + std::to_string(n) +
+                            " its header gives (truncated)");
         for (long long i = 0; i < n; ++i) {
             LidarPoint p;
             const char* r = bytes.data() + at + size_t(i) * record;
