@@ -27,18 +27,18 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     files.outputFolder(a.points_dir, "--points");
     files.output(a.range_image, "--range-image");
     files.output(a.top_view, "--top-view");
-    for (const auto& [path, option] : {std::pair{a.range_image, "--range-image"}, std::pair{a.top_view, "--top-view"}})
-        if (!path.empty() && !isImageExtension(path)) throw Error(path, "unknown image format (png, exr, jpg, tif)");
-    if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
     for (const auto& [path, option] :
          {std::pair{a.range_image, "--range-image"}, std::pair{a.top_view, "--top-view"}}) {
+        if (path.empty()) continue;
+        if (!isImageExtension(path)) throw Error(path, "unknown image format (png, exr, jpg, tif)");
         std::error_code e1, e2;
-        if (!path.empty() &&
+        if (!a.points_dir.empty() &&
             fs::weakly_canonical(fs::absolute(path), e1).parent_path() ==
                 fs::weakly_canonical(fs::absolute(a.points_dir), e2) &&
             !e1 && !e2)
             throw Error(option, "'" + path + "' lies inside the --points folder, which must be new or empty");
     }
+    if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
     if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
     if (a.top_view_m != LidarScanArgs{}.top_view_m && a.top_view.empty())
         throw Error("--top-view-width", "needs --top-view");

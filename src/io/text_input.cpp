@@ -57,17 +57,20 @@ std::string readInputBytes(const std::string& path, const std::string& what, siz
     return text;
 }
 
+double parseFiniteNumber(const std::string& text, const std::string& where)
+{
+    char* end = nullptr;
+    const double x = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end || !std::isfinite(x)) throw Error(where, "'" + text + "' is not a finite number");
+    return x;
+}
+
 std::vector<double> parseNumberList(const std::string& text, const std::string& what)
 {
     std::vector<double> v;
     std::stringstream ss(text);
     std::string tok;
-    while (std::getline(ss, tok, ',')) {
-        char* end = nullptr;
-        const double x = std::strtod(tok.c_str(), &end);
-        if (tok.empty() || *end || !std::isfinite(x)) throw Error(what, "'" + tok + "' is not a finite number");
-        v.push_back(x);
-    }
+    while (std::getline(ss, tok, ',')) v.push_back(parseFiniteNumber(tok, what));
     return v;
 }
 

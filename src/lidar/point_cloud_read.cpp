@@ -72,12 +72,18 @@ long long wholeNumber(const std::string& text, const std::string& where, const s
     return v;
 }
 
-double finiteNumber(const std::string& text, const std::string& where)
+/// The pose "tx ty tz qw qx qy qz" from seven words into out.viewpoint; false (out unchanged) for a
+/// zero quaternion. @throw Error(where) for a word that is not a finite number.
+bool readViewpoint(const std::string* seven, const std::string& where, PointCloudFile& out)
 {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end || !std::isfinite(v)) throw Error(where, "'" + text + "' is not a finite number");
-    return v;
+    double q[7];
+    for (size_t i = 0; i < 7; ++i) q[i] = parseFiniteNumber(seven[i], where);
+    const Eigen::Quaterniond rot(q[3], q[4], q[5], q[6]);
+    if (!(rot.norm() > 1e-9)) return false;
+    out.viewpoint.t = Vec3(q[0], q[1], q[2]);
+    out.viewpoint.R = rot.normalized().toRotationMatrix();
+    out.has_viewpoint = true;
+    return true;
 }
 
 /// A value of `f` stored little endian at p.
@@ -208,7 +214,7 @@ void readBody(const std::string& bytes, size_t at, bool binary, long long n, con
             if (slots[k] == Slot::None) continue;
             const std::string& s = w[t];
             const bool nan = s == "nan" || s == "NaN" || s == "-nan";
-            put(p, slots[k], nan ? NAN : finiteNumber(s, where));
+            put(p, slots[k], nan ? NAN : parseFiniteNumber(s, where));
         }
         finish(p);
     }
@@ -268,13 +274,7 @@ PointCloudFile readPcd(const std::string& path, const std::string& bytes)
             points = wholeNumber(v.empty() ? "" : v[0], where, "POINTS", max_points);
         else if (key == "VIEWPOINT") {
             if (v.size() != 7) throw Error(where, "VIEWPOINT needs tx ty tz qw qx qy qz");
-            double q[7];
-            for (size_t i = 0; i < 7; ++i) q[i] = finiteNumber(v[i], where);
-            const Eigen::Quaterniond rot(q[3], q[4], q[5], q[6]);
-            if (!(rot.norm() > 1e-9)) throw Error(where, "VIEWPOINT's quaternion is zero");
-            out.viewpoint.t = Vec3(q[0], q[1], q[2]);
-            out.viewpoint.R = rot.normalized().toRotationMatrix();
-            out.has_viewpoint = true;
+            if (!readViewpoint(v.data(), where, out)) throw Error(where, "VIEWPOINT's quaternion is zero");
         } else if (key == "DATA") {
             const std::string mode = v.empty() ? "" : v[0];
             if (mode != "ascii" && mode != "binary")
@@ -334,17 +334,8 @@ PointCloudFile readPly(const std::string& path, const std::string& bytes)
         }
         if (w.empty()) continue;
         if (w[0] == "comment") {
-            if (w.size() >= 3 && w[1] == "start_s") out.start_s = finiteNumber(w[2], where);
-            if (w.size() == 9 && w[1] == "viewpoint") {
-                double q[7];
-                for (size_t i = 0; i < 7; ++i) q[i] = finiteNumber(w[i + 2], where);
-                const Eigen::Quaterniond rot(q[3], q[4], q[5], q[6]);
-                if (rot.norm() > 1e-9) {
-                    out.viewpoint.t = Vec3(q[0], q[1], q[2]);
-                    out.viewpoint.R = rot.normalized().toRotationMatrix();
-                    out.has_viewpoint = true;
-                }
-            }
+            if (w.size() >= 3 && w[1] == "start_s") out.start_s = parseFiniteNumber(w[2], where);
+            if (w.size() == 9 && w[1] == "viewpoint") readViewpoint(&w[2], where, out);  // a zero one: none
         } else if (w[0] == "format") {
             if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian"))
                 throw Error(where, "'" + line + "': ascii or binary_little_endian 1.0 are read");

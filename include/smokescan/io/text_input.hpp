@@ -20,6 +20,11 @@ std::string readTextInput(const std::string& path, const std::string& what, size
 /// readTextInput refuses it, as soon as it is read.
 std::string readInputBytes(const std::string& path, const std::string& what, size_t max_bytes, bool text_only = false);
 
+/// @brief One finite number, the whole of `text` ("2.5e-3").
+/// @param where names it in the error (an option, "FILE:LINE")
+/// @throw Error(where, "'text' is not a finite number") for an empty, partial or non-finite one.
+double parseFiniteNumber(const std::string& text, const std::string& where);
+
 /// @brief Comma-separated finite numbers ("0,0.001,2e-3").
 /// @param what names the text in the error (an option, "FILE:LINE")
 /// @throw Error(what, "'tok' is not a finite number") for an empty or bad item.
