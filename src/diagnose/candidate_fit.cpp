@@ -43,9 +43,9 @@ public:
     }
     bool Evaluate(const double* theta, double* cost, double* gradient) const override
     {
-        J th(theta[0], 0);
+        const CandidateAt at(r_, m_, c_, J(theta[0], 0));
         double ll = 0, g = 0;
-        chunkedSum(obs_.size(), &ll, &g, [&](size_t i) { return candidateLogLik(r_, m_, c_, obs_[i], th); });
+        chunkedSum(obs_.size(), &ll, &g, [&](size_t i) { return at.logLik(obs_[i]); });
         *cost = -ll;
         if (gradient) gradient[0] = -g;
         return std::isfinite(ll);
@@ -93,8 +93,8 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
     const double h = 1e-4 * std::max(1.0, std::abs(theta));
     const double info = (gradAt(theta + h) - gradAt(theta - h)) / (2 * h);
     std::map<int, double> score;
-    const J th(theta, 0);
-    for (const Obs& o : obs) score[r.scans[size_t(o.k)].block] += candidateLogLik(r, m, c, o, th).v[0];
+    const CandidateAt at(r, m, c, J(theta, 0));
+    for (const Obs& o : obs) score[r.scans[size_t(o.k)].block] += at.logLik(o).v[0];
     double meat = 0;
     for (const auto& [blk, s] : score) meat += s * s;
     const double blocks = double(score.size()), corr = blocks > 1 ? blocks / (blocks - 1) : 1.0;

@@ -16,15 +16,12 @@ BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& m, const Obs& o)
     const ReplayScan& scan = r.scans[size_t(o.k)];
     const ModelExtensions& e = m.ext;
     BeamTerms<T> x;
-    if (r.from_saturation && m.offset_change_s != 0)
-        x.column = T(r.columnWith(size_t(o.k), size_t(o.b), r.densityAt(scan.time_s + m.offset_change_s)));
-    else
-        x.column = T(r.columnAt(size_t(o.k), size_t(o.b)));
+    x.column = T(r.columnWith(size_t(o.k), size_t(o.b), m.density[size_t(o.k)]));
     const SurfaceExtension* own = beam.surface >= 0 ? &m.surface[size_t(beam.surface)] : nullptr;
     // The paper model's threshold is ln P; the physical model's is its own, shifted by 0.
     x.lnP =
         T(r.isPhysical() ? 0.0 : std::log(r.config.paper.penetration_power)) + T(e.thresholdShift(own, scan.rising));
-    x.width = T(std::hypot(e.threshold_width, m.ln_density_sd[size_t(o.k)]));
+    x.width = T(m.width[size_t(o.k)]);
     x.beta = T(own ? own->range_bias : 0.0);
     x.gamma = T(e.range_noise_growth_m);
     x.q = T(e.smoke_obstacle_return);
@@ -148,11 +145,6 @@ bool Candidate::touches(const Replay& r, int b) const
     return true;
 }
 
-void Candidate::apply(const Replay& r, const ReplayModel& m, const Obs& o, const J& theta, BeamTerms<J>& x) const
-{
-    causeRow(cause).apply(r, m, *this, o, theta, x);
-}
-
 ModelExtensions Candidate::with(const Replay& r, double theta, const ReplayModel& m) const
 {
     ModelExtensions e = m.ext;
@@ -172,13 +164,24 @@ std::vector<std::pair<std::string, Estimate>> Candidate::report(double theta, do
     return causeRow(cause).report(theta, se);
 }
 
-J candidateLogLik(const Replay& r, const ReplayModel& m, const Candidate& c, const Obs& o, const J& theta)
+CandidateAt::CandidateAt(const Replay& r, const ReplayModel& m, const Candidate& c, const J& theta)
+    : r_(r), m_(m), c_(c), theta_(theta)
 {
-    BeamTerms<J> x = baseTerms<J>(r, m, o);
-    c.apply(r, m, o, theta, x);
-    finishTerms(r, o, x);
-    const ReplayBeam& beam = r.beams[size_t(o.b)];
-    return logLikelihood(x, double(r.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r.spec.range_max_m);
+    const CauseRow& row = causeRow(c.cause);
+    if (!row.scan) return;
+    scans_.resize(r.scans.size());
+    for (size_t k = 0; k < r.scans.size(); ++k) row.scan(r, m, k, theta, scans_[k]);
+}
+
+CandidateAt::~CandidateAt() = default;
+
+J CandidateAt::logLik(const Obs& o) const
+{
+    BeamTerms<J> x = baseTerms<J>(r_, m_, o);
+    causeRow(c_.cause).apply(r_, m_, c_, o, theta_, scans_.empty() ? nullptr : &scans_[size_t(o.k)], x);
+    finishTerms(r_, o, x);
+    const ReplayBeam& beam = r_.beams[size_t(o.b)];
+    return logLikelihood(x, double(r_.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r_.spec.range_max_m);
 }
 
 double modelLogLik(const Replay& r, const ReplayModel& m, const Obs& o)

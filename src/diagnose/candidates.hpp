@@ -52,8 +52,6 @@ struct Candidate {
     std::string target(const Replay& r) const;
     /// @brief Whether the candidate changes beam b's prediction at all.
     bool touches(const Replay& r, int b) const;
-    /// @brief The candidate's change to a beam's terms at parameter θ.
-    void apply(const Replay& r, const ReplayModel& model, const Obs& o, const J& theta, BeamTerms<J>& x) const;
     /// @brief `model`'s extensions with θ committed (the model is left as it is).
     ModelExtensions with(const Replay& r, double theta, const ReplayModel& model) const;
     /// @brief θ into the extension model (the accepted finding).
@@ -76,8 +74,25 @@ BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& model, const Obs& o);
 template <class T>
 void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x);
 
-/// @brief ln L of observation o with candidate c at θ.
-J candidateLogLik(const Replay& r, const ReplayModel& model, const Candidate& c, const Obs& o, const J& theta);
+struct ScanTerms;
+
+/// Candidate c at θ on top of a model: what its cause changes alike for a scan's beams is
+/// computed once per scan when it is made, then each observation's ln L.
+class CandidateAt {
+public:
+    /// @param r, model, c must outlive this.
+    CandidateAt(const Replay& r, const ReplayModel& model, const Candidate& c, const J& theta);
+    ~CandidateAt();
+    /// @brief ln L of observation o.
+    J logLik(const Obs& o) const;
+
+private:
+    const Replay& r_;
+    const ReplayModel& m_;
+    const Candidate& c_;
+    J theta_;
+    std::vector<ScanTerms> scans_;  ///< by scan, when the cause has shared terms
+};
 /// @brief ln L of observation o under `model` alone.
 double modelLogLik(const Replay& r, const ReplayModel& model, const Obs& o);
 /// What `model` predicts for one observation.

@@ -47,31 +47,35 @@ const CauseRow kRows[] = {
          for (int i = -48; i <= 48; ++i) t.push_back(0.25 * i);
          return t;
      }(),
-     [](const Replay& r, const ReplayModel& m, const Candidate&, const Obs& o, const J& theta, BeamTerms<J>& x) {
-         // The density and its error read at the shifted time (the error piecewise linear in
-         // time: its slope by a central difference).
-         const double t = r.scans[size_t(o.k)].time_s + m.offset_change_s, h = 1e-3;
-         x.column = r.columnWith(size_t(o.k), size_t(o.b), r.densityAt(J(t) + theta));
-         const double sd = r.lnDensitySdAt(t + theta.a),
-                      slope = (r.lnDensitySdAt(t + theta.a + h) - r.lnDensitySdAt(t + theta.a - h)) / (2 * h);
-         const J s = J(sd) + (theta - J(theta.a)) * slope;  // sd, its derivative slope · dθ
-         const double w = m.ext.threshold_width;
-         x.width = sd > 0 || w > 0 ? sqrt(J(w * w) + s * s) : J(0.0);
+     [](const Replay& r, const ReplayModel&, const Candidate&, const Obs& o, const J&, const ScanTerms* s,
+        BeamTerms<J>& x) {
+         x.column = r.columnWith(size_t(o.k), size_t(o.b), s->density);
+         x.width = s->width;
      },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) { e.clock_offset_s += theta; },
      [](double theta, double se) {
          return Reported{{"offset_s", {theta, se}}};
      },
      "time_s", Shown::ErrorShare, [](double theta, const EffectScale&) { return std::abs(theta); }, 1.0, "|offset| [s]",
-     true},
+     true,
+     [](const Replay& r, const ReplayModel& m, size_t k, const J& theta, ScanTerms& s) {
+         // The density and its error read at the shifted time (the error piecewise linear in
+         // time: its slope by a central difference).
+         const double t = r.scans[k].time_s + m.offset_change_s, h = 1e-3;
+         s.density = r.densityAt(J(t) + theta);
+         const double sd = r.lnDensitySdAt(t + theta.a),
+                      slope = (r.lnDensitySdAt(t + theta.a + h) - r.lnDensitySdAt(t + theta.a - h)) / (2 * h);
+         const J e = J(sd) + (theta - J(theta.a)) * slope;  // sd, its derivative slope · dθ
+         const double w = m.ext.threshold_width;
+         s.width = sd > 0 || w > 0 ? sqrt(J(w * w) + e * e) : J(0.0);
+     }},
 
     {Cause::SurfaceThreshold,
      "surface_threshold",
      Target::Surface,
      {-0.7, -0.35, 0, 0.35, 0.7},
-     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, BeamTerms<J>& x) {
-         x.lnP += theta;
-     },
+     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, const ScanTerms*,
+        BeamTerms<J>& x) { x.lnP += theta; },
      [](const Replay& r, const Candidate& c, double theta, ModelExtensions& e) {
          surfaceOf(r, c, e).threshold_factor += theta;
      },
@@ -89,7 +93,8 @@ const CauseRow kRows[] = {
      "threshold_width",
      Target::Global,
      {std::log(0.05), std::log(0.1), std::log(0.2), std::log(0.4)},  // θ = ln w
-     [](const Replay&, const ReplayModel& m, const Candidate&, const Obs& o, const J& theta, BeamTerms<J>& x) {
+     [](const Replay&, const ReplayModel& m, const Candidate&, const Obs& o, const J& theta, const ScanTerms*,
+        BeamTerms<J>& x) {
          const J w = exp(theta);
          const double sd = m.ln_density_sd[size_t(o.k)];
          x.width = sqrt(w * w + J(sd * sd));
@@ -108,9 +113,8 @@ const CauseRow kRows[] = {
      "surface_range_bias",
      Target::Surface,
      {-20, -10, -5, 0, 5, 10, 20, 40},
-     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, BeamTerms<J>& x) {
-         x.beta += theta;
-     },
+     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, const ScanTerms*,
+        BeamTerms<J>& x) { x.beta += theta; },
      [](const Replay& r, const Candidate& c, double theta, ModelExtensions& e) {
          surfaceOf(r, c, e).range_bias += theta;
      },
@@ -127,7 +131,8 @@ const CauseRow kRows[] = {
      "range_noise_growth",
      Target::Global,
      {0.5, 2, 5, 10},
-     [](const Replay&, const ReplayModel& m, const Candidate&, const Obs&, const J& theta, BeamTerms<J>& x) {
+     [](const Replay&, const ReplayModel& m, const Candidate&, const Obs&, const J& theta, const ScanTerms*,
+        BeamTerms<J>& x) {
          // γ enters squared: added in quadrature to the model's own (θ alone when it has none, so
          // that the derivative at θ = 0 stays finite).
          x.gamma = m.ext.range_noise_growth_m == 0 ? theta : sqrt(x.gamma * x.gamma + theta * theta);
@@ -148,9 +153,8 @@ const CauseRow kRows[] = {
      "smoke_obstacle_return",
      Target::Global,
      {-4, -2, -1, 0},  // θ: logit of q
-     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, BeamTerms<J>& x) {
-         x.q = J(1.0) - (J(1.0) - x.q) * (J(1.0) - sigmoid(theta));
-     },
+     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, const ScanTerms*,
+        BeamTerms<J>& x) { x.q = J(1.0) - (J(1.0) - x.q) * (J(1.0) - sigmoid(theta)); },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) {
          e.smoke_obstacle_return = 1 - (1 - e.smoke_obstacle_return) * (1 - sigmoid(theta));
      },
@@ -165,9 +169,8 @@ const CauseRow kRows[] = {
      "sector_dropout",
      Target::Sector,
      {-3, -1.5, 0, 1},  // θ: logit of d
-     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, BeamTerms<J>& x) {
-         x.d = J(1.0) - (J(1.0) - x.d) * (J(1.0) - sigmoid(theta));
-     },
+     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, const ScanTerms*,
+        BeamTerms<J>& x) { x.d = J(1.0) - (J(1.0) - x.d) * (J(1.0) - sigmoid(theta)); },
      [](const Replay&, const Candidate& c, double theta, ModelExtensions& e) {
          e.sectors.push_back(sectorOf(c, sigmoid(theta)));
      },
@@ -182,9 +185,8 @@ const CauseRow kRows[] = {
      "hysteresis",
      Target::Global,
      {-0.8, -0.4, 0, 0.4, 0.8},  // θ = ln P(falling) − ln P(rising)
-     [](const Replay& r, const ReplayModel&, const Candidate&, const Obs& o, const J& theta, BeamTerms<J>& x) {
-         x.lnP += (r.scans[size_t(o.k)].rising ? J(-0.5) : J(0.5)) * theta;
-     },
+     [](const Replay& r, const ReplayModel&, const Candidate&, const Obs& o, const J& theta, const ScanTerms*,
+        BeamTerms<J>& x) { x.lnP += (r.scans[size_t(o.k)].rising ? J(-0.5) : J(0.5)) * theta; },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) { e.hysteresis += theta; },
      [](double theta, double se) {
          return Reported{{"ln_threshold_falling_over_rising", {theta, se}}};

@@ -25,14 +25,21 @@ struct EffectScale {
     double inv_sd = 0;  ///< the mean of 1/σ₀ over them [1/m]
 };
 
+/// What a cause's change shares among one scan's beams, computed once per scan at θ (CauseRow::scan).
+struct ScanTerms {
+    J density;  ///< the smoke's density [density]
+    J width;  ///< the threshold's width in ln(column)
+};
+
 struct CauseRow {
     Cause cause;
     const char* name;  ///< the public name (diagnosis.json, report.md)
     Target target;
     std::vector<double> starts;  ///< values of θ the fit starts from (the best is taken)
     /// θ's change to one observation's terms (before finishTerms).
+    /// `s` is the observation's scan's ScanTerms when the row has `scan`, else null.
     void (*apply)(const Replay& r, const ReplayModel& m, const Candidate& c, const Obs& o, const J& theta,
-                  BeamTerms<J>& x);
+                  const ScanTerms* s, BeamTerms<J>& x);
     /// θ into the extensions (the accepted finding).
     void (*commit)(const Replay& r, const Candidate& c, double theta, ModelExtensions& e);
     /// θ and its standard error as reported, in the cause's own units.
@@ -50,6 +57,8 @@ struct CauseRow {
     /// Its standard error from a jackknife over the blocks, not the likelihood's curvature (which
     /// a likelihood stepped at each camera frame makes meaningless).
     bool jackknife = false;
+    /// What θ changes alike for all of scan k's beams (null: nothing shared), for `apply`.
+    void (*scan)(const Replay& r, const ReplayModel& m, size_t k, const J& theta, ScanTerms& s) = nullptr;
 };
 
 /// @brief The scale candidate c's effect is measured against on the replay (CauseRow::effect):

@@ -73,9 +73,9 @@ Scored scoreCandidate(const Replay& r, const Models& m, Candidate c, const Diagn
         const ThetaFit f = fitCandidate(r, base, cf, touched(r, cf, fold));
         s.fold_fit[fold] = f;
         if (!f.ok) continue;
-        const J th(f.theta, 0);
+        const detail::CandidateAt at(r, base, cf, J(f.theta, 0));
         for (const Obs& o : touched(r, cf, 1 - fold)) {
-            const double gain = detail::candidateLogLik(r, base, cf, o, th).a - detail::modelLogLik(r, base, o);
+            const double gain = at.logLik(o).a - detail::modelLogLik(r, base, o);
             s.block_gain[size_t(r.scans[size_t(o.k)].block)] += gain;
             ++s.obs;
         }

@@ -19,9 +19,12 @@ ReplayModel::ReplayModel(const Replay& r, ModelExtensions e) : ext(std::move(e))
     }
     for (const ReplayBeam& b : r.beams) dropout.push_back(ext.dropoutAt(b.angle_rad * 180 / M_PI));
     offset_change_s = ext.clock_offset_s - r.offset_s;
-    for (const ReplayScan& s : r.scans)
-        ln_density_sd.push_back(r.from_saturation && offset_change_s != 0 ? r.lnDensitySdAt(s.time_s + offset_change_s)
-                                                                          : s.ln_density_sd);
+    const bool shifted = r.from_saturation && offset_change_s != 0;
+    for (const ReplayScan& s : r.scans) {
+        ln_density_sd.push_back(shifted ? r.lnDensitySdAt(s.time_s + offset_change_s) : s.ln_density_sd);
+        density.push_back(shifted ? r.densityAt(s.time_s + offset_change_s) : s.density);
+        width.push_back(std::hypot(ext.threshold_width, ln_density_sd.back()));
+    }
 }
 
 }  // namespace smokescan::detail

@@ -18,6 +18,10 @@ struct ReplayModel {
     /// Each scan's standard error of ln(density) on the model's clock (the replay's own when the
     /// offset is unchanged).
     std::vector<double> ln_density_sd;
+    /// Each scan's smoke density on the model's clock (the replay's own when the offset is
+    /// unchanged) and its threshold's width, hypot(threshold_width, ln_density_sd): read once
+    /// per scan, not per beam.
+    std::vector<double> density, width;
 
     /// @brief Resolves `e` on the replay. @throw Error naming the sensor file for a surface the
     /// scene lacks.
