@@ -8,6 +8,8 @@
 
 #include "room_rig.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/sensor_config/lms200.hpp"
+#include "smokescan/sensor_config/urg04lx.hpp"
 #include "smokescan/sensors/beam_model.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"

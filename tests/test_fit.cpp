@@ -17,6 +17,7 @@
 #include "smokescan/fit/sensor_fit.hpp"
 #include "smokescan/media/medium.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/urg04lx.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 using namespace smokescan;

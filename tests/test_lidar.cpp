@@ -17,6 +17,8 @@
 #include "smokescan/lidar/frame_pictures.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/lms200.hpp"
+#include "smokescan/sensor_config/urg04lx.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 using namespace smokescan;

@@ -14,6 +14,7 @@
 #include "smokescan/core/random.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
+#include "smokescan/sensor_config/urg04lx.hpp"
 #include "smokescan/sensors/cloud_profile.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 #include "smokescan/sensors/scanner.hpp"

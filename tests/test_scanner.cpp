@@ -8,6 +8,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/lms200.hpp"
 #include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/sensors/scanner.hpp"
 

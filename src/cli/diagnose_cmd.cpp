@@ -125,7 +125,7 @@ int runDiagnose(const DiagnoseArgs& a0)
     a.in.prefix = a.replay.target_prefix;
     // The folder is checked (and staged) before the work: a taken --out fails at once.
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
-    if (a.in.sensor_type == "omnicam") return runDiagnoseOmni(a, out, files);
+    if (recordedSensor(a.in.sensor_type).omnicam()) return runDiagnoseOmni(a, out, files);
     if (!a.omni_given.empty())
         throw Error("diagnose", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
     const FitInputs in = loadFitInputs(a.in);

@@ -18,6 +18,7 @@
 #include "smokescan/fit/plume_fit.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
 
 namespace smokescan::cli {
@@ -203,7 +204,7 @@ int runFit(const FitArgs& a0)
                        {parseRangeUnit(a.unit), a.lenient}};
     a.cfg.offset_s = a.offset;
     a.cfg.estimate_offset = !a.fixed_offset;
-    if (a.sensor_type == "omnicam") {
+    if (recordedSensor(a.sensor_type).omnicam()) {
         if (model == SensorModel::Physical)
             throw Error("--model physical", "fits a laser's receiver; the omnicam is fitted with the paper model");
         if (!a.covariates.empty() || a.covariates_all)
@@ -218,7 +219,7 @@ int runFit(const FitArgs& a0)
     if (std::isfinite(in.sigma_t_per_density)) a.cfg.sigma_t_per_density = in.sigma_t_per_density;
     const LrfSpec spec = specFor(in.mount.config);
     checkReference(a.cfg.reference, in.groups);
-    if (model == SensorModel::Physical && spec.type != SensorType::Urg04lx)
+    if (model == SensorModel::Physical && !laserKind(spec.type).fitsPhysicalModel())
         throw Error("--model physical",
                     std::string("fits the URG-04LX noise floor only; for a ") + sensorTypeName(spec.type) +
                         " in plumes see fit-plume");
@@ -279,7 +280,7 @@ int runFitPlume(const PlumeArgs& a)
     if (si < 0) throw Error(scene.source, "no sensor '" + (a.sensor.empty() ? std::string("lms200") : a.sensor) + "'");
     const SensorMount& mount = scene.sensors[size_t(si)];
     const size_t beams = log.scans.front().range.size(), expected = size_t(specFor(mount.config).n_beams);
-    if (mount.config.type == SensorType::Lms200 && beams != expected)
+    if (laserKind(mount.config.type).fitsPlume() && beams != expected)  // else fitSickPlume names the kind
         throw Error(a.laser,
                     "has " + std::to_string(beams) + " beams a scan; the scene's sensor '" + mount.name + "' (" +
                         sensorTypeName(mount.config.type) + ") has " + std::to_string(expected) +

@@ -16,6 +16,7 @@
 #include "smokescan/core/order_stats.hpp"
 #include "smokescan/fit/omni_fit.hpp"
 #include "smokescan/fit/sensor_fit.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
 #include "smokescan/sensors/beam_model.hpp"
 
@@ -310,7 +311,7 @@ void checkReplay(const FitInputs& in, const SensorConfig& config, const ReplayCo
     if (!(cfg.block_s >= 0.1)) throw Error("--block", "must be at least 0.1 s");
     if ((in.log.scans.back().time_s - in.log.scans.front().time_s) / cfg.block_s > 1e5)
         throw Error("--block", "would split the run into more than 100000 blocks");
-    if (config.model == SensorModel::Physical && config.type != SensorType::Urg04lx)
+    if (config.model == SensorModel::Physical && !laserKind(config.type).fitsPhysicalModel())
         throw Error("--model",
                     "the physical model is replayed for the urg04lx only (the lms200's error probability "
                     "is a Monte Carlo estimate, too slow per beam and scale)");

@@ -7,6 +7,18 @@
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan {
+
+RecordedSensor recordedSensor(const std::string& name)
+{
+    RecordedSensor s;
+    if (name == "omnicam") return s;
+    s.laser = findLaserKind(name);
+    if (!s.laser)
+        throw Error("--sensor-type",
+                    "unknown sensor type '" + name + "' (" + sensorTypeNames() + "; omnicam for an omnirange log)");
+    return s;
+}
+
 namespace {
 
 /// The sensor: the scene's (by name, else the first of the type), or the type's defaults.
@@ -14,11 +26,9 @@ SensorMount chooseSensor(const FitInputsConfig& cfg, const Scene* scene)
 {
     SensorMount mount;
     mount.name = cfg.sensor_type;
-    const auto type = parseSensorType(cfg.sensor_type);
-    if (!type)
-        throw Error("--sensor-type",
-                    "unknown sensor type '" + cfg.sensor_type + "' (urg04lx, lms200; omnicam for an omnirange log)");
-    mount.config = SensorConfig::defaults(*type);
+    const RecordedSensor s = recordedSensor(cfg.sensor_type);
+    if (s.omnicam()) throw Error("--sensor-type", "omnicam: an omnirange log is not a laser's (fit/omni_fit.hpp)");
+    mount.config = SensorConfig::defaults(s.laser->type());
     if (!scene) return mount;
     const int si = cfg.sensor.empty() ? scene->findSensor(cfg.sensor_type) : scene->findSensor(cfg.sensor);
     if (si < 0) throw Error(scene->source, "no sensor '" + (cfg.sensor.empty() ? cfg.sensor_type : cfg.sensor) + "'");

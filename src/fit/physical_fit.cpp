@@ -9,6 +9,7 @@
 #include "binomial_deviance.hpp"
 #include "ceres_fit.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 #include "smokescan/sensors/physical_model.hpp"
 
 namespace smokescan {
@@ -310,7 +311,7 @@ UrgNoiseFloorResult fitUrgNoiseFloor(const Scene& scene, const SurfaceSet& surfa
                                      const UrgNoiseFloorConfig& cfg)
 {
     const LrfSpec spec = specFor(mount.config);
-    if (spec.type != SensorType::Urg04lx)
+    if (!laserKind(spec.type).fitsPhysicalModel())
         throw Error(
             "--model physical",
             std::string("the noise floor fit is for the URG-04LX (AMCW); not for the ") + sensorTypeName(spec.type));

@@ -9,6 +9,7 @@
 #include "ceres_fit.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/order_stats.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 
 namespace smokescan {
 namespace {
@@ -214,7 +215,7 @@ PlumeFitResult fitSickPlume(const RecordedLog& log, const Scene& scene, const Su
                             const SensorMount& mount, const PlumeFitConfig& cfg)
 {
     const LrfSpec spec = specFor(mount.config);
-    if (spec.type != SensorType::Lms200)
+    if (!laserKind(spec.type).fitsPlume())
         throw Error(
             "fit-plume",
             "the plume fit is for the Sick LMS200; sensor '" + mount.name + "' is a " + sensorTypeName(spec.type));

@@ -15,6 +15,7 @@
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/scene/mesh.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
 #include "toml_reader.hpp"
 
@@ -158,7 +159,7 @@ SensorMount readSensor(TomlTable t, const std::string& base_dir, const std::vect
     m.robot = readRobotRef(t, robots);
     if (t.has("sensor_file")) applySensorFile(resolve(base_dir, t.strReq("sensor_file")), m.config);
     readSceneSensorKeys(t, m.config);
-    t.finish(std::string(*kind == SensorType::Urg04lx ? "an " : "a ") + type + " sensor");
+    t.finish(laserKind(*kind).withArticle() + " sensor");
     return m;
 }
 

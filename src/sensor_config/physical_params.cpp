@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "smokescan/sensor_config/laser_kind.hpp"
+
 namespace smokescan {
 namespace {
 
@@ -31,27 +33,6 @@ double PhysicalParams::overlap(double r) const
     return std::max(s, overlap_floor * std::min(1.0, x * x));
 }
 
-PhysicalParams physicalDefaults(SensorType type)
-{
-    PhysicalParams p;
-    switch (type) {
-    case SensorType::Urg04lx:
-        p.overlap_start_m = 1.5;
-        p.overlap_full_m = 3.0;
-        p.overlap_floor = 0.03;
-        // Calibrated, both (docs/sensors.md): the amplitude threshold snr_min·noise_floor puts the
-        // bocas blue paper's onset at the paper's 0.007 density·m; the noise alone sets how sharp
-        // the onset is, and the paper saw no errors below it (5.4e-4 with snr_min 8 gave two-wave
-        // errors from 0.004 density·m, in the first puff).
-        p.snr_min = 25;
-        p.noise_floor = 1.728e-4;
-        break;
-    case SensorType::Lms200:
-        p.divergence_mrad = 12.0;
-        p.noise_floor = 5e-5;  // calibrated: dense plume cores read as obstacles, thin edges as 8189 (docs/sensors.md)
-        break;
-    }
-    return p;
-}
+PhysicalParams physicalDefaults(SensorType type) { return laserKind(type).physicalDefaults(); }
 
 }  // namespace smokescan

@@ -7,6 +7,7 @@
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 
 namespace smokescan {
 
@@ -27,9 +28,10 @@ void applySensorText(const std::string& text, const std::string& path, SensorCon
     if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical, c.type);
     if (t.has("extensions")) {
         readExtensionsTable(t.table("extensions"), c.extensions);
-        if (c.extensions.changesBeams() && c.type != SensorType::Urg04lx)
+        if (c.extensions.changesBeams() && !laserKind(c.type).learnsExtensions())
             t.error("extensions",
-                    "extend the urg04lx's models; this file's sensor is an " + std::string(sensorTypeName(c.type)));
+                    "change the beams, but this file's sensor is " + laserKind(c.type).withArticle() +
+                        ", whose models take none");
     }
     t.finish();
     c.sensor_file = path;

@@ -4,40 +4,44 @@
 
 #include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 
 namespace smokescan {
 namespace {
 
 // One table of every PhysicalParams field: name, member, bounds, and the receiver it belongs
-// to (a URG's AMCW phase receiver or a Sick's pulse receiver; both: the optics and noise).
+// to (an AMCW phase receiver or a pulse receiver, the kind's; both: the optics and noise).
 // Reading and writing share it; a key of the other receiver is refused.
-enum class Receiver { Both, Amcw, Pulsed };
+enum class Owner { Both, Amcw, Pulsed };
 struct Field {
     const char* name;
     double PhysicalParams::*member;
     double lo, hi;  ///< inclusive; every field is > 0
-    Receiver receiver;
+    Owner owner;
 };
 const Field kFields[] = {
-    {"divergence_mrad", &PhysicalParams::divergence_mrad, 1e-3, 1e3, Receiver::Both},
-    {"overlap_start_m", &PhysicalParams::overlap_start_m, 1e-6, 1e3, Receiver::Both},
-    {"overlap_full_m", &PhysicalParams::overlap_full_m, 1e-6, 1e3, Receiver::Both},
-    {"overlap_floor", &PhysicalParams::overlap_floor, 1e-12, 1, Receiver::Both},
-    {"window_m", &PhysicalParams::window_m, 1e-6, 10, Receiver::Both},
-    {"noise_floor", &PhysicalParams::noise_floor, 1e-15, 1e3, Receiver::Both},
-    {"saturation_power", &PhysicalParams::saturation_power, 1e-12, 1e9, Receiver::Both},
-    {"snr_min", &PhysicalParams::snr_min, 1e-3, 1e6, Receiver::Amcw},
-    {"mod_freq_lo_hz", &PhysicalParams::mod_freq_lo_hz, 1e3, 1e11, Receiver::Amcw},
-    {"mod_freq_hi_hz", &PhysicalParams::mod_freq_hi_hz, 1e3, 1e11, Receiver::Amcw},
-    {"two_wave_tolerance", &PhysicalParams::two_wave_tolerance, 1e-6, 0.999, Receiver::Amcw},
-    {"pulse_fwhm_ns", &PhysicalParams::pulse_fwhm_ns, 1e-3, 1e4, Receiver::Pulsed},
-    {"threshold_snr", &PhysicalParams::threshold_snr, 1e-3, 1e6, Receiver::Pulsed},
-    {"valid_snr", &PhysicalParams::valid_snr, 1e-3, 1e6, Receiver::Pulsed},
-    {"max_echo_width", &PhysicalParams::max_echo_width, 1e-3, 1e6, Receiver::Pulsed},
+    {"divergence_mrad", &PhysicalParams::divergence_mrad, 1e-3, 1e3, Owner::Both},
+    {"overlap_start_m", &PhysicalParams::overlap_start_m, 1e-6, 1e3, Owner::Both},
+    {"overlap_full_m", &PhysicalParams::overlap_full_m, 1e-6, 1e3, Owner::Both},
+    {"overlap_floor", &PhysicalParams::overlap_floor, 1e-12, 1, Owner::Both},
+    {"window_m", &PhysicalParams::window_m, 1e-6, 10, Owner::Both},
+    {"noise_floor", &PhysicalParams::noise_floor, 1e-15, 1e3, Owner::Both},
+    {"saturation_power", &PhysicalParams::saturation_power, 1e-12, 1e9, Owner::Both},
+    {"snr_min", &PhysicalParams::snr_min, 1e-3, 1e6, Owner::Amcw},
+    {"mod_freq_lo_hz", &PhysicalParams::mod_freq_lo_hz, 1e3, 1e11, Owner::Amcw},
+    {"mod_freq_hi_hz", &PhysicalParams::mod_freq_hi_hz, 1e3, 1e11, Owner::Amcw},
+    {"two_wave_tolerance", &PhysicalParams::two_wave_tolerance, 1e-6, 0.999, Owner::Amcw},
+    {"pulse_fwhm_ns", &PhysicalParams::pulse_fwhm_ns, 1e-3, 1e4, Owner::Pulsed},
+    {"threshold_snr", &PhysicalParams::threshold_snr, 1e-3, 1e6, Owner::Pulsed},
+    {"valid_snr", &PhysicalParams::valid_snr, 1e-3, 1e6, Owner::Pulsed},
+    {"max_echo_width", &PhysicalParams::max_echo_width, 1e-3, 1e6, Owner::Pulsed},
 };
 
-Receiver receiverOf(SensorType type) { return type == SensorType::Urg04lx ? Receiver::Amcw : Receiver::Pulsed; }
-bool has(SensorType type, const Field& f) { return f.receiver == Receiver::Both || f.receiver == receiverOf(type); }
+bool has(SensorType type, const Field& f)
+{
+    const bool amcw = laserKind(type).receiver() == Receiver::Amcw;
+    return f.owner == Owner::Both || f.owner == (amcw ? Owner::Amcw : Owner::Pulsed);
+}
 
 }  // namespace
 
@@ -51,11 +55,12 @@ void readPhysicalTable(TomlTable t, PhysicalParams& p, SensorType type)
     p.overlap_blur_m = t.nonneg("overlap_blur_m", p.overlap_blur_m);
     if (p.overlap_blur_m > p.overlap_start_m) t.error("overlap_blur_m", "must not exceed overlap_start_m");
     if (p.overlap_full_m < p.overlap_start_m) t.error("overlap_full_m", "must not be below overlap_start_m");
-    if (type == SensorType::Urg04lx && p.mod_freq_hi_hz <= p.mod_freq_lo_hz)
+    const LaserKind& kind = laserKind(type);
+    if (kind.receiver() == Receiver::Amcw && p.mod_freq_hi_hz <= p.mod_freq_lo_hz)
         t.error("mod_freq_hi_hz", "must exceed mod_freq_lo_hz");
-    if (type == SensorType::Lms200 && p.valid_snr < p.threshold_snr)
+    if (kind.receiver() == Receiver::Pulsed && p.valid_snr < p.threshold_snr)
         t.error("valid_snr", "must not be below threshold_snr");
-    t.finish(std::string("the physical model of an ") + sensorTypeName(type));
+    t.finish("the physical model of " + kind.withArticle());
 }
 
 void writePhysicalTable(std::ostream& o, const PhysicalParams& p, SensorType type)
@@ -150,11 +155,7 @@ void readSceneSensorKeys(TomlTable& t, SensorConfig& c)
     c.paper.penetration_power = t.between("penetration_power", c.paper.penetration_power, 1e-9, 1e3);
     c.paper.local_threshold = t.between("local_threshold", c.paper.local_threshold, 1e-9, limits::kDensity);
     if (t.has("physical")) readPhysicalTable(t.table("physical"), c.physical, c.type);
-    if (c.type != SensorType::Lms200) return;  // the LMS200's own keys: its angular resolution and range mode
-    c.lms.resolution_deg = t.num("resolution_deg", c.lms.resolution_deg);
-    if (c.lms.resolution_deg != 1.0 && c.lms.resolution_deg != 0.5) t.error("resolution_deg", "must be 1 or 0.5");
-    c.lms.range_mode_m = t.num("range_mode_m", c.lms.range_mode_m);
-    if (c.lms.range_mode_m != 8.0 && c.lms.range_mode_m != 80.0) t.error("range_mode_m", "must be 8 or 80");
+    laserKind(c.type).readOwnKeys(t, c);  // e.g. the LMS200's resolution and range mode
 }
 
 }  // namespace smokescan

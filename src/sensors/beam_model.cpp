@@ -7,6 +7,7 @@
 #include "smokescan/core/random.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 
 namespace smokescan {
 
@@ -14,18 +15,17 @@ BeamModel::BeamModel(const SensorConfig& c) : config_(c), spec_(specFor(c)) {}
 
 std::unique_ptr<BeamModel> makeBeamModel(const SensorConfig& c)
 {
-    if (c.extensions.changesBeams() && c.type != SensorType::Urg04lx)
+    const LaserKind& kind = laserKind(c.type);
+    if (c.extensions.changesBeams() && !kind.learnsExtensions())
         throw Error(c.sensor_file.empty() ? std::string("sensor") : c.sensor_file,
-                    std::string("[extensions] extend the urg04lx's models, not the ") + sensorTypeName(c.type) + "'s");
-    switch (c.type) {
-    case SensorType::Urg04lx:
-        if (c.model == SensorModel::Physical) return std::make_unique<AmcwUrgModel>(c);
-        return std::make_unique<PaperUrgModel>(c);
-    case SensorType::Lms200:
-        if (c.model == SensorModel::Physical) return std::make_unique<PulsedSickModel>(c);
-        return std::make_unique<PaperSickModel>(c);
-    }
-    return nullptr;
+                    "[extensions] change the beams, but " + kind.withArticle() + "'s models take none");
+    // Each kind's models and their factory are in its own folder (src/sensors/NAME/).
+    using Factory = std::unique_ptr<BeamModel> (*)(const SensorConfig&);
+    static const std::pair<SensorType, Factory> kFactories[] = {{SensorType::Urg04lx, makeUrg04lxModel},
+                                                                {SensorType::Lms200, makeLms200Model}};
+    for (const auto& [type, make] : kFactories)
+        if (type == c.type) return make(c);
+    throw Error("sensor", kind.withArticle() + " has no beam models");
 }
 
 double BeamModel::rangeSigma(const BeamWorld& w, const LaserBeam& beam) const

@@ -105,4 +105,9 @@ private:
     double receiveErrorProbability(const BeamSignal& s) const override;
 };
 
+/// @brief The URG-04LX's models, by config.model (urg04lx/urg04lx_models.cpp).
+std::unique_ptr<BeamModel> makeUrg04lxModel(const SensorConfig& config);
+/// @brief The LMS200's models, by config.model (lms200/lms200_models.cpp).
+std::unique_ptr<BeamModel> makeLms200Model(const SensorConfig& config);
+
 }  // namespace smokescan

@@ -28,16 +28,10 @@ BeamResult& reportRange(const LrfSpec& spec, double range, double noise, BeamRes
 double reportErrorProbability(const LrfSpec& spec, double range)
 {
     if (!std::isfinite(range) || range > spec.range_max_m || range < spec.range_min_m) return 1.0;
-    switch (spec.type) {
-    case SensorType::Urg04lx:
-        return 0.0;  // readings below the window are raised to range_min_m, a valid value
-    case SensorType::Lms200: {
-        // Error values from kNoEcho up: the measured range rounds onto them above (kNoEcho − ½)·unit.
-        const double edge = (double(lms_code::kNoEcho) - 0.5) * spec.unit_m;
-        return 0.5 * std::erfc((edge - range) / (spec.rangeSigma(range) * std::sqrt(2.0)));
-    }
-    }
-    return 1.0;
+    // Error values outside first_range_value…last_range_value: the measured range rounds onto
+    // them beyond (last + ½)·unit (readings below the window are raised to range_min_m, a value).
+    const double edge = (double(spec.last_range_value) + 0.5) * spec.unit_m;
+    return 0.5 * std::erfc((edge - range) / (spec.rangeSigma(range) * std::sqrt(2.0)));
 }
 
 }  // namespace smokescan

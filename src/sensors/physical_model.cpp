@@ -6,6 +6,8 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/sensor_config/lms200.hpp"
+#include "smokescan/sensor_config/urg04lx.hpp"
 
 namespace smokescan {
 namespace {

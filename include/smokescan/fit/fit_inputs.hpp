@@ -27,8 +27,18 @@
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/scene/scene.hpp"
 #include "smokescan/scene/surfaces.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
 
 namespace smokescan {
+
+/// What a recorded log came from, as `--sensor-type` names it: a laser kind
+/// (sensor_config/laser_kind.hpp), or the omnicam (omnirange's log, fitted by fit/omni_fit.hpp).
+struct RecordedSensor {
+    const LaserKind* laser = nullptr;  ///< null: the omnicam
+    bool omnicam() const { return laser == nullptr; }
+};
+/// @brief The sensor named `name`. @throw Error naming --sensor-type for an unknown name.
+RecordedSensor recordedSensor(const std::string& name);
 
 struct FitInputsConfig {
     std::string laser, saturation, calibration = "bocas", patch;

@@ -17,6 +17,7 @@
 /// takes that band as 2σ. The LMS200's statistical error is taken as 5 mm (1σ, mm mode).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "smokescan/sensor_config/sensor_kind.hpp"
@@ -34,6 +35,8 @@ struct LrfSpec {
     double unit_m = 0.001;  ///< reported range unit
     double scan_period_s = 0.1;
     long long no_return_code = 0;  ///< value reported when nothing is measured
+    /// The reported values that are ranges; every value outside is an error code.
+    long long first_range_value = 0, last_range_value = std::numeric_limits<long long>::max();
     double sigma_near_m = 0.005;  ///< noise σ below near_limit_m
     double near_limit_m = 1.0;
     double sigma_rel = 0.005;  ///< noise σ as a fraction of range beyond near_limit_m
@@ -44,7 +47,7 @@ struct LrfSpec {
         return range_m < near_limit_m ? sigma_near_m : std::max(sigma_near_m, sigma_rel * range_m);
     }
     /// True when a reported value is an error code, not a range.
-    bool isErrorValue(long long value) const;
+    bool isErrorValue(long long value) const { return value < first_range_value || value > last_range_value; }
     /// True when a logged range [m] is one of the error values (a log gives them in its own unit).
     bool isErrorRange(double range_m) const { return isErrorValue(std::llround(range_m / unit_m)); }
     /// A reported value as a range [m]; NaN for an error value.
@@ -53,11 +56,8 @@ struct LrfSpec {
     std::string errorValueSummary() const;
 };
 
-/// @brief Hokuyo URG-04LX (SCIP 2.0): steps 44…725, 20…5600 mm, error values below 20.
-LrfSpec urg04lx();
-/// @brief Sick LMS200: 180° at `resolution_deg` (1 or 0.5), range mode 8 m (mm) or 80 m (cm).
-LrfSpec lms200(double resolution_deg = 0.5, double range_mode_m = 8.0);
-/// @brief The spec for a sensor's type and options.
+/// @brief The spec for a sensor's type and options (its kind's, sensor_config/laser_kind.hpp;
+/// the two datasheets' in sensor_config/urg04lx.hpp and lms200.hpp).
 struct SensorConfig;
 LrfSpec specFor(const SensorConfig& config);
 

@@ -1,8 +1,9 @@
 #pragma once
 /// @file sensor_kind.hpp
-/// @brief The kinds of laser range finder and of sensor model smokescan simulates, and each
-/// sensor's error values by name. Names are parsed once, where a file or option is read; the rest
-/// of the code switches on the enums.
+/// @brief The kinds of laser range finder and of sensor model smokescan simulates. Names are
+/// parsed once, where a file or option is read; what differs between kinds is asked of the kind
+/// (sensor_config/laser_kind.hpp), each in its own file, its error values in its own header
+/// (sensor_config/urg04lx.hpp, lms200.hpp).
 ///
 /// | type      | model      | implementation (sensors/beam_model.hpp)                      |
 /// |-----------|------------|--------------------------------------------------------------|
@@ -15,7 +16,7 @@
 
 namespace smokescan {
 
-/// @brief A laser range finder of the smoke paper.
+/// @brief A laser range finder of the smoke paper (a LaserKind each, in this order).
 enum class SensorType { Urg04lx, Lms200 };
 /// @brief How a beam's reading is made from the scene: the paper's rules or the lidar equation.
 enum class SensorModel { Paper, Physical };
@@ -32,21 +33,5 @@ std::optional<SensorModel> parseSensorModel(const std::string& name);
 const char* sensorTypeNames();
 /// @brief "paper or physical".
 const char* sensorModelNames();
-
-/// @brief Hokuyo URG-04LX reported values (SCIP 2.0): values below kFirstRange are errors.
-namespace urg_code {
-constexpr long long kNoReturn = 0;  ///< nothing in range (also: the paper model's smoke error)
-constexpr long long kLowIntensity = 1;  ///< signal too weak
-constexpr long long kTwoWaveDifference = 8;  ///< the two modulation waves disagree in amplitude
-constexpr long long kStrongReflection = 18;  ///< receiver saturated
-constexpr long long kFirstRange = 20;  ///< smallest range value [mm]
-}  // namespace urg_code
-
-/// @brief Sick LMS200 reported values (raw, in the range mode's unit): kNoEcho and above are errors.
-namespace lms_code {
-constexpr long long kNoEcho = 8183;  ///< measured value > maximum (no echo within range)
-constexpr long long kWeakOrAmbiguous = 8189;  ///< echo too weak or too wide
-constexpr long long kDazzled = 8191;  ///< dazzled
-}  // namespace lms_code
 
 }  // namespace smokescan
