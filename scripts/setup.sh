@@ -8,7 +8,7 @@ pkgs=(build-essential cmake ninja-build pkg-config
   libopenimageio-dev openimageio-tools libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev libtinyobjloader-dev
   nlohmann-json3-dev fonts-dejavu-core clang clang-format libclang-rt-14-dev llvm
-  python3-open3d)
+  python3-open3d zlib1g-dev libzstd-dev liblz4-dev libyaml-cpp-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -20,6 +20,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 [ "${1:-}" = "--no-build" ] && exit 0
+bash "$here/scripts/setup_readers.sh" "$here/build"
 # SMOKESCAN_CMAKE_ARGS: extra configure options (CI: -DSMOKESCAN_WERROR=ON).
 cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release ${SMOKESCAN_CMAKE_ARGS:-} >/dev/null
 cmake --build "$here/build" -j "$(nproc)"

@@ -15,6 +15,7 @@ if [ "${1:-}" = "--sanitize" ]; then
     -DCMAKE_CXX_COMPILER=clang++ -DSMOKESCAN_SANITIZE=ON -DSMOKESCAN_BUILD_FUZZ=ON \
     -DSMOKESCAN_BUILD_BENCH=OFF ${SMOKESCAN_CMAKE_ARGS:-} >/dev/null
   cmake --build "$here/build-sanitize" -j "$(nproc)"
+  bash "$here/scripts/setup_readers.sh" "$here/build-sanitize"
   export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:detect_container_overflow=0
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   (cd "$here/build-sanitize" && ctest --output-on-failure -j "$(nproc)" -L 'unit|cli|workflow|package')

@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 #include "scan_lidar.hpp"
+#include "smokescan/bag/scan_bag.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/calib/saturation_predict.hpp"
 #include "smokescan/camera/frame_folder.hpp"
@@ -34,7 +35,7 @@ namespace {
 struct ScanArgs {
     LidarScanArgs lidar;
     std::string scene = "bocas", out, tau_csv, image, target = "target";
-    std::string saturation_out, calibration = "bocas", camera, frames_dir, model;
+    std::string saturation_out, calibration = "bocas", camera, frames_dir, model, bag;
     SaturationSimConfig sat;
     bool saturation_render = false;
     SaturationRenderConfig render;
@@ -116,6 +117,7 @@ void recordFiles(RunFiles& files, const ScanArgs& a)
     files.output(a.image, "--image");
     files.output(a.saturation_out, "--saturation-out");
     files.outputFolder(a.frames_dir, "--saturation-frames");
+    files.outputFolder(a.bag, "--bag");
 }
 
 /// The options only a 3D lidar takes, and whether each was given.
@@ -135,6 +137,7 @@ int scanLidar(const Scene& scene, const ScanArgs& a)
 {
     const std::vector<std::pair<bool, const char*>> laser_only = {
         {!a.out.empty(), "--out"},
+        {!a.bag.empty(), "--bag"},
         {!a.tau_csv.empty(), "--tau"},
         {!a.image.empty(), "--image"},
         {!a.model.empty(), "--model"},
@@ -185,7 +188,8 @@ int runScan(const ScanArgs& a0)
     const Scanner sc(scene, surfaces, a.cfg);  // an unknown sensor is named before anything else
     for (const auto& [given, option] : lidarOnly(a))
         if (given) throw Error(option, "is for a 3D lidar (--sensor vlp16, hdl32e, os1-128 or a preset file)");
-    if (a.out.empty()) throw Error("--out", "a 2D laser's scans need a log to go to (--out FILE)");
+    if (a.out.empty() && a.bag.empty())
+        throw Error("--out", "a 2D laser's scans need a log or a bag to go to (--out FILE, --bag DIR)");
     // The clock offset a sensor file learned (smokescan diagnose) is the default of --camera-offset.
     if (std::isnan(a.sat.clock_offset_s)) a.sat.clock_offset_s = sc.mount().config.extensions.clock_offset_s;
     const auto times = sc.times();
@@ -227,8 +231,13 @@ int runScan(const ScanArgs& a0)
     // Scans are streamed to the outputs' temporaries: memory does not grow with the run's length
     // (only --image keeps each scan's values, within limits::kImageScans).
     ScanSummary summary(scene, sc, a.target, a.bin_s, times, a.quiet ? 0 : limits::kSummaryRows);
-    AtomicFile log(files.stage(a.out));
-    writeLaserLogHeader(log.stream(), logHeader(scene, sc, a));
+    std::unique_ptr<AtomicFile> log;
+    if (!a.out.empty()) {
+        log = std::make_unique<AtomicFile>(files.stage(a.out));
+        writeLaserLogHeader(log->stream(), logHeader(scene, sc, a));
+    }
+    std::unique_ptr<ScanBag> bag;
+    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene, sc);
     std::unique_ptr<AtomicFile> tau;
     if (!a.tau_csv.empty()) {
         tau = std::make_unique<AtomicFile>(files.stage(a.tau_csv));
@@ -237,12 +246,14 @@ int runScan(const ScanArgs& a0)
     std::vector<Scan> drawn;  // values only, for --image
     for (size_t k = 0; k < times.size(); ++k) {
         Scan s = sc.scanAt(times[k], k);
-        writeLaserLogScan(log.stream(), s, sc.spec());
+        if (log) writeLaserLogScan(log->stream(), s, sc.spec());
+        if (bag) bag->add(s);
         if (tau) writeBeamCsvScan(tau->stream(), s, scene);
         summary.add(s);
         if (!a.image.empty()) drawn.push_back(Scan{s.time_s, {}, std::move(s.value), {}});
     }
-    log.commit();
+    if (log) log->commit();
+    if (bag) bag->finish();
     if (tau) tau->commit();
     if (!a.image.empty())
         writeScanImage(files.stage(a.image), drawn, sc.spec(),
@@ -253,9 +264,11 @@ int runScan(const ScanArgs& a0)
     }
     files.commit([&] {
         if (frames) frames->commit();
+        if (bag) bag->commit();
     });
     if (!a.quiet) say("%s", summary.text().c_str());
-    say("wrote %s (%zu scans)%s%s%s%s%s%s\n", a.out.c_str(), times.size(), a.tau_csv.empty() ? "" : ", ",
+    say("wrote %s (%zu scans)%s%s%s%s%s%s%s%s\n", (a.out.empty() ? a.bag : a.out).c_str(), times.size(),
+        a.out.empty() || a.bag.empty() ? "" : ", ", a.out.empty() ? "" : a.bag.c_str(), a.tau_csv.empty() ? "" : ", ",
         a.tau_csv.c_str(), a.image.empty() ? "" : ", ", a.image.c_str(), a.saturation_out.empty() ? "" : ", ",
         a.saturation_out.c_str());
     return 0;
@@ -294,6 +307,9 @@ void addScan(CLI::App& app, Runner& run)
         ->capture_default_str()
         ->check(range(0.1, 1e4));
     c->add_option("--out", a->out, "Laser log to write (2D lasers)");
+    c->add_option("--bag", a->bag,
+                  "2D lasers: also (or instead) a ROS 2 bag, a new folder: metadata.yaml and an MCAP file with "
+                  "/scan (sensor_msgs/LaserScan), /tf and /tf_static (docs/bags.md)");
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option(
         "--image", a->image,

@@ -42,6 +42,9 @@ public:
     virtual LrfSpec spec(const SensorConfig& config) const = 0;
     /// @brief Which reported values are error codes, in words (log headers).
     virtual std::string errorValueSummary() const = 0;
+    /// @brief An error value as ROS's REP 117 writes it in a LaserScan: +Inf when nothing was in
+    /// range (no echo), −Inf when it was too close, NaN for a measurement that failed.
+    virtual float rep117(long long error_value) const = 0;
     /// @brief The calibrated defaults of its physical model.
     virtual PhysicalParams physicalDefaults() const = 0;
     /// @brief Reads the kind's own keys of a scene's `[[sensor]]` into `config` (none by default;

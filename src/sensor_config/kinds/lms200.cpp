@@ -42,6 +42,10 @@ public:
     Receiver receiver() const override { return Receiver::Pulsed; }
     LrfSpec spec(const SensorConfig& c) const override { return lms200(c.lms.resolution_deg, c.lms.range_mode_m); }
     std::string errorValueSummary() const override { return "values >= 8183 (8183 = no echo within range)"; }
+    float rep117(long long v) const override
+    {
+        return v == lms_code::kNoEcho ? INFINITY : NAN;  // weak or ambiguous, dazzled: failed measurements
+    }
     PhysicalParams physicalDefaults() const override
     {
         PhysicalParams p;

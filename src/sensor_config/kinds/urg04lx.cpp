@@ -37,6 +37,12 @@ public:
     Receiver receiver() const override { return Receiver::Amcw; }
     LrfSpec spec(const SensorConfig&) const override { return urg04lx(); }
     std::string errorValueSummary() const override { return "values below 20 (0 = no return)"; }
+    float rep117(long long v) const override
+    {
+        // No return and too weak a signal: nothing measured in range. The two waves' disagreement
+        // and a saturated receiver: a measurement that failed.
+        return v == urg_code::kNoReturn || v == urg_code::kLowIntensity ? INFINITY : NAN;
+    }
     PhysicalParams physicalDefaults() const override
     {
         PhysicalParams p;

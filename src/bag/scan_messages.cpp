@@ -1,0 +1,44 @@
+#include "smokescan/bag/scan_messages.hpp"
+
+#include <Eigen/Geometry>
+
+#include "smokescan/sensor_config/laser_kind.hpp"
+
+namespace smokescan {
+
+LaserScanMsg laserScanOf(const Scan& scan, const LrfSpec& spec, const std::string& frame_id)
+{
+    LaserScanMsg m;
+    m.header.stamp = RosTime::fromSeconds(scan.time_s);
+    m.header.frame_id = frame_id;
+    m.angle_min = float(spec.angle(0));
+    m.angle_max = float(spec.angle(spec.n_beams - 1));
+    m.angle_increment = float(spec.dangle_rad);
+    m.time_increment = 0;  // smokescan takes a 2D scan as instantaneous (sensor_config/beam_pattern.hpp)
+    m.scan_time = float(spec.scan_period_s);
+    m.range_min = float(spec.range_min_m);
+    m.range_max = float(spec.range_max_m);
+    const LaserKind& kind = laserKind(spec.type);
+    m.ranges.reserve(scan.value.size());
+    for (long long v : scan.value)
+        m.ranges.push_back(spec.isErrorValue(v) ? kind.rep117(v) : float(double(v) * spec.unit_m));
+    return m;
+}
+
+TransformStampedMsg transformOf(const Pose& pose, const RosTime& stamp, const std::string& parent,
+                                const std::string& child)
+{
+    TransformStampedMsg t;
+    t.header.stamp = stamp;
+    t.header.frame_id = parent;
+    t.child_frame_id = child;
+    for (int i = 0; i < 3; ++i) t.translation[i] = pose.t[i];
+    const Eigen::Quaterniond q(pose.R);
+    t.rotation[0] = q.x();
+    t.rotation[1] = q.y();
+    t.rotation[2] = q.z();
+    t.rotation[3] = q.w();
+    return t;
+}
+
+}  // namespace smokescan

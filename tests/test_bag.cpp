@@ -1,0 +1,283 @@
+// ROS 2 bags (bag/): CDR against its byte layout worked out by hand from the specification, and
+// the bags `scan --bag` writes read back by independent readers (Foxglove's @mcap/core and
+// @foxglove/rosmsg2-serialization, under node: tests/js/read_bag.mjs, installed by
+// scripts/setup_readers.sh) and compared value by value with the laser log of the same run.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_run.hpp"
+#include "smokescan/bag/cdr.hpp"
+#include "smokescan/bag/ros_messages.hpp"
+#include "smokescan/core/error.hpp"
+
+using namespace smokescan;
+using namespace smokescan::test;
+
+namespace {
+
+template <class T>
+T at(const std::vector<uint8_t>& b, size_t payload_offset)
+{
+    T v;
+    std::memcpy(&v, b.data() + 4 + payload_offset, sizeof v);
+    return v;
+}
+
+}  // namespace
+
+TEST(Cdr, ALaserScanIsLaidOutAsTheSpecificationSays)
+{
+    LaserScanMsg m;
+    m.header.stamp = {1, 2};
+    m.header.frame_id = "ab";
+    m.angle_min = 0.5f;
+    m.range_max = 5.6f;
+    m.ranges = {1.0f};
+    const std::vector<uint8_t> b = encode(m);
+    // Encapsulation 00 01 00 00; sec 0–3, nanosec 4–7, frame_id's length 3 at 8, "ab\0" at 12–14,
+    // one byte of padding, seven float32 at 16–43, ranges' count at 44 and its value at 48,
+    // intensities' count 0 at 52: 56 bytes after the header.
+    ASSERT_EQ(b.size(), 60u);
+    EXPECT_EQ(b[0], 0);
+    EXPECT_EQ(b[1], 1);
+    EXPECT_EQ(at<int32_t>(b, 0), 1);
+    EXPECT_EQ(at<uint32_t>(b, 4), 2u);
+    EXPECT_EQ(at<uint32_t>(b, 8), 3u);
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(b.data() + 4 + 12), 3), std::string("ab\0", 3));
+    EXPECT_EQ(b[4 + 15], 0);
+    EXPECT_EQ(at<float>(b, 16), 0.5f);
+    EXPECT_EQ(at<float>(b, 16 + 6 * 4), 5.6f);
+    EXPECT_EQ(at<uint32_t>(b, 44), 1u);
+    EXPECT_EQ(at<float>(b, 48), 1.0f);
+    EXPECT_EQ(at<uint32_t>(b, 52), 0u);
+    const LaserScanMsg back = decodeLaserScan(b, "scan");
+    EXPECT_EQ(back.header.frame_id, "ab");
+    EXPECT_EQ(back.ranges, m.ranges);
+    EXPECT_EQ(back.range_max, 5.6f);
+}
+
+TEST(Cdr, DoublesAreAlignedToEightBytesFromThePayloadsStart)
+{
+    TfMsg m;
+    TransformStampedMsg t;
+    t.header.frame_id = "m";
+    t.child_frame_id = "s";
+    t.translation[0] = 1.5;
+    t.rotation[3] = -1;
+    m.transforms = {t};
+    const std::vector<uint8_t> b = encode(m);
+    // count 0–3; sec 4, nanosec 8; "m" length 2 at 12, bytes 16–17; "s" (aligned to 20) length at
+    // 20, bytes 24–25; the first float64 aligned to 32: seven of them end at 88.
+    ASSERT_EQ(b.size(), 4u + 88u);
+    EXPECT_EQ(at<uint32_t>(b, 0), 1u);
+    EXPECT_EQ(at<uint32_t>(b, 20), 2u);
+    EXPECT_EQ(at<double>(b, 32), 1.5);
+    EXPECT_EQ(at<double>(b, 32 + 6 * 8), -1.0);
+    EXPECT_EQ(decodeTf(b, "tf").transforms.at(0).child_frame_id, "s");
+}
+
+TEST(Cdr, BadBytesAreOneLineErrorsNamingTheMessage)
+{
+    LaserScanMsg m;
+    m.header.frame_id = "laser";
+    m.ranges = {1, 2, 3};
+    const std::vector<uint8_t> good = encode(m);
+    auto error = [](const std::vector<uint8_t>& b) {
+        try {
+            (void)decodeLaserScan(b, "x.mcap: message 3 on /scan");
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("decoded");
+    };
+    for (size_t n : {size_t(0), size_t(3), size_t(10), good.size() - 1}) {
+        const std::string e = error(std::vector<uint8_t>(good.begin(), good.begin() + long(n)));
+        EXPECT_NE(e.find("x.mcap: message 3 on /scan"), std::string::npos) << n << ": " << e;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+    std::vector<uint8_t> big = good;
+    big[1] = 0;  // big-endian encapsulation
+    EXPECT_NE(error(big).find("big-endian"), std::string::npos);
+    std::vector<uint8_t> huge = good;
+    const uint32_t claim = 0x40000000;  // the ranges' count: a billion floats in 60 bytes
+    std::memcpy(huge.data() + 4 + 48, &claim, 4);
+    EXPECT_NE(error(huge).find("ends at byte"), std::string::npos) << error(huge);
+    std::vector<uint8_t> longer = good;
+    longer.insert(longer.end(), 8, 0);
+    EXPECT_NE(error(longer).find("bytes left after the message"), std::string::npos) << error(longer);
+    EXPECT_THROW((void)RosTime::fromSeconds(-1), Error);
+    EXPECT_THROW((void)RosTime::fromSeconds(NAN), Error);
+    EXPECT_EQ(RosTime::fromSeconds(1.5).nanoseconds(), 1500000000ull);
+    EXPECT_EQ(RosTime::fromSeconds(0.1).nanosec, 100000000u);
+}
+
+namespace {
+
+/// The independent readers' folder, or empty (the test skips, or fails when CI requires them).
+std::string readersDir()
+{
+    const char* env = std::getenv("SMOKESCAN_READERS_DIR");
+    const std::string d = env && *env ? env : SMOKESCAN_READERS_DIR;
+    if (std::system("node --version >/dev/null 2>&1") != 0) return "";
+    return fs::exists(fs::path(d) / "node_modules" / "@mcap" / "core") ? d : "";
+}
+
+nlohmann::json readIndependently(const std::string& mcap)
+{
+    const fs::path out = dir() / "read_bag.json", err = dir() / "read_bag.err";
+    const std::string cmd =
+        "node " + readersDir() + "/read_bag.mjs " + mcap + " >" + out.string() + " 2>" + err.string();
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(err);
+    return nlohmann::json::parse(slurp(out));
+}
+
+#define SMOKESCAN_NEED_READERS()                                                                                 \
+    if (readersDir().empty()) {                                                                                  \
+        if (std::getenv("SMOKESCAN_REQUIRE_READERS")) FAIL() << "the independent bag readers are not installed"; \
+        GTEST_SKIP() << "node or the bag readers are missing (scripts/setup_readers.sh; SMOKESCAN_READERS_DIR)"; \
+    }
+
+/// A range as the JSON carries it: a number, or "NaN", "Infinity", "-Infinity".
+double number(const nlohmann::json& v) { return v.is_string() ? std::stod(v.get<std::string>()) : v.get<double>(); }
+
+/// The laser log's scans: time and raw values in mm.
+std::vector<std::pair<double, std::vector<long long>>> logScans(const std::string& path)
+{
+    std::vector<std::pair<double, std::vector<long long>>> scans;
+    std::istringstream in(slurp(path));
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream f(line);
+        double t, angle;
+        long long v;
+        f >> t;
+        scans.push_back({t, {}});
+        while (f >> angle >> v) scans.back().second.push_back(v);
+    }
+    return scans;
+}
+
+}  // namespace
+
+TEST(BagCli, AScanBagIsReadByIndependentReadersAsTheLogOfTheSameRun)
+{
+    SMOKESCAN_NEED_READERS();
+    const std::string log = file("bag_run.log"), bag = (dir() / "bag_run").string();
+    fs::remove_all(bag);
+    // The URG-04LX in bocas's thick smoke: ranges and each kind of error value.
+    const CliRun r =
+        cli("scan bocas --from 100 --to 104 --rate 2 --model physical --quiet --out " + log + " --bag " + bag);
+    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_TRUE(fs::exists(fs::path(bag) / "metadata.yaml"));
+    const std::string meta = slurp(fs::path(bag) / "metadata.yaml");
+    EXPECT_NE(meta.find("storage_identifier: mcap"), std::string::npos) << meta;
+    EXPECT_NE(meta.find("- bag_run_0.mcap"), std::string::npos) << meta;
+    EXPECT_NE(meta.find("type: sensor_msgs/msg/LaserScan"), std::string::npos) << meta;
+    const nlohmann::json j = readIndependently((fs::path(bag) / "bag_run_0.mcap").string());
+    EXPECT_EQ(j["profile"], "ros2");
+    EXPECT_EQ(j["dataEndCrc"], j["dataCrc"]);
+    EXPECT_NE(j["dataCrc"], 0);
+    EXPECT_EQ(j["compression"], nlohmann::json::array({"zstd"}));
+    EXPECT_EQ(j["chunks"], j["chunkIndexes"]);
+    EXPECT_EQ(j["streamedMessages"].get<int>(), std::stoi(j["messageCount"].get<std::string>()));
+    const auto scans = logScans(log);
+    ASSERT_EQ(scans.size(), 9u);
+    size_t k = 0, codes = 0, inf = 0, nan = 0;
+    for (const auto& m : j["messages"]) {
+        if (m["topic"] != "/scan") continue;
+        ASSERT_LT(k, scans.size());
+        const auto& [t, values] = scans[k];
+        EXPECT_EQ(m["schema"], "sensor_msgs/msg/LaserScan");
+        EXPECT_EQ(m["messageEncoding"], "cdr");
+        EXPECT_EQ(m["sequence"], k);
+        EXPECT_EQ(std::stoull(m["logTime"].get<std::string>()), (unsigned long long)std::llround(t * 1e9));
+        const auto& msg = m["message"];
+        EXPECT_EQ(msg["header"]["frame_id"], "hokuyo");
+        EXPECT_EQ(msg["header"]["stamp"]["sec"].get<long long>() * 1000000000LL +
+                      msg["header"]["stamp"]["nanosec"].get<long long>(),
+                  std::llround(t * 1e9));
+        // SCIP 2.0's steps 44…725 at 360°/1024 from step 384 ahead; 20 mm … 5.6 m.
+        EXPECT_FLOAT_EQ(msg["angle_min"].get<float>(), float((44 - 384) * 2 * M_PI / 1024));
+        EXPECT_FLOAT_EQ(msg["angle_increment"].get<float>(), float(2 * M_PI / 1024));
+        EXPECT_FLOAT_EQ(msg["range_max"].get<float>(), 5.6f);
+        const auto& ranges = msg["ranges"];
+        ASSERT_EQ(ranges.size(), values.size());
+        for (size_t b = 0; b < values.size(); ++b) {
+            const double got = number(ranges[b]);
+            const long long v = values[b];
+            if (v >= 20) {
+                EXPECT_EQ(float(got), float(double(v) * 0.001)) << k << " " << b;
+                continue;
+            }
+            ++codes;
+            if (v == 0 || v == 1) {  // no return, too weak: nothing in range (REP 117: +Inf)
+                EXPECT_TRUE(std::isinf(got) && got > 0) << v;
+                ++inf;
+            } else {  // the two waves disagree, a saturated receiver: a failed measurement (NaN)
+                EXPECT_TRUE(std::isnan(got)) << v;
+                ++nan;
+            }
+        }
+        ++k;
+    }
+    EXPECT_EQ(k, scans.size());
+    EXPECT_GT(inf, 50u) << "the run should hold beams the smoke stopped";
+    EXPECT_EQ(inf + nan, codes);
+}
+
+TEST(BagCli, ARobotsPoseGoesOnTfAndTheSensorsMountOnTfStatic)
+{
+    SMOKESCAN_NEED_READERS();
+    const std::string bag = (dir() / "bag_maze").string();
+    fs::remove_all(bag);
+    const CliRun r = cli("scan maze --from 0 --to 12 --rate 0.5 --quiet --bag " + bag);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = readIndependently((fs::path(bag) / "bag_maze_0.mcap").string());
+    int tf = 0, statics = 0, scans = 0;
+    for (const auto& m : j["messages"]) {
+        const double t = double(std::stoull(m["logTime"].get<std::string>())) * 1e-9;
+        if (m["topic"] == "/tf_static") {
+            ++statics;
+            const auto& x = m["message"]["transforms"][0];
+            EXPECT_EQ(x["header"]["frame_id"], "p2dx");
+            EXPECT_EQ(x["child_frame_id"], "sick");
+            EXPECT_DOUBLE_EQ(x["transform"]["translation"]["z"].get<double>(), 0.3);
+            // yaw −90°: (0, 0, −sin 45°, cos 45°), up to the quaternion's sign
+            const double s = x["transform"]["rotation"]["w"].get<double>() > 0 ? 1 : -1;
+            EXPECT_NEAR(s * x["transform"]["rotation"]["z"].get<double>(), -M_SQRT1_2, 1e-12);
+            EXPECT_NEAR(s * x["transform"]["rotation"]["w"].get<double>(), M_SQRT1_2, 1e-12);
+        } else if (m["topic"] == "/tf") {
+            ++tf;
+            const auto& x = m["message"]["transforms"][0];
+            EXPECT_EQ(x["header"]["frame_id"], "map");
+            EXPECT_EQ(x["child_frame_id"], "p2dx");
+            // maze.toml: from (−2, 0) at 0 s to (3.75, 0) at 12 s, linearly.
+            EXPECT_NEAR(x["transform"]["translation"]["x"].get<double>(), -2 + 5.75 * t / 12, 1e-9) << t;
+            EXPECT_NEAR(x["transform"]["translation"]["y"].get<double>(), 0, 1e-9) << t;
+        } else if (m["topic"] == "/scan") {
+            ++scans;
+            EXPECT_EQ(m["message"]["header"]["frame_id"], "sick");
+            EXPECT_EQ(m["message"]["ranges"].size(), 361u);  // the LMS200 at 0.5°
+        }
+    }
+    EXPECT_EQ(statics, 1);
+    EXPECT_EQ(tf, 7);
+    EXPECT_EQ(scans, 7);
+}
+
+TEST(BagCli, ABagThatCannotBeWrittenLeavesNothing)
+{
+    const std::string log = file("bag_bad.log"), taken = (dir() / "bag_taken").string();
+    fs::create_directories(taken);
+    std::ofstream(fs::path(taken) / "x") << "mine";
+    expectBad("scan bocas --to 1 --out " + log + " --bag " + taken, "--bag", log);
+    EXPECT_EQ(slurp(fs::path(taken) / "x"), "mine");
+    expectBad("scan bocas --sensor vlp16 --to 0.1 --bag " + (dir() / "bag_lidar").string(), "--bag",
+              (dir() / "bag_lidar").string());
+    expectBad("scan bocas --to 1", "--out FILE, --bag DIR", log);
+}
