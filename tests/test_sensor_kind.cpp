@@ -29,8 +29,13 @@ TEST(SensorKind, EachTypeHasOneKindWhoseNameParsesBackToIt)
         EXPECT_EQ(specFor(SensorConfig::defaults(type)).type, type);
     }
     EXPECT_EQ(laserKind(SensorType::Urg04lx).withArticle(), "an urg04lx");
-    EXPECT_EQ(laserKind(SensorType::Lms200).withArticle(), "a lms200");
+    EXPECT_EQ(laserKind(SensorType::Lms200).withArticle(), "an lms200");
     EXPECT_EQ(std::string(sensorTypeNames()), "urg04lx or lms200");
+    // A rangefinder's first and last lines of rep117: nothing in range, a failed measurement.
+    EXPECT_TRUE(std::isinf(laserKind(SensorType::Urg04lx).rep117(0)));
+    EXPECT_TRUE(std::isnan(laserKind(SensorType::Urg04lx).rep117(8)));
+    EXPECT_TRUE(std::isinf(laserKind(SensorType::Lms200).rep117(8183)));
+    EXPECT_TRUE(std::isnan(laserKind(SensorType::Lms200).rep117(8191)));
     EXPECT_EQ(findLaserKind("omnicam"), nullptr);
     EXPECT_EQ(findLaserKind("URG04LX"), nullptr);
     EXPECT_FALSE(parseSensorType(""));
@@ -43,12 +48,24 @@ TEST(SensorKind, ErrorValuesAreEachDatasheetsCodes)
     for (long long v : {0LL, 1LL, 8LL, 18LL, 19LL}) EXPECT_TRUE(urg.isErrorValue(v)) << v;
     for (long long v : {20LL, 1000LL, 5600LL, 5601LL}) EXPECT_FALSE(urg.isErrorValue(v)) << v;
     EXPECT_TRUE(std::isnan(urg.rangeOf(8)));
+    EXPECT_FALSE(urg.isErrorValue(std::llround(urg.range_min_m / urg.unit_m)));
+    EXPECT_TRUE(urg.isErrorRange(0.0194));
+    EXPECT_FALSE(urg.isErrorRange(0.0196));
+    EXPECT_NE(urg.errorValueSummary().find("below 20"), std::string::npos);
     EXPECT_DOUBLE_EQ(urg.rangeOf(1234), 1.234);
     // LMS200: 8183 (no echo), 8189 (weak or ambiguous), 8191 (dazzled); 0…8182 are ranges.
     for (double mode : {8.0, 80.0}) {
         const LrfSpec lms = lms200(0.5, mode);
         for (long long v : {8183LL, 8189LL, 8191LL}) EXPECT_TRUE(lms.isErrorValue(v)) << v;
         for (long long v : {0LL, 1LL, 8182LL}) EXPECT_FALSE(lms.isErrorValue(v)) << v;
+        EXPECT_TRUE(lms.isErrorValue(-1));
+        // A logged range is an error value where it rounds onto one in the mode's unit.
+        const double unit = mode == 8.0 ? 0.001 : 0.01;
+        EXPECT_TRUE(lms.isErrorRange(8182.5 * unit));
+        EXPECT_FALSE(lms.isErrorRange(8182.4 * unit));
+        // Readings are raised to range_min_m, which must itself be a range value.
+        EXPECT_FALSE(lms.isErrorValue(std::llround(lms.range_min_m / lms.unit_m)));
+        EXPECT_NE(lms.errorValueSummary().find("8183"), std::string::npos);
         EXPECT_DOUBLE_EQ(lms.rangeOf(8182), 8182 * (mode == 8.0 ? 0.001 : 0.01));
     }
     EXPECT_EQ(lms200(1.0).n_beams, 181);
@@ -90,6 +107,11 @@ TEST(SensorKind, EachKindsModelsAndWhatCanBeFittedForItAreAskedOfIt)
             const auto model = makeBeamModel(c);
             ASSERT_TRUE(model);
             EXPECT_EQ(model->spec().type, t);
+            // The paper model's smoke parameter is its penetration power, the physical model's
+            // its receiver's noise floor.
+            EXPECT_EQ(model->smokeParameter().rfind(m == SensorModel::Paper ? "penetration_power=" : "noise_floor=", 0),
+                      0u)
+                << model->smokeParameter();
         }
     // A learned extension on a kind whose models take none is refused, naming the kind.
     SensorConfig c = SensorConfig::defaults(SensorType::Lms200);
@@ -98,7 +120,7 @@ TEST(SensorKind, EachKindsModelsAndWhatCanBeFittedForItAreAskedOfIt)
         (void)makeBeamModel(c);
         FAIL() << "an lms200 with extensions was made";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("a lms200's models take none"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("an lms200's models take none"), std::string::npos) << e.what();
     }
 }
 
@@ -122,7 +144,7 @@ TEST(SensorKind, ASceneSensorTakesItsOwnKindsKeysAndRefusesAnothers)
         return std::string("accepted");
     };
     EXPECT_NE(refused("[[sensors]]\ntype = \"lms200\"\n[sensors.physical]\nmod_freq_lo_hz = 1e7\n")
-                  .find("not a key of the physical model of a lms200"),
+                  .find("not a key of the physical model of an lms200"),
               std::string::npos);
     EXPECT_NE(refused("[[sensors]]\ntype = \"urg04lx\"\nrange_mode_m = 80.0\n").find("not a key of an urg04lx sensor"),
               std::string::npos);

@@ -35,8 +35,10 @@ public:
     virtual SensorType type() const = 0;
     /// @brief The name in scene and sensor files and options ("urg04lx").
     virtual const char* name() const = 0;
-    /// @brief The name with its article, for messages ("an urg04lx").
-    std::string withArticle() const;
+    /// @brief The name with its article, for messages ("an urg04lx", "an lms200": as spoken).
+    std::string withArticle() const { return std::string(article()) + " " + name(); }
+    /// @brief "a" or "an", as the name is spoken.
+    virtual const char* article() const = 0;
     virtual Receiver receiver() const = 0;
     /// @brief The datasheet spec for the options `config` holds.
     virtual LrfSpec spec(const SensorConfig& config) const = 0;

@@ -39,6 +39,7 @@ class Lms200Kind final : public LaserKind {
 public:
     SensorType type() const override { return SensorType::Lms200; }
     const char* name() const override { return "lms200"; }
+    const char* article() const override { return "an"; }  // "you-ar-gee", "el-em-ess"
     Receiver receiver() const override { return Receiver::Pulsed; }
     LrfSpec spec(const SensorConfig& c) const override { return lms200(c.lms.resolution_deg, c.lms.range_mode_m); }
     std::string errorValueSummary() const override { return "values >= 8183 (8183 = no echo within range)"; }

@@ -34,6 +34,7 @@ class Urg04lxKind final : public LaserKind {
 public:
     SensorType type() const override { return SensorType::Urg04lx; }
     const char* name() const override { return "urg04lx"; }
+    const char* article() const override { return "an"; }  // "you-ar-gee", "el-em-ess"
     Receiver receiver() const override { return Receiver::Amcw; }
     LrfSpec spec(const SensorConfig&) const override { return urg04lx(); }
     std::string errorValueSummary() const override { return "values below 20 (0 = no return)"; }
