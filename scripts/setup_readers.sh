@@ -12,7 +12,7 @@ if ! command -v npm >/dev/null || ! command -v node >/dev/null; then
   exit 0
 fi
 mkdir -p "$dest"
-cp "$here/tests/js/package.json" "$here/tests/js/package-lock.json" "$here/tests/js/read_bag.mjs" "$dest/"
+cp "$here/tests/js/package.json" "$here/tests/js/package-lock.json" "$here"/tests/js/*.mjs "$dest/"
 if [ -d "$dest/node_modules/@mcap/core" ] && cmp -s "$here/tests/js/package-lock.json" "$dest/node_modules/.package-lock.json.smokescan" 2>/dev/null; then
   exit 0
 fi

@@ -11,9 +11,13 @@
 #include <sstream>
 
 #include "cli_run.hpp"
+#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/bag/cdr.hpp"
+#include "smokescan/bag/mcap_reader.hpp"
+#include "smokescan/bag/mcap_writer.hpp"
 #include "smokescan/bag/ros_messages.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/sensor_config/urg04lx.hpp"
 
 using namespace smokescan;
 using namespace smokescan::test;
@@ -280,4 +284,239 @@ TEST(BagCli, ABagThatCannotBeWrittenLeavesNothing)
     expectBad("scan bocas --sensor vlp16 --to 0.1 --bag " + (dir() / "bag_lidar").string(), "--bag",
               (dir() / "bag_lidar").string());
     expectBad("scan bocas --to 1", "--out FILE, --bag DIR", log);
+}
+
+TEST(BagCli, ReadsTheLaserScansAnIndependentWriterWrote)
+{
+    SMOKESCAN_NEED_READERS();
+    const std::string mcap = (dir() / "independent.mcap").string();
+    const std::string cmd = "node " + readersDir() + "/write_bag.mjs " + mcap + " 40 682";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const BagLaserScans b = readBagLaserScans(mcap, "");
+    EXPECT_EQ(b.topic, "/front/scan");  // the only LaserScan topic, beside /tf
+    ASSERT_EQ(b.scans.size(), 40u);
+    for (size_t k = 0; k < b.scans.size(); ++k) {
+        const LaserScanMsg& s = b.scans[k];
+        EXPECT_EQ(s.header.stamp.nanoseconds(), 10000000000ull + k * 500000000ull);
+        EXPECT_EQ(s.header.frame_id, "laser");
+        ASSERT_EQ(s.ranges.size(), 682u);
+        for (size_t i = 0; i < s.ranges.size(); ++i) {
+            if (i == 3)
+                EXPECT_TRUE(std::isinf(s.ranges[i]) && s.ranges[i] > 0);
+            else if (i == 5)
+                EXPECT_TRUE(std::isnan(s.ranges[i]));
+            else
+                EXPECT_EQ(s.ranges[i], float(0.5 + 0.001 * double(i + k))) << k << " " << i;
+        }
+    }
+    // As the URG-04LX's log: metres to its millimetres, +Inf its no-return code, NaN a failed one.
+    const RecordedLog log = recordedLogOf(b, urg04lx());
+    EXPECT_EQ(log.unit_m, 0.001);
+    EXPECT_DOUBLE_EQ(log.scans[2].time_s, 11.0);
+    EXPECT_EQ(log.scans[2].range[0], 502.0);
+    EXPECT_EQ(log.scans[2].range[3], double(urg_code::kNoReturn));
+    EXPECT_EQ(log.scans[2].range[5], double(urg_code::kTwoWaveDifference));
+    EXPECT_NEAR(log.scans[2].angle_rad[1] - log.scans[2].angle_rad[0], 2 * M_PI / 1024, 1e-7);
+    // The topic named, and one of another type.
+    EXPECT_EQ(readBagLaserScans(mcap, "/front/scan").scans.size(), 40u);
+    try {
+        (void)readBagLaserScans(mcap, "/tf");
+        FAIL() << "/tf read as LaserScans";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("topic /tf is tf2_msgs/msg/TFMessage, not sensor_msgs/msg/LaserScan"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(BagCli, ABagAndTheLogOfTheSameRunGiveTheSameFitAndDiagnosis)
+{
+    const std::string log = file("same_run.log"), sat = file("same_run.csv"), bag = (dir() / "same_run").string();
+    fs::remove_all(bag);
+    ASSERT_EQ(cli("scan bocas --from 80 --to 130 --rate 2 --quiet --out " + log + " --bag " + bag +
+                  " --saturation-out " + sat)
+                  .status,
+              0);
+    const std::string common = " --saturation " + sat + " --scene bocas";
+    ASSERT_EQ(cli("fit --laser " + log + common + " --out " + file("same_a.toml")).status, 0);
+    const CliRun b = cli("fit --bag " + bag + common + " --out " + file("same_b.toml"));
+    ASSERT_EQ(b.status, 0) << b.err;
+    auto withoutSources = [](const std::string& path) {
+        nlohmann::json j = nlohmann::json::parse(slurp(path));
+        j.erase("sources");
+        return j;
+    };
+    EXPECT_EQ(withoutSources(file("same_a_report.json")), withoutSources(file("same_b_report.json")));
+    EXPECT_EQ(nlohmann::json::parse(slurp(file("same_b_report.json")))["sources"]["laser"], bag + " /scan");
+    const std::string da = (dir() / "same_da").string(), db = (dir() / "same_db").string();
+    fs::remove_all(da);
+    fs::remove_all(db);
+    ASSERT_EQ(cli("diagnose --laser " + log + common + " --out " + da).status, 0);
+    const CliRun d = cli("diagnose --bag " + bag + " --topic /scan" + common + " --out " + db);
+    ASSERT_EQ(d.status, 0) << d.err;
+    auto diagnosis = [](const std::string& folder) {
+        nlohmann::json j = nlohmann::json::parse(slurp(fs::path(folder) / "diagnosis.json"));
+        j.erase("inputs");
+        return j;
+    };
+    EXPECT_EQ(diagnosis(da), diagnosis(db));
+    // One source of scans, and a topic only with a bag.
+    expectBad("fit --laser " + log + " --bag " + bag + common + " --out " + file("same_c.toml"), "--bag",
+              file("same_c.toml"));
+    expectBad("fit --laser " + log + " --topic /scan" + common + " --out " + file("same_c.toml"), "--topic",
+              file("same_c.toml"));
+    expectBad("fit" + common + " --out " + file("same_c.toml"), "--laser LOG or --bag PATH", file("same_c.toml"));
+    expectBad("fit --bag " + bag + " --topic /tf" + common + " --out " + file("same_c.toml"),
+              "topic /tf is tf2_msgs/msg/TFMessage", file("same_c.toml"));
+    expectBad("fit --bag " + bag + " --topic /nope" + common + " --out " + file("same_c.toml"),
+              "has no topic /nope (LaserScan topics: /scan)", file("same_c.toml"));
+}
+
+namespace {
+
+/// A small bag's MCAP bytes: /scan LaserScans at `stamps_s` (and a /tf channel), in chunks of
+/// `chunk_bytes`.
+std::vector<uint8_t> scanMcap(const std::vector<double>& stamps_s, size_t chunk_bytes = 1 << 20)
+{
+    std::ostringstream o;
+    McapWriterConfig cfg;
+    cfg.chunk_bytes = chunk_bytes;
+    McapWriter w(o, cfg);
+    const uint16_t scan =
+        w.addChannel(w.addSchema(kLaserScanType.name, "ros2msg", kLaserScanType.definition), "/scan", "cdr");
+    (void)w.addChannel(w.addSchema(kTfType.name, "ros2msg", kTfType.definition), "/tf", "cdr");
+    for (double t : stamps_s) {
+        LaserScanMsg m;
+        m.header.stamp = RosTime::fromSeconds(t);
+        m.header.frame_id = "laser";
+        m.ranges.assign(100, float(t));
+        w.write(scan, m.header.stamp.nanoseconds(), m.header.stamp.nanoseconds(), encode(m));
+    }
+    w.finish();
+    const std::string s = o.str();
+    return {s.begin(), s.end()};
+}
+
+std::string mcapError(const std::vector<uint8_t>& b)
+{
+    try {
+        (void)readMcapBytes(b, "bad.mcap", [](const McapChannel&, McapMessage&&) {});
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "read";
+}
+
+std::string bagError(const std::string& path, const std::string& topic = "")
+{
+    try {
+        (void)readBagLaserScans(path, topic);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "read";
+}
+
+std::string writeBytes(const std::string& name, const std::vector<uint8_t>& b)
+{
+    const std::string p = file(name);
+    std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
+    return p;
+}
+
+}  // namespace
+
+TEST(Bag, WhatTheWriterWritesIsReadBackInOrderAcrossChunks)
+{
+    std::vector<double> t;
+    for (int k = 0; k < 300; ++k) t.push_back(1 + 0.1 * k);
+    const std::vector<uint8_t> b = scanMcap(t, 2000);  // about 4 messages a chunk
+    std::vector<double> seen;
+    const auto channels = readMcapBytes(b, "good.mcap", [&](const McapChannel& ch, McapMessage&& m) {
+        EXPECT_EQ(ch.topic, "/scan");
+        EXPECT_EQ(m.sequence, seen.size());
+        seen.push_back(double(decodeLaserScan(m.data, "m").ranges.at(7)));
+        EXPECT_EQ(m.log_time_ns, RosTime::fromSeconds(t[seen.size() - 1]).nanoseconds());
+    });
+    ASSERT_EQ(seen.size(), t.size());
+    for (size_t k = 0; k < t.size(); ++k) EXPECT_EQ(seen[k], double(float(t[k])));
+    ASSERT_EQ(channels.size(), 2u);
+    EXPECT_EQ(channels.at(1).schema_name, "sensor_msgs/msg/LaserScan");
+    EXPECT_EQ(channels.at(2).topic, "/tf");
+}
+
+TEST(Bag, DamagedOrWrongBagsAreOneLineErrorsNamingTheFileAndRecord)
+{
+    const std::vector<uint8_t> good = scanMcap({1, 2, 3});
+    // The first chunk follows the magic (8) and the Header (9 + "ros2" 8 + "smokescan" 13) at 38;
+    // its compression's name at 38 + 9 + 28 + 4, its compressed records from 91.
+    ASSERT_EQ(good[38], 0x06);
+    ASSERT_EQ(std::string(good.begin() + 79, good.begin() + 83), "zstd");
+    struct Case {
+        std::vector<uint8_t> bytes;
+        std::string needle;
+    };
+    std::vector<Case> cases;
+    cases.push_back({{good.begin(), good.begin() + 200}, "does not end with MCAP's magic"});
+    {
+        std::vector<uint8_t> cut(good.begin(), good.begin() + 120);  // inside the chunk, magic re-added
+        cut.insert(cut.end(), good.end() - 8, good.end());
+        cases.push_back({cut, "record at byte 38 (opcode 0x06): claims"});
+    }
+    {
+        std::vector<uint8_t> b = good;
+        std::memcpy(b.data() + 79, "brot", 4);
+        cases.push_back({b, "uses the compression 'brot'"});
+    }
+    {
+        std::vector<uint8_t> b = good;
+        b[100] ^= 0x55;  // inside the compressed records
+        const std::string e = mcapError(b);
+        EXPECT_TRUE(e.find("could not be decompressed") != std::string::npos ||
+                    e.find("fails its CRC") != std::string::npos || e.find("decompresses to") != std::string::npos)
+            << e;
+        EXPECT_NE(e.find("bad.mcap: record at byte 38"), std::string::npos) << e;
+    }
+    {
+        std::vector<uint8_t> b = good;
+        b[30] ^= 1;  // the Header's library name: only the data section's CRC sees it
+        cases.push_back({b, "data section's CRC wrong"});
+    }
+    {
+        std::vector<uint8_t> b = good;
+        const uint64_t huge = uint64_t(1) << 40;
+        std::memcpy(b.data() + 38 + 9 + 16, &huge, 8);  // the chunk's uncompressed size
+        cases.push_back({b, "over the limit"});
+    }
+    cases.push_back({std::vector<uint8_t>(64, 'x'), "is not an MCAP file"});
+    cases.push_back({{}, "is too short"});
+    for (const Case& c : cases) {
+        const std::string e = mcapError(c.bytes);
+        EXPECT_NE(e.find(c.needle), std::string::npos) << c.needle << " | " << e;
+        EXPECT_NE(e.find("bad.mcap"), std::string::npos) << e;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+    // A bag's topics and stamps.
+    EXPECT_NE(bagError(writeBytes("empty.mcap", scanMcap({}))).find("has no messages on /scan"), std::string::npos)
+        << bagError(writeBytes("empty.mcap", scanMcap({})));
+    EXPECT_NE(bagError(writeBytes("back.mcap", scanMcap({1, 3, 2}))).find("stamps must increase"), std::string::npos);
+    EXPECT_NE(bagError(writeBytes("same.mcap", scanMcap({1, 1}))).find("message 1 on /scan"), std::string::npos);
+    EXPECT_NE(bagError(file("no_such.mcap")).find("does not exist"), std::string::npos);
+    // rosbag2 folders.
+    const fs::path folder = dir() / "bad_bag";
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    EXPECT_NE(bagError(folder.string()).find("without metadata.yaml"), std::string::npos);
+    auto meta = [&](const std::string& storage, const std::string& file) {
+        std::ofstream(folder / "metadata.yaml")
+            << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: " << storage
+            << "\n  relative_file_paths:\n    - " << file << "\n";
+        return bagError(folder.string());
+    };
+    EXPECT_NE(meta("sqlite3", "x.db3").find("storage_identifier: 'sqlite3'"), std::string::npos);
+    EXPECT_NE(meta("mcap", "../../etc/passwd").find("is not inside the bag"), std::string::npos);
+    EXPECT_NE(meta("mcap", "missing_0.mcap").find("does not exist"), std::string::npos)
+        << meta("mcap", "missing_0.mcap");
+    std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information: [unclosed\n";
+    EXPECT_NE(bagError(folder.string()).find("metadata.yaml:"), std::string::npos) << bagError(folder.string());
 }

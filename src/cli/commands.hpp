@@ -42,6 +42,11 @@ SensorModel sensorModelOption(const std::string& option, const std::string& valu
 /// @brief The omnicam's options of `fit` and `diagnose` (--max-range, --floor-z, --tolerance)
 /// into `omni`; `given` collects the names of those on the command line.
 void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>& given);
+/// @brief The recorded scans' options: --laser LOG, or --bag PATH with --topic NAME.
+void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::string& topic, const char* laser_help);
+/// @brief Exactly one of --laser and --bag (and --topic only with --bag): the source's name for
+/// messages. @throw Error naming the option otherwise.
+std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic);
 
 /// @brief An option whose value is one of a few names, stored as the enum it names; any other
 /// value is a parse error listing the names ("--link: 'x' is not one of probit, logistic").

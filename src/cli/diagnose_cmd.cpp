@@ -22,6 +22,7 @@ namespace {
 struct DiagnoseArgs {
     FitInputsConfig in;
     std::string unit = "mm", sensor_file, model, out, shape = "reference";
+    std::string scans;  ///< the recorded scans' source, for the report: the log, or the bag and its topic
     bool lenient = false;
     ReplayConfig replay;
     DiagnosisConfig diag;
@@ -47,7 +48,7 @@ DiagnosisResult diagnoseWithProgress(const Replay& replay, DiagnosisConfig dc)
 /// diagnosis.json and report.md into the folder; the verdict and figures printed once it is committed.
 void finishDiagnosis(const DiagnoseArgs& a, AtomicFolder& out, const Replay& replay, const DiagnosisResult& r)
 {
-    const DiagnosisSources src{a.in.laser,    a.in.saturation,   a.in.scene,      a.in.calibration,
+    const DiagnosisSources src{a.scans,       a.in.saturation,   a.in.scene,      a.in.calibration,
                                a.sensor_file, a.replay.offset_s, a.replay.block_s};
     writeDiagnosisJson(out.path("diagnosis.json"), r, src);
     writeDiagnosisReport(out.path("report.md"), replay, r, src);
@@ -105,7 +106,7 @@ int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out, RunFiles& files)
     extended.extensions = r.model;
     writeOmniSensorFile(out.path("sensor.toml"), extended,
                         "the omnicam's onset from " + a.sensor_file + " with what `smokescan diagnose` learned from " +
-                            a.in.laser + " (verdict: " + r.verdict + ")");
+                            a.scans + " (verdict: " + r.verdict + ")");
     finishDiagnosis(a, out, replay, r);
     return 0;
 }
@@ -113,8 +114,10 @@ int runDiagnoseOmni(DiagnoseArgs& a, AtomicFolder& out, RunFiles& files)
 int runDiagnose(const DiagnoseArgs& a0)
 {
     DiagnoseArgs a = a0;
+    a.scans = scansSource(a.in.laser, a.in.bag, a.in.topic);
     RunFiles files;
     files.input(a.in.laser, "--laser");
+    files.input(a.in.bag, "--bag");
     files.input(a.in.saturation, "--saturation");
     files.input(a.in.calibration, "--calibration");
     files.input(a.sensor_file, "--sensor-file");
@@ -125,10 +128,15 @@ int runDiagnose(const DiagnoseArgs& a0)
     a.in.prefix = a.replay.target_prefix;
     // The folder is checked (and staged) before the work: a taken --out fails at once.
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
-    if (recordedSensor(a.in.sensor_type).omnicam()) return runDiagnoseOmni(a, out, files);
+    if (recordedSensor(a.in.sensor_type).omnicam()) {
+        if (!a.in.bag.empty())
+            throw Error("--bag", "holds a laser's scans; the omnicam's log is omnirange's (--laser)");
+        return runDiagnoseOmni(a, out, files);
+    }
     if (!a.omni_given.empty())
         throw Error("diagnose", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
     const FitInputs in = loadFitInputs(a.in);
+    a.scans = in.sources.laser;  // a bag's with the topic read
     if (in.scene) recordSceneInputs(files, a.in.scene, *in.scene);
     SensorConfig config = in.mount.config;
     if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);
@@ -141,8 +149,8 @@ int runDiagnose(const DiagnoseArgs& a0)
     extended.extensions = r.model;
     writeSensorFile(out.path("sensor.toml"), extended,
                     "the " + std::string(sensorModelName(config.model)) + " model of " + a.in.scene +
-                        "'s sensor with what `smokescan diagnose` learned from " + a.in.laser +
-                        " (verdict: " + r.verdict + ")");
+                        "'s sensor with what `smokescan diagnose` learned from " + a.scans + " (verdict: " + r.verdict +
+                        ")");
     finishDiagnosis(a, out, replay, r);
     return 0;
 }
@@ -155,7 +163,7 @@ void addDiagnose(CLI::App& app, Runner& run)
     auto* c = app.add_subcommand("diagnose",
                                  "Replay a recorded run, name what the simulation gets wrong and measure the extended "
                                  "model's gain on held-out data");
-    c->add_option("--laser", a->in.laser, "Recorded laser log (the paper's format)")->required();
+    addScansOptions(c, a->in.laser, a->in.bag, a->in.topic, "Recorded laser log (the paper's format)");
     c->add_option("--saturation", a->in.saturation,
                   "The camera's saturation CSV (drives the replayed smoke; without it the scene's own smoke time "
                   "line is replayed)");

@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 
 struct FitArgs {
     std::string laser, saturation, scene, sensor, surfaces_file, calibration = "bocas", patch, unit = "mm";
+    std::string bag, topic;
     std::string sensor_type = "urg04lx", prefix = "target_", out, report, plots, aligned, covariates, model = "paper";
     std::vector<std::string> surfaces;
     double offset = 0;
@@ -71,7 +72,7 @@ void writeFitOutputs(const FitArgs& a, RunFiles& files, const SensorFitResult& r
     }
     say("%s", fitSummaryText(r, sources.skipped.size()).c_str());
     if (!r.ok())
-        throw Error(a.laser,
+        throw Error(a.laser.empty() ? a.bag : a.laser,
                     "no threshold could be fitted: " +
                         (r.diagnoses.empty() ? std::string("see ") + a.report : r.diagnoses.front()));
 }
@@ -173,8 +174,10 @@ int runFit(const FitArgs& a0)
     FitArgs a = a0;
     if (a.report.empty()) a.report = beside(a.out, "_report.json");
     if (a.plots.empty()) a.plots = beside(a.out, "");
+    const std::string scans = scansSource(a.laser, a.bag, a.topic);
     RunFiles files;
     files.input(a.laser, "--laser");
+    files.input(a.bag, "--bag");
     files.input(a.saturation, "--saturation");
     files.input(a.surfaces_file, "--surfaces");
     files.input(a.calibration, "--calibration");
@@ -201,10 +204,13 @@ int runFit(const FitArgs& a0)
                        a.prefix,
                        a.surfaces_file,
                        a.surfaces,
-                       {parseRangeUnit(a.unit), a.lenient}};
+                       {parseRangeUnit(a.unit), a.lenient},
+                       a.bag,
+                       a.topic};
     a.cfg.offset_s = a.offset;
     a.cfg.estimate_offset = !a.fixed_offset;
     if (recordedSensor(a.sensor_type).omnicam()) {
+        if (!a.bag.empty()) throw Error("--bag", "holds a laser's scans; the omnicam's log is omnirange's (--laser)");
         if (model == SensorModel::Physical)
             throw Error("--model physical", "fits a laser's receiver; the omnicam is fitted with the paper model");
         if (!a.covariates.empty() || a.covariates_all)
@@ -239,11 +245,11 @@ int runFit(const FitArgs& a0)
     fitted.paper.penetration_power = ref.penetration_power.value;
     std::string comment =
         fmt("fitted by smokescan fit from %s and %s: S* = %.4f +/- %.4f on '%s', P = %.5f +/- %.5f density.m",
-            a.laser.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
+            scans.c_str(), a.saturation.c_str(), ref.S_star.value, ref.S_star.se, ref.group.c_str(),
             ref.penetration_power.value, ref.penetration_power.se);
     if (phys) {
         if (!phys->ok)
-            throw Error(a.laser, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
+            throw Error(scans, "no physical noise floor: " + phys->diagnosis + " (report: " + a.report + ")");
         fitted.physical.noise_floor = phys->noise_floor.value;
         say("physical model on '%s': noise floor %.4g +/- %.2g (its onset at %.5f +/- %.5f density.m)\n",
             phys->group.c_str(), phys->noise_floor.value, phys->noise_floor.se, phys->onset_column.value,
@@ -334,7 +340,7 @@ void addFit(CLI::App& app, Runner& run)
     auto a = std::make_shared<FitArgs>();
     auto* c = app.add_subcommand(
         "fit", "Fit a laser's smoke thresholds from a recorded log and the camera's saturation; write a sensor file");
-    c->add_option("--laser", a->laser, "Laser log (the paper's format, as `scan` writes it)")->required();
+    addScansOptions(c, a->laser, a->bag, a->topic, "Laser log (the paper's format, as `scan` writes it)");
     c->add_option("--saturation", a->saturation,
                   "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it)")
         ->required();

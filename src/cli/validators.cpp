@@ -160,4 +160,21 @@ void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>
     option("--tolerance", omni.tolerance_m, "omnicam: a reading further than this from its truth failed [m]");
 }
 
+void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::string& topic, const char* laser_help)
+{
+    c->add_option("--laser", laser, laser_help);
+    c->add_option("--bag", bag,
+                  "Or a ROS 2 bag: a rosbag2 folder or .mcap file whose sensor_msgs/LaserScan topic holds the scans "
+                  "(docs/bags.md)");
+    c->add_option("--topic", topic, "The bag's LaserScan topic (default: its only one)");
+}
+
+std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic)
+{
+    if (laser.empty() && bag.empty()) throw Error("--laser", "give the recorded scans: --laser LOG or --bag PATH");
+    if (!laser.empty() && !bag.empty()) throw Error("--bag", "is in place of --laser; give one of them");
+    if (!topic.empty() && bag.empty()) throw Error("--topic", "names a bag's topic; give --bag");
+    return laser.empty() ? bag : laser;
+}
+
 }  // namespace smokescan::cli

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -78,17 +79,24 @@ SaturationSeries patchSeries(const SaturationSeries& s0, const std::string& patc
 FitInputs loadFitData(const FitInputsConfig& cfg)
 {
     FitInputs in;
-    in.log = readRecordedLog(cfg.laser, cfg.read);
+    if (!cfg.scene.empty()) {
+        in.scene = std::make_unique<Scene>(loadScene(cfg.scene));
+        in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
+    }
+    std::string laser = cfg.laser;
+    if (cfg.bag.empty()) {
+        in.log = readRecordedLog(cfg.laser, cfg.read);
+    } else {  // the scans in the unit of the sensor that recorded them
+        const BagLaserScans bag = readBagLaserScans(cfg.bag, cfg.topic);
+        in.log = recordedLogOf(bag, specFor(chooseSensor(cfg, in.scene.get()).config));
+        laser = cfg.bag + " " + bag.topic;
+    }
     // No saturation (diagnose without a camera): the scene's own smoke time line is replayed.
     const SaturationSeries sat0 =
         cfg.saturation.empty() ? SaturationSeries{} : readSaturationCsv(cfg.saturation, cfg.read);
     if (!cfg.saturation.empty()) in.saturation = cfg.patch.empty() ? sat0 : patchSeries(sat0, cfg.patch);
     in.calibration = readCalibrationJson(cfg.calibration, cfg.patch);
-    in.sources = {cfg.laser, cfg.saturation, cfg.calibration, "", cfg.read.unit_m, {}};
-    if (!cfg.scene.empty()) {
-        in.scene = std::make_unique<Scene>(loadScene(cfg.scene));
-        in.surfaces = std::make_unique<SurfaceSet>(*in.scene);
-    }
+    in.sources = {laser, cfg.saturation, cfg.calibration, "", in.log.unit_m, {}};
     in.sources.skipped = in.log.skipped;
     in.sources.skipped.insert(in.sources.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
     return in;

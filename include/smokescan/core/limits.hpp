@@ -16,6 +16,10 @@ inline constexpr size_t kTextInputBytes = size_t(512) << 20;
 inline constexpr size_t kTomlInputBytes = size_t(32) << 20;
 /// Bytes of one point-cloud file read back (8 M points of 64 bytes).
 inline constexpr size_t kPointCloudBytes = size_t(512) << 20;
+/// Bytes of one MCAP chunk or record, compressed or not (a bag's memory is bounded by it).
+inline constexpr uint64_t kBagChunkBytes = uint64_t(256) << 20;
+/// Messages read from one bag topic.
+inline constexpr int64_t kBagMessages = 10'000'000;
 /// Scans in one `scan` run.
 inline constexpr int64_t kScans = 1'000'000;
 /// Rows of `scan`'s summary table (--bin).

@@ -6,7 +6,8 @@
 ///
 /// | field         | default   | meaning                                                            |
 /// |---------------|-----------|--------------------------------------------------------------------|
-/// | laser         | –         | the recorded laser log (io/recorded.hpp)                           |
+/// | laser         | –         | the recorded laser log (io/recorded.hpp), or:                      |
+/// | bag, topic    | –, ""     | a ROS 2 bag's LaserScan topic ("" = its only one; bag/bag_input.hpp) |
 /// | saturation    | –         | the camera's saturation CSV                                        |
 /// | calibration   | "bocas"   | calibration JSON or built-in name                                  |
 /// | patch         | ""        | use this patch's column (and its calibration curve) as the saturation |
@@ -45,6 +46,7 @@ struct FitInputsConfig {
     std::string scene, sensor, sensor_type = "urg04lx", prefix = "target_", surfaces_file;
     std::vector<std::string> surfaces;
     ReadOptions read;
+    std::string bag, topic;  ///< in place of `laser`
 };
 
 struct FitInputs {

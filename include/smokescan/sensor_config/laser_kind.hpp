@@ -47,6 +47,9 @@ public:
     /// @brief An error value as ROS's REP 117 writes it in a LaserScan: +Inf when nothing was in
     /// range (no echo), −Inf when it was too close, NaN for a measurement that failed.
     virtual float rep117(long long error_value) const = 0;
+    /// @brief The error code a recorded REP 117 value stands for (a bag read back): its code for
+    /// nothing in range (+Inf), for a failed measurement (NaN), for too close (−Inf).
+    virtual long long codeOfRep117(float range) const = 0;
     /// @brief The calibrated defaults of its physical model.
     virtual PhysicalParams physicalDefaults() const = 0;
     /// @brief Reads the kind's own keys of a scene's `[[sensor]]` into `config` (none by default;

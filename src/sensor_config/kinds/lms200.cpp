@@ -47,6 +47,10 @@ public:
     {
         return v == lms_code::kNoEcho ? INFINITY : NAN;  // weak or ambiguous, dazzled: failed measurements
     }
+    long long codeOfRep117(float r) const override
+    {
+        return std::isinf(r) && r > 0 ? lms_code::kNoEcho : lms_code::kWeakOrAmbiguous;
+    }
     PhysicalParams physicalDefaults() const override
     {
         PhysicalParams p;

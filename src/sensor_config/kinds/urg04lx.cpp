@@ -44,6 +44,10 @@ public:
         // and a saturated receiver: a measurement that failed.
         return v == urg_code::kNoReturn || v == urg_code::kLowIntensity ? INFINITY : NAN;
     }
+    long long codeOfRep117(float r) const override
+    {
+        return std::isinf(r) && r > 0 ? urg_code::kNoReturn : urg_code::kTwoWaveDifference;
+    }
     PhysicalParams physicalDefaults() const override
     {
         PhysicalParams p;

@@ -1,0 +1,33 @@
+#pragma once
+/// @file bag_input.hpp
+/// @brief A 2D laser's recorded scans from a ROS 2 bag (docs/bags.md): a rosbag2 folder (its
+/// metadata.yaml names its MCAP files) or one .mcap file; the LaserScans of one topic, in the
+/// form `fit` and `diagnose` read (io/recorded.hpp).
+#include <string>
+#include <vector>
+
+#include "smokescan/bag/ros_messages.hpp"
+#include "smokescan/io/recorded.hpp"
+#include "smokescan/sensor_config/lrf.hpp"
+
+namespace smokescan {
+
+/// The LaserScans of one topic.
+struct BagLaserScans {
+    std::string source, topic;  ///< the bag's path; the topic read
+    std::vector<LaserScanMsg> scans;  ///< in the bag's order, stamps increasing
+};
+
+/// @brief Reads topic `topic` ("" = the bag's only LaserScan topic).
+/// @throw Error naming the file for: no such topic (the LaserScan topics are listed), a topic of
+/// another type, no messages on it, stamps that do not increase, a storage other than MCAP, or a
+/// file that is not valid MCAP (bag/mcap_reader.hpp).
+BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic);
+
+/// @brief The scans as a laser log of the sensor `spec` describes: times from the stamps, angles
+/// from angle_min and angle_increment, ranges in the sensor's unit (snapped to it, as the sensor
+/// reported them), REP 117's ±Inf and NaN back to the sensor kind's error codes.
+/// @throw Error naming the bag when the scans' beam counts differ.
+RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec);
+
+}  // namespace smokescan

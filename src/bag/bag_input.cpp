@@ -1,0 +1,151 @@
+#include "smokescan/bag/bag_input.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "smokescan/bag/mcap_reader.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/limits.hpp"
+#include "smokescan/io/text_input.hpp"
+#include "smokescan/sensor_config/laser_kind.hpp"
+
+namespace smokescan {
+namespace fs = std::filesystem;
+namespace {
+
+/// The MCAP files of a bag: a folder's, from its metadata.yaml, or the file itself.
+std::vector<std::string> bagFiles(const std::string& path)
+{
+    if (!fs::is_directory(path)) {
+        if (!fs::exists(path)) throw Error(path, "does not exist");
+        return {path};
+    }
+    const fs::path meta = fs::path(path) / "metadata.yaml";
+    if (!fs::exists(meta)) throw Error(path, "is a folder without metadata.yaml (not a rosbag2 bag)");
+    const std::string text = readTextInput(meta.string(), "bag metadata", limits::kTomlInputBytes);
+    YAML::Node info;
+    try {
+        info = YAML::Load(text)["rosbag2_bagfile_information"];
+    } catch (const YAML::Exception& e) {
+        throw Error(meta.string() + ":" + std::to_string(e.mark.line + 1), "is not YAML: " + e.msg);
+    }
+    if (!info || !info.IsMap()) throw Error(meta.string(), "has no rosbag2_bagfile_information");
+    std::vector<std::string> files;
+    try {
+        const std::string storage = info["storage_identifier"] ? info["storage_identifier"].as<std::string>() : "";
+        if (storage != "mcap")
+            throw Error(
+                meta.string(),
+                "storage_identifier: '" + storage + "' — smokescan reads MCAP bags (convert with `ros2 bag convert`)");
+        const std::string compression = info["compression_format"] ? info["compression_format"].as<std::string>() : "";
+        if (!compression.empty())
+            throw Error(meta.string(),
+                        "compression_format: '" + compression +
+                            "' (whole-file compression; MCAP's own chunk compression is read)");
+        const YAML::Node paths = info["relative_file_paths"];
+        if (!paths || !paths.IsSequence() || paths.size() == 0)
+            throw Error(meta.string(), "relative_file_paths: no files listed");
+        if (paths.size() > 10000) throw Error(meta.string(), "relative_file_paths: more than 10000 files");
+        for (const YAML::Node& p : paths) {
+            const fs::path f = p.as<std::string>();
+            if (f.is_absolute() || f.lexically_normal().string().rfind("..", 0) == 0)
+                throw Error(meta.string(), "relative_file_paths: '" + f.string() + "' is not inside the bag");
+            files.push_back((fs::path(path) / f).string());
+            if (!fs::is_regular_file(files.back()))
+                throw Error(meta.string(), "relative_file_paths: " + f.string() + " does not exist in the bag");
+        }
+    } catch (const YAML::Exception& e) {
+        throw Error(meta.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
+    }
+    return files;
+}
+
+}  // namespace
+
+BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic)
+{
+    BagLaserScans out;
+    out.source = path;
+    std::map<std::string, std::string> types;  ///< every topic's type, for messages
+    std::string chosen = topic;
+    for (const std::string& file : bagFiles(path)) {
+        const auto channels = readMcap(file, [&](const McapChannel& ch, McapMessage&& m) {
+            types[ch.topic] = ch.schema_name;
+            if (chosen.empty() && ch.schema_name == kLaserScanType.name) chosen = ch.topic;
+            if (ch.topic != chosen) return;
+            const std::string what = file + ": message " + std::to_string(m.sequence) + " on " + ch.topic;
+            if (ch.schema_name != kLaserScanType.name)
+                throw Error(file, "topic " + ch.topic + " is " + ch.schema_name + ", not " + kLaserScanType.name);
+            if (ch.message_encoding != "cdr")
+                throw Error(file, "topic " + ch.topic + " is encoded as '" + ch.message_encoding + "', not cdr");
+            if ((int64_t)out.scans.size() >= limits::kBagMessages)
+                throw Error(file, "has more than " + std::to_string(limits::kBagMessages) + " messages on " + ch.topic);
+            LaserScanMsg s = decodeLaserScan(m.data, what);
+            if (!out.scans.empty() && s.header.stamp.nanoseconds() <= out.scans.back().header.stamp.nanoseconds())
+                throw Error(what, "has a stamp that does not follow the previous scan's (stamps must increase)");
+            out.scans.push_back(std::move(s));
+        });
+        for (const auto& [id, ch] : channels) types.emplace(ch.topic, ch.schema_name);
+    }
+    std::string scans;  ///< the LaserScan topics
+    for (const auto& [t, type] : types)
+        if (type == kLaserScanType.name) scans += (scans.empty() ? "" : ", ") + t;
+    if (chosen.empty() && scans.find(',') == std::string::npos) chosen = scans;  // the only one, without messages
+    if (out.scans.empty()) {
+        if (!chosen.empty() && types.count(chosen) && types[chosen] != kLaserScanType.name)
+            throw Error(path, "topic " + chosen + " is " + types[chosen] + ", not " + kLaserScanType.name);
+        if (!chosen.empty() && types.count(chosen)) throw Error(path, "has no messages on " + chosen);
+        throw Error(
+            path,
+            (chosen.empty() ? std::string("has no LaserScan topic") : "has no topic " + chosen) +
+                (scans.empty() ? std::string(" (no LaserScan topics at all)") : " (LaserScan topics: " + scans + ")"));
+    }
+    // The only LaserScan topic, when none was named.
+    if (topic.empty()) {
+        std::string others;
+        for (const auto& [t, type] : types)
+            if (type == kLaserScanType.name && t != chosen) others += " " + t;
+        if (!others.empty()) throw Error(path, "has several LaserScan topics (" + chosen + others + "): give --topic");
+    }
+    out.topic = chosen;
+    return out;
+}
+
+RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec)
+{
+    RecordedLog log;
+    log.path = bag.source;
+    log.unit_m = spec.unit_m;
+    const LaserKind& kind = laserKind(spec.type);
+    const size_t beams = bag.scans.front().ranges.size();
+    for (size_t k = 0; k < bag.scans.size(); ++k) {
+        const LaserScanMsg& s = bag.scans[k];
+        if (s.ranges.size() != beams)
+            throw Error(bag.source,
+                        bag.topic + " scan " + std::to_string(k) + " has " + std::to_string(s.ranges.size()) +
+                            " beams, the first " + std::to_string(beams));
+        if (!std::isfinite(s.angle_min) || !std::isfinite(s.angle_increment))
+            throw Error(bag.source, bag.topic + " scan " + std::to_string(k) + " has angles that are not finite");
+        LaserLogScan l;
+        l.time_s = double(s.header.stamp.sec) + 1e-9 * double(s.header.stamp.nanosec);
+        for (size_t i = 0; i < beams; ++i) {
+            l.angle_rad.push_back(double(s.angle_min) + double(i) * double(s.angle_increment));
+            const float r = s.ranges[i];
+            if (!std::isfinite(r)) {
+                l.range.push_back(double(kind.codeOfRep117(r)));
+                continue;
+            }
+            if (r < 0 || r > 1000)
+                throw Error(bag.source,
+                            bag.topic + " scan " + std::to_string(k) + " beam " + std::to_string(i) + ": a range of " +
+                                std::to_string(r) + " m");
+            l.range.push_back(double(std::llround(double(r) / spec.unit_m)));
+        }
+        log.scans.push_back(std::move(l));
+    }
+    return log;
+}
+
+}  // namespace smokescan

@@ -1,0 +1,69 @@
+// An independent writer of the bags smokescan reads (tests/test_bag.cpp): Foxglove's @mcap/core
+// writes an MCAP file (zstd chunks by @foxglove/wasm-zstd, small enough that there are several)
+// whose LaserScans @foxglove/rosmsg2-serialization serialises, with a /tf topic beside them.
+// The values follow a rule the test knows: scan k at stamp 10 + 0.5 k s, beam i reads
+// 0.5 + 0.001 (i + k) m, beam 3 +Inf and beam 5 NaN in every scan.
+// Usage: node write_bag.mjs FILE.mcap SCANS BEAMS
+import { open } from "node:fs/promises";
+import { McapWriter } from "@mcap/core";
+import { parse } from "@foxglove/rosmsg";
+import { MessageWriter } from "@foxglove/rosmsg2-serialization";
+import zstd from "@foxglove/wasm-zstd";
+
+const [file, scansArg, beamsArg] = process.argv.slice(2);
+const scans = Number(scansArg), beams = Number(beamsArg);
+await zstd.isLoaded;
+const handle = await open(file, "w");
+let position = 0n;
+const writable = {
+  write: async (buffer) => {
+    await handle.write(buffer);
+    position += BigInt(buffer.byteLength);
+  },
+  position: () => position,
+};
+const writer = new McapWriter({
+  writable,
+  chunkSize: 4096,
+  compressChunk: (data) => ({ compression: "zstd", compressedData: zstd.compress(data, 3) }),
+});
+await writer.start({ profile: "ros2", library: "independent test writer" });
+const header = "MSG: std_msgs/Header\nbuiltin_interfaces/Time stamp\nstring frame_id\n";
+const time = "MSG: builtin_interfaces/Time\nint32 sec\nuint32 nanosec\n";
+const sep = "=".repeat(80) + "\n";
+const scanDef =
+  "std_msgs/Header header\nfloat32 angle_min\nfloat32 angle_max\nfloat32 angle_increment\n" +
+  "float32 time_increment\nfloat32 scan_time\nfloat32 range_min\nfloat32 range_max\n" +
+  "float32[] ranges\nfloat32[] intensities\n" + sep + header + sep + time;
+const tfDef =
+  "geometry_msgs/TransformStamped[] transforms\n" + sep + "MSG: geometry_msgs/TransformStamped\n" +
+  "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/Transform transform\n" + sep +
+  "MSG: geometry_msgs/Transform\ngeometry_msgs/Vector3 translation\ngeometry_msgs/Quaternion rotation\n" + sep +
+  "MSG: geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n" + sep +
+  "MSG: geometry_msgs/Quaternion\nfloat64 x\nfloat64 y\nfloat64 z\nfloat64 w\n" + sep + header + sep + time;
+const enc = new TextEncoder();
+const scanSchema = await writer.registerSchema({ name: "sensor_msgs/msg/LaserScan", encoding: "ros2msg", data: enc.encode(scanDef) });
+const tfSchema = await writer.registerSchema({ name: "tf2_msgs/msg/TFMessage", encoding: "ros2msg", data: enc.encode(tfDef) });
+const scanChannel = await writer.registerChannel({ schemaId: scanSchema, topic: "/front/scan", messageEncoding: "cdr", metadata: new Map() });
+const tfChannel = await writer.registerChannel({ schemaId: tfSchema, topic: "/tf", messageEncoding: "cdr", metadata: new Map() });
+const scanWriter = new MessageWriter(parse(scanDef, { ros2: true }));
+const tfWriter = new MessageWriter(parse(tfDef, { ros2: true }));
+for (let k = 0; k < scans; k++) {
+  const ns = 10_000_000_000n + BigInt(k) * 500_000_000n;
+  const stamp = { sec: Number(ns / 1_000_000_000n), nanosec: Number(ns % 1_000_000_000n) };
+  const ranges = new Float32Array(beams);
+  for (let i = 0; i < beams; i++) ranges[i] = 0.5 + 0.001 * (i + k);
+  ranges[3] = Infinity;
+  ranges[5] = NaN;
+  const scan = {
+    header: { stamp, frame_id: "laser" },
+    angle_min: -2.0862138271331787, angle_max: 2.0923497676849365, angle_increment: 0.006135923322290182,
+    time_increment: 0, scan_time: 0.1, range_min: 0.02, range_max: 5.6, ranges, intensities: new Float32Array(0),
+  };
+  await writer.addMessage({ channelId: scanChannel, sequence: k, logTime: ns, publishTime: ns, data: scanWriter.writeMessage(scan) });
+  const tf = { transforms: [{ header: { stamp, frame_id: "map" }, child_frame_id: "base_link",
+    transform: { translation: { x: k, y: 0, z: 0 }, rotation: { x: 0, y: 0, z: 0, w: 1 } } }] };
+  await writer.addMessage({ channelId: tfChannel, sequence: k, logTime: ns, publishTime: ns, data: tfWriter.writeMessage(tf) });
+}
+await writer.end();
+await handle.close();
