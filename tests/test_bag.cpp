@@ -17,6 +17,7 @@
 #include "smokescan/bag/mcap_writer.hpp"
 #include "smokescan/bag/ros_messages.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/sensor_config/urg04lx.hpp"
 
 using namespace smokescan;
@@ -281,8 +282,8 @@ TEST(BagCli, ABagThatCannotBeWrittenLeavesNothing)
     std::ofstream(fs::path(taken) / "x") << "mine";
     expectBad("scan bocas --to 1 --out " + log + " --bag " + taken, "--bag", log);
     EXPECT_EQ(slurp(fs::path(taken) / "x"), "mine");
-    expectBad("scan bocas --sensor vlp16 --to 0.1 --bag " + (dir() / "bag_lidar").string(), "--bag",
-              (dir() / "bag_lidar").string());
+    expectBad("scan bocas --sensor vlp16 --to 0.1 --points-format ply --bag " + (dir() / "bag_bad_lidar").string(),
+              "--points-format", (dir() / "bag_bad_lidar").string());
     expectBad("scan bocas --to 1", "--out FILE, --bag DIR", log);
 }
 
@@ -519,4 +520,100 @@ TEST(Bag, DamagedOrWrongBagsAreOneLineErrorsNamingTheFileAndRecord)
         << meta("mcap", "missing_0.mcap");
     std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information: [unclosed\n";
     EXPECT_NE(bagError(folder.string()).find("metadata.yaml:"), std::string::npos) << bagError(folder.string());
+}
+
+namespace {
+
+/// One field of a PointCloud2 point, read by its declared offset and datatype (from the JSON the
+/// independent reader printed).
+double fieldValue(const nlohmann::json& fields, const std::string& name, const std::string& bytes, size_t at)
+{
+    for (const auto& f : fields) {
+        if (f["name"] != name) continue;
+        const size_t o = at + f["offset"].get<size_t>();
+        switch (f["datatype"].get<int>()) {
+        case 2:
+            return double(uint8_t(bytes[o]));
+        case 4: {
+            uint16_t v;
+            std::memcpy(&v, bytes.data() + o, 2);
+            return v;
+        }
+        case 7: {
+            float v;
+            std::memcpy(&v, bytes.data() + o, 4);
+            return v;
+        }
+        default:
+            ADD_FAILURE() << name << ": datatype " << f["datatype"];
+        }
+    }
+    ADD_FAILURE() << "no field " << name;
+    return NAN;
+}
+
+std::string base64(const std::string& in)
+{
+    static const std::string k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    int bits = 0, value = 0;
+    for (char c : in) {
+        if (c == '=') break;
+        value = (value << 6) | int(k.find(c));
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out.push_back(char((value >> bits) & 0xFF));
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST(BagCli, ALidarsFramesArePointCloudsWithTheDriversFieldsAsInItsPcdFiles)
+{
+    SMOKESCAN_NEED_READERS();
+    const fs::path points = dir() / "bag_lidar_points", bag = dir() / "bag_lidar";
+    fs::remove_all(points);
+    fs::remove_all(bag);
+    const CliRun r = cli("scan plume --sensor vlp16 --from 10 --to 10.25 --returns dual --points " + points.string() +
+                         " --bag " + bag.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = readIndependently((bag / "bag_lidar_0.mcap").string());
+    size_t k = 0, smoke = 0, second = 0;
+    for (const auto& m : j["messages"]) {
+        if (m["topic"] != "/points") continue;
+        EXPECT_EQ(m["schema"], "sensor_msgs/msg/PointCloud2");
+        char name[32];
+        std::snprintf(name, sizeof name, "%06zu.pcd", k);
+        const PointCloudFile pcd = readPointCloud((points / name).string());
+        const auto& msg = m["message"];
+        EXPECT_EQ(msg["header"]["frame_id"], "vlp16");
+        EXPECT_EQ(std::stoull(m["logTime"].get<std::string>()), (unsigned long long)std::llround(pcd.start_s * 1e9));
+        EXPECT_EQ(msg["height"], 1);
+        EXPECT_EQ(msg["is_bigendian"], false);
+        const size_t step = msg["point_step"].get<size_t>();
+        const std::string data = base64(msg["data"].get<std::string>());
+        ASSERT_EQ(msg["width"].get<size_t>(), pcd.points.size());
+        ASSERT_EQ(data.size(), step * pcd.points.size());
+        for (size_t i = 0; i < pcd.points.size(); ++i) {
+            const LidarPoint& p = pcd.points[i];
+            const auto& f = msg["fields"];
+            ASSERT_EQ(fieldValue(f, "x", data, i * step), p.x) << k << " " << i;
+            ASSERT_EQ(fieldValue(f, "y", data, i * step), p.y);
+            ASSERT_EQ(fieldValue(f, "z", data, i * step), p.z);
+            ASSERT_EQ(fieldValue(f, "intensity", data, i * step), p.intensity);
+            ASSERT_EQ(fieldValue(f, "ring", data, i * step), p.ring);
+            ASSERT_EQ(fieldValue(f, "return", data, i * step), p.return_index);
+            ASSERT_EQ(fieldValue(f, "source", data, i * step), p.source);
+            ASSERT_EQ(fieldValue(f, "time", data, i * step), p.time_s);
+            smoke += p.source == 1;
+            second += p.return_index == 1;
+        }
+        ++k;
+    }
+    EXPECT_EQ(k, 3u);
+    EXPECT_GT(smoke, 100u);
+    EXPECT_GT(second, 100u);
 }

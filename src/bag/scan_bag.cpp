@@ -15,49 +15,59 @@ constexpr const char* kWorld = "map";
 
 struct ScanBag::Impl {
     const Scene& scene;
-    const Scanner& scanner;
+    SensorMount mount;
     AtomicFolder folder;
     Rosbag2Writer bag;
-    uint16_t scan, tf, tf_static;
+    uint16_t data, tf, tf_static;
     bool static_written = false;
-    Impl(const std::string& dir, const Scene& s, const Scanner& sc)
+    Impl(const std::string& dir, const Scene& s, const SensorMount& m, bool lidar)
         : scene(s),
-          scanner(sc),
+          mount(m),
           folder(dir, "the bag", "--bag"),
           bag(folder, std::filesystem::path(dir).lexically_normal().filename().string()),
-          scan(bag.topic("/scan", kLaserScanType)),
+          data(lidar ? bag.topic("/points", kPointCloud2Type) : bag.topic("/scan", kLaserScanType)),
           tf(bag.topic("/tf", kTfType)),
           tf_static(bag.topic("/tf_static", kTfType))
     {
     }
+    /// The mount once, then the robot's pose at each message.
+    void transforms(double t_s, const RosTime& stamp)
+    {
+        const std::string robot = mount.robot >= 0 ? scene.robots[size_t(mount.robot)].name : "";
+        if (!static_written) {
+            TfMsg mounts;
+            mounts.transforms.push_back(transformOf(mount.pose, stamp, robot.empty() ? kWorld : robot, mount.name));
+            bag.write(tf_static, stamp, encode(mounts));
+            static_written = true;
+        }
+        if (robot.empty()) return;
+        TfMsg moving;
+        moving.transforms.push_back(transformOf(scene.robots[size_t(mount.robot)].at(t_s), stamp, kWorld, robot));
+        bag.write(tf, stamp, encode(moving));
+    }
 };
 
-ScanBag::ScanBag(const std::string& dir, const Scene& scene, const Scanner& scanner)
-    : impl_(std::make_unique<Impl>(dir, scene, scanner))
+ScanBag::ScanBag(const std::string& dir, const Scene& scene, const SensorMount& mount, bool lidar)
+    : impl_(std::make_unique<Impl>(dir, scene, mount, lidar))
 {
 }
 
 ScanBag::~ScanBag() = default;
 
-void ScanBag::add(const Scan& s)
+void ScanBag::add(const Scan& s, const LrfSpec& spec)
 {
     Impl& m = *impl_;
-    const SensorMount& mount = m.scanner.mount();
     const RosTime stamp = RosTime::fromSeconds(s.time_s);
-    const std::string robot = mount.robot >= 0 ? m.scene.robots[size_t(mount.robot)].name : "";
-    if (!m.static_written) {
-        TfMsg mounts;
-        mounts.transforms.push_back(transformOf(mount.pose, stamp, robot.empty() ? kWorld : robot, mount.name));
-        m.bag.write(m.tf_static, stamp, encode(mounts));
-        m.static_written = true;
-    }
-    if (!robot.empty()) {
-        TfMsg moving;
-        moving.transforms.push_back(
-            transformOf(m.scene.robots[size_t(mount.robot)].at(s.time_s), stamp, kWorld, robot));
-        m.bag.write(m.tf, stamp, encode(moving));
-    }
-    m.bag.write(m.scan, stamp, encode(laserScanOf(s, m.scanner.spec(), mount.name)));
+    m.transforms(s.time_s, stamp);
+    m.bag.write(m.data, stamp, encode(laserScanOf(s, spec, m.mount.name)));
+}
+
+void ScanBag::add(const LidarFrame& f)
+{
+    Impl& m = *impl_;
+    const RosTime stamp = RosTime::fromSeconds(f.start_s);
+    m.transforms(f.start_s, stamp);
+    m.bag.write(m.data, stamp, encode(pointCloudOf(f, m.mount.name)));
 }
 
 void ScanBag::finish() { impl_->bag.finish(); }

@@ -1,6 +1,7 @@
 #include "smokescan/bag/scan_messages.hpp"
 
 #include <Eigen/Geometry>
+#include <cstring>
 
 #include "smokescan/sensor_config/laser_kind.hpp"
 
@@ -22,6 +23,33 @@ LaserScanMsg laserScanOf(const Scan& scan, const LrfSpec& spec, const std::strin
     m.ranges.reserve(scan.value.size());
     for (long long v : scan.value)
         m.ranges.push_back(spec.isErrorValue(v) ? kind.rep117(v) : float(double(v) * spec.unit_m));
+    return m;
+}
+
+PointCloud2Msg pointCloudOf(const LidarFrame& f, const std::string& frame_id)
+{
+    PointCloud2Msg m;
+    m.header.stamp = RosTime::fromSeconds(f.start_s);
+    m.header.frame_id = frame_id;
+    constexpr uint8_t kU8 = 2, kU16 = 4, kF32 = 7;
+    m.fields = {{"x", 0, kF32, 1},     {"y", 4, kF32, 1},      {"z", 8, kF32, 1},      {"intensity", 12, kF32, 1},
+                {"ring", 16, kU16, 1}, {"return", 18, kU8, 1}, {"source", 19, kU8, 1}, {"time", 20, kF32, 1}};
+    m.point_step = 24;
+    m.width = uint32_t(f.points.size());
+    m.row_step = m.point_step * m.width;
+    m.data.resize(size_t(m.row_step));
+    uint8_t* d = m.data.data();
+    for (const LidarPoint& p : f.points) {
+        std::memcpy(d + 0, &p.x, 4);
+        std::memcpy(d + 4, &p.y, 4);
+        std::memcpy(d + 8, &p.z, 4);
+        std::memcpy(d + 12, &p.intensity, 4);
+        std::memcpy(d + 16, &p.ring, 2);
+        d[18] = p.return_index;
+        d[19] = p.source;
+        std::memcpy(d + 20, &p.time_s, 4);
+        d += m.point_step;
+    }
     return m;
 }
 

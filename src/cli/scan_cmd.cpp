@@ -137,7 +137,6 @@ int scanLidar(const Scene& scene, const ScanArgs& a)
 {
     const std::vector<std::pair<bool, const char*>> laser_only = {
         {!a.out.empty(), "--out"},
-        {!a.bag.empty(), "--bag"},
         {!a.tau_csv.empty(), "--tau"},
         {!a.image.empty(), "--image"},
         {!a.model.empty(), "--model"},
@@ -167,6 +166,7 @@ int scanLidar(const Scene& scene, const ScanArgs& a)
     l.from = a.from;
     l.to = a.to;
     l.seed = a.cfg.seed;
+    l.bag = a.bag;
     return runLidarScan(scene, l);
 }
 
@@ -237,7 +237,7 @@ int runScan(const ScanArgs& a0)
         writeLaserLogHeader(log->stream(), logHeader(scene, sc, a));
     }
     std::unique_ptr<ScanBag> bag;
-    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene, sc);
+    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene, sc.mount(), false);
     std::unique_ptr<AtomicFile> tau;
     if (!a.tau_csv.empty()) {
         tau = std::make_unique<AtomicFile>(files.stage(a.tau_csv));
@@ -247,7 +247,7 @@ int runScan(const ScanArgs& a0)
     for (size_t k = 0; k < times.size(); ++k) {
         Scan s = sc.scanAt(times[k], k);
         if (log) writeLaserLogScan(log->stream(), s, sc.spec());
-        if (bag) bag->add(s);
+        if (bag) bag->add(s, sc.spec());
         if (tau) writeBeamCsvScan(tau->stream(), s, scene);
         summary.add(s);
         if (!a.image.empty()) drawn.push_back(Scan{s.time_s, {}, std::move(s.value), {}});
@@ -308,8 +308,9 @@ void addScan(CLI::App& app, Runner& run)
         ->check(range(0.1, 1e4));
     c->add_option("--out", a->out, "Laser log to write (2D lasers)");
     c->add_option("--bag", a->bag,
-                  "2D lasers: also (or instead) a ROS 2 bag, a new folder: metadata.yaml and an MCAP file with "
-                  "/scan (sensor_msgs/LaserScan), /tf and /tf_static (docs/bags.md)");
+                  "Also (or instead of --out, --points) a ROS 2 bag, a new folder: metadata.yaml and an MCAP file "
+                  "with /scan (sensor_msgs/LaserScan) or a 3D lidar's /points (PointCloud2), /tf and /tf_static "
+                  "(docs/bags.md)");
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option(
         "--image", a->image,

@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "smokescan/bag/scan_bag.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
@@ -25,6 +26,7 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     recordSceneInputs(files, a.scene, scene);
     files.input(a.sensor, "--sensor");
     files.outputFolder(a.points_dir, "--points");
+    files.outputFolder(a.bag, "--bag");
     files.output(a.range_image, "--range-image");
     files.output(a.top_view, "--top-view");
     for (const auto& [path, option] :
@@ -38,7 +40,9 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
             !e1 && !e2)
             throw Error(option, "'" + path + "' lies inside the --points folder, which must be new or empty");
     }
-    if (a.points_dir.empty()) throw Error("--points", "a lidar's frames need a folder to go to (--points DIR)");
+    if (a.points_dir.empty() && a.bag.empty())
+        throw Error("--points", "a lidar's frames need a folder or a bag to go to (--points DIR, --bag DIR)");
+    if (a.points_dir.empty() && a.format != "pcd") throw Error("--points-format", "goes with --points DIR");
     if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
     if (a.top_view_m != LidarScanArgs{}.top_view_m && a.top_view.empty())
         throw Error("--top-view-width", "needs --top-view");
@@ -63,7 +67,10 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
                         std::to_string(limits::kFrames) + ")");
     const SurfaceSet surfaces(scene);
     const LidarScanner scanner(scene, surfaces, mount, spec, mode, a.seed);
-    AtomicFolder out(a.points_dir, "the point-cloud folder", "--points");
+    std::unique_ptr<AtomicFolder> out;
+    if (!a.points_dir.empty()) out = std::make_unique<AtomicFolder>(a.points_dir, "the point-cloud folder", "--points");
+    std::unique_ptr<ScanBag> bag;
+    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene, mount, true);
     const long long frames = (long long)frames_wanted;
     const Progress progress("scanning", "lidar frames");
     long long points = 0, smoke = 0;
@@ -72,7 +79,8 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         const LidarFrame f = scanner.frame(from + double(k) * period, uint64_t(k));
         char name[32];
         std::snprintf(name, sizeof name, "%06lld.%s", k, a.format.c_str());
-        (a.format == "pcd" ? writePcd : writePly)(out.path(name), f);
+        if (out) (a.format == "pcd" ? writePcd : writePly)(out->path(name), f);
+        if (bag) bag->add(f);
         index += frameIndexRow(f, name);
         if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
         if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
@@ -80,19 +88,24 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         for (const LidarPoint& p : f.points) smoke += p.source == uint8_t(EchoSource::Smoke);
         progress.update(k + 1, frames);
     }
-    {
-        AtomicFile csv(out.path("frames.csv"));
+    if (out) {
+        AtomicFile csv(out->path("frames.csv"));
         csv.stream() << index;
         csv.commit();
     }
-    files.commit([&] { out.commit(); });  // the folder last: when it fails, the pictures are taken back
+    if (bag) bag->finish();
+    files.commit([&] {  // the folders last: when one fails, the pictures are taken back
+        if (out) out->commit();
+        if (bag) bag->commit();
+    });
     char shape[96];
     if (spec.pattern == PatternKind::Spinning)
         std::snprintf(shape, sizeof shape, "%d channels x %d columns", spec.channels(), frameColumns(spec));
     else
         std::snprintf(shape, sizeof shape, "%zu beams a frame", spec.file_beams.size());
-    say("wrote %s: %lld %s frames of the %s (%s, %g Hz, %s returns), %lld points, %lld from smoke\n",
-        printable(a.points_dir).c_str(), frames, a.format.c_str(), spec.name.c_str(), shape, spec.rate_hz,
+    say("wrote %s%s%s: %lld %s frames of the %s (%s, %g Hz, %s returns), %lld points, %lld from smoke\n",
+        printable(a.points_dir).c_str(), a.points_dir.empty() || a.bag.empty() ? "" : ", ", printable(a.bag).c_str(),
+        frames, a.points_dir.empty() ? "bag" : a.format.c_str(), spec.name.c_str(), shape, spec.rate_hz,
         returnModeName(mode), points, smoke);
     return 0;
 }

@@ -10,7 +10,7 @@ struct Scene;
 namespace smokescan::cli {
 
 struct LidarScanArgs {
-    std::string scene, sensor, returns = "strongest", points_dir, format = "pcd";
+    std::string scene, sensor, returns = "strongest", points_dir, format = "pcd", bag;
     std::string range_image, top_view;  ///< pictures of the first frame (PNG)
     double top_view_m = 10;  ///< the top view's half width [m]
     double rate_hz = 0;  ///< 0: the preset's

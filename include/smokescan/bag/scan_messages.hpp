@@ -6,6 +6,7 @@
 
 #include "smokescan/bag/ros_messages.hpp"
 #include "smokescan/core/ray.hpp"
+#include "smokescan/lidar/lidar_scanner.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 namespace smokescan {
@@ -15,6 +16,14 @@ namespace smokescan {
 /// (LaserKind::rep117), no intensities (the 2D lasers report none).
 /// @param frame_id the sensor's frame (its mount's name)
 LaserScanMsg laserScanOf(const Scan& scan, const LrfSpec& spec, const std::string& frame_id);
+
+/// @brief A 3D lidar's frame as a PointCloud2 (height 1, little-endian, dense), stamped at the
+/// frame's first firing, with the fields the drivers write: x, y, z, intensity (float32: metres in
+/// the sensor's frame at each beam's firing, the calibrated reflectivity in %), ring (uint16),
+/// return (uint8: 0 the mode's first point of a beam, 1 its second), source (uint8: 0 surface,
+/// 1 smoke, 2 mirror: ground truth drivers do not have), time (float32: seconds from the frame's
+/// start, as Velodyne's driver writes it); 24 bytes a point.
+PointCloud2Msg pointCloudOf(const LidarFrame& frame, const std::string& frame_id);
 
 /// @brief `child`'s pose in `parent` at `stamp`.
 TransformStampedMsg transformOf(const Pose& pose, const RosTime& stamp, const std::string& parent,
