@@ -30,3 +30,25 @@ find_package(tomlplusplus REQUIRED)
 find_package(tinyobjloader REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(Threads REQUIRED)
+# ROS 1 bags: Debian's librosbag_storage with its message headers. Its bag.h includes pluginlib's
+# headers, which Debian ships as ROS 2's (rcpputils, rcutils, ament_index_cpp): their folders are
+# found here, and the libraries it needs linked, as one imported target.
+if(NOT TARGET smokescan::ros1bag)
+  find_path(SMOKESCAN_ROSBAG_INCLUDE rosbag/bag.h REQUIRED)
+  set(_smokescan_ros1_dirs ${SMOKESCAN_ROSBAG_INCLUDE})
+  foreach(h pluginlib/class_loader.hpp class_loader/class_loader.hpp rcpputils/shared_library.hpp
+            rcutils/types.h ament_index_cpp/get_package_prefix.hpp)
+    string(MAKE_C_IDENTIFIER ${h} _v)
+    get_filename_component(_dir ${h} DIRECTORY)
+    find_path(SMOKESCAN_ROS1_${_v} ${h} PATH_SUFFIXES ${_dir} REQUIRED)
+    list(APPEND _smokescan_ros1_dirs ${SMOKESCAN_ROS1_${_v}})
+  endforeach()
+  set(_smokescan_ros1_libs)
+  foreach(l rosbag_storage roscpp_serialization rostime cpp_common console_bridge class_loader boost_filesystem)
+    find_library(SMOKESCAN_ROS1_LIB_${l} ${l} REQUIRED)
+    list(APPEND _smokescan_ros1_libs ${SMOKESCAN_ROS1_LIB_${l}})
+  endforeach()
+  add_library(smokescan::ros1bag INTERFACE IMPORTED)
+  set_target_properties(smokescan::ros1bag PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_smokescan_ros1_dirs}"
+                                                      INTERFACE_LINK_LIBRARIES "${_smokescan_ros1_libs}")
+endif()

@@ -8,7 +8,9 @@ pkgs=(build-essential cmake ninja-build pkg-config
   libopenimageio-dev openimageio-tools libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev libtinyobjloader-dev
   nlohmann-json3-dev fonts-dejavu-core clang clang-format libclang-rt-14-dev llvm
-  python3-open3d zlib1g-dev libzstd-dev liblz4-dev libyaml-cpp-dev)
+  python3-open3d zlib1g-dev libzstd-dev liblz4-dev libyaml-cpp-dev
+  librosbag-storage-dev libsensor-msgs-dev librcpputils-dev libament-index-cpp-dev python3-rosbag python3-sensor-msgs
+  python3-tf2-msgs)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -16,8 +16,11 @@ cp "$here/tests/js/package.json" "$here/tests/js/package-lock.json" "$here"/test
 if [ -d "$dest/node_modules/@mcap/core" ] && cmp -s "$here/tests/js/package-lock.json" "$dest/node_modules/.package-lock.json.smokescan" 2>/dev/null; then
   exit 0
 fi
-if (cd "$dest" && npm ci --no-audit --no-fund --silent >/dev/null 2>&1); then
+log=$(mktemp)
+if (cd "$dest" && npm ci --no-audit --no-fund >"$log" 2>&1); then
   cp "$here/tests/js/package-lock.json" "$dest/node_modules/.package-lock.json.smokescan"
 else
+  tail -5 "$log"
   echo "npm ci failed in $dest: the bag tests' independent readers are not installed"
 fi
+rm -f "$log"

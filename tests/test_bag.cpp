@@ -16,8 +16,10 @@
 #include "smokescan/bag/mcap_reader.hpp"
 #include "smokescan/bag/mcap_writer.hpp"
 #include "smokescan/bag/ros_messages.hpp"
+#include "smokescan/bag/scan_messages.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
+#include "smokescan/sensor_config/lms200.hpp"
 #include "smokescan/sensor_config/urg04lx.hpp"
 
 using namespace smokescan;
@@ -119,6 +121,10 @@ TEST(Cdr, BadBytesAreOneLineErrorsNamingTheMessage)
     EXPECT_THROW((void)RosTime::fromSeconds(NAN), Error);
     EXPECT_EQ(RosTime::fromSeconds(1.5).nanoseconds(), 1500000000ull);
     EXPECT_EQ(RosTime::fromSeconds(0.1).nanosec, 100000000u);
+    EXPECT_EQ(RosTime::fromSeconds(2.0 / 3).nanosec, 666666667u);  // rounded, not truncated
+    const RosTime carry = RosTime::fromSeconds(0.9999999996);
+    EXPECT_EQ(carry.sec, 1);
+    EXPECT_EQ(carry.nanosec, 0u);
 }
 
 namespace {
@@ -183,7 +189,12 @@ TEST(BagCli, AScanBagIsReadByIndependentReadersAsTheLogOfTheSameRun)
     EXPECT_NE(meta.find("storage_identifier: mcap"), std::string::npos) << meta;
     EXPECT_NE(meta.find("- bag_run_0.mcap"), std::string::npos) << meta;
     EXPECT_NE(meta.find("type: sensor_msgs/msg/LaserScan"), std::string::npos) << meta;
+    // rosbag2's metadata: 9 scans and the mount, from 100 s for 4 s.
+    EXPECT_NE(meta.find("message_count: 10"), std::string::npos) << meta;
+    EXPECT_NE(meta.find("nanoseconds_since_epoch: 100000000000"), std::string::npos) << meta;
+    EXPECT_NE(meta.find("nanoseconds: 4000000000"), std::string::npos) << meta;
     const nlohmann::json j = readIndependently((fs::path(bag) / "bag_run_0.mcap").string());
+    EXPECT_TRUE(j["problems"].empty()) << j["problems"];
     EXPECT_EQ(j["profile"], "ros2");
     EXPECT_EQ(j["dataEndCrc"], j["dataCrc"]);
     EXPECT_NE(j["dataCrc"], 0);
@@ -209,7 +220,12 @@ TEST(BagCli, AScanBagIsReadByIndependentReadersAsTheLogOfTheSameRun)
         // SCIP 2.0's steps 44…725 at 360°/1024 from step 384 ahead; 20 mm … 5.6 m.
         EXPECT_FLOAT_EQ(msg["angle_min"].get<float>(), float((44 - 384) * 2 * M_PI / 1024));
         EXPECT_FLOAT_EQ(msg["angle_increment"].get<float>(), float(2 * M_PI / 1024));
+        EXPECT_FLOAT_EQ(msg["angle_max"].get<float>(), float((725 - 384) * 2 * M_PI / 1024));
+        EXPECT_FLOAT_EQ(msg["range_min"].get<float>(), 0.02f);
         EXPECT_FLOAT_EQ(msg["range_max"].get<float>(), 5.6f);
+        EXPECT_FLOAT_EQ(msg["scan_time"].get<float>(), 0.1f);
+        EXPECT_EQ(msg["time_increment"].get<float>(), 0.0f);
+        EXPECT_TRUE(msg["intensities"].empty());
         const auto& ranges = msg["ranges"];
         ASSERT_EQ(ranges.size(), values.size());
         for (size_t b = 0; b < values.size(); ++b) {
@@ -232,6 +248,7 @@ TEST(BagCli, AScanBagIsReadByIndependentReadersAsTheLogOfTheSameRun)
     }
     EXPECT_EQ(k, scans.size());
     EXPECT_GT(inf, 50u) << "the run should hold beams the smoke stopped";
+    EXPECT_GT(nan, 0u) << "and a failed measurement (this seed has one)";
     EXPECT_EQ(inf + nan, codes);
 }
 
@@ -616,4 +633,103 @@ TEST(BagCli, ALidarsFramesArePointCloudsWithTheDriversFieldsAsInItsPcdFiles)
     EXPECT_EQ(k, 3u);
     EXPECT_GT(smoke, 100u);
     EXPECT_GT(second, 100u);
+}
+
+TEST(BagCli, ReadsTheRos1BagsDebiansRosbagWrote)
+{
+    if (std::system("/usr/bin/python3 -c 'import rosbag, sensor_msgs.msg' >/dev/null 2>&1") != 0) {
+        if (std::getenv("SMOKESCAN_REQUIRE_READERS")) FAIL() << "python3-rosbag is not installed";
+        GTEST_SKIP() << "python3-rosbag and python3-sensor-msgs are missing (scripts/setup.sh installs them)";
+    }
+    for (const std::string compression : {"none", "bz2", "lz4"}) {
+        const std::string bag = (dir() / ("ros1_" + compression + ".bag")).string();
+        const std::string cmd = "/usr/bin/python3 " SMOKESCAN_SOURCE_DIR "/tests/py/write_ros1_bag.py " + bag + " " +
+            compression + " 30 682";
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+        const BagLaserScans b = readBagLaserScans(bag, "");
+        EXPECT_EQ(b.topic, "/front/scan");
+        ASSERT_EQ(b.scans.size(), 30u) << compression;
+        for (size_t k = 0; k < b.scans.size(); ++k) {
+            const LaserScanMsg& s = b.scans[k];
+            EXPECT_EQ(s.header.stamp.nanoseconds(), 10000000000ull + k * 500000000ull);
+            EXPECT_EQ(s.header.frame_id, "laser");
+            EXPECT_EQ(s.angle_increment, 0.006135923322290182f);
+            ASSERT_EQ(s.ranges.size(), 682u);
+            for (size_t i = 0; i < s.ranges.size(); ++i) {
+                if (i == 3)
+                    EXPECT_TRUE(std::isinf(s.ranges[i]) && s.ranges[i] > 0);
+                else if (i == 5)
+                    EXPECT_TRUE(std::isnan(s.ranges[i]));
+                else
+                    ASSERT_EQ(s.ranges[i], float(0.5 + 0.001 * double(i + k))) << compression << " " << k << " " << i;
+            }
+        }
+        EXPECT_NE(bagError(bag, "/tf").find("topic /tf is tf2_msgs/TFMessage, not sensor_msgs/LaserScan"),
+                  std::string::npos)
+            << bagError(bag, "/tf");
+        EXPECT_NE(bagError(bag, "/rear/scan").find("has no topic /rear/scan (LaserScan topics: /front/scan)"),
+                  std::string::npos);
+        // Truncated, and a chunk's length past the file's end: refused before librosbag reads it.
+        const std::string text = slurp(bag);
+        const std::vector<uint8_t> cut(text.begin(), text.begin() + long(text.size() / 2));
+        const std::string e = bagError(writeBytes("ros1_cut.bag", cut));
+        EXPECT_NE(e.find("ros1_cut.bag"), std::string::npos) << e;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+}
+
+TEST(Bag, AnLms200ScanIsALaserScanInItsOwnAnglesAndUnitsWithItsCodesAsRep117Says)
+{
+    for (double mode : {8.0, 80.0}) {
+        const LrfSpec spec = lms200(1.0, mode);
+        Scan scan;
+        scan.time_s = 2.5;
+        scan.value.assign(size_t(spec.n_beams), 1234);
+        scan.value[1] = 8183;  // no echo
+        scan.value[2] = 8189;  // weak or ambiguous
+        scan.value[3] = 8191;  // dazzled
+        const LaserScanMsg m = laserScanOf(scan, spec, "sick");
+        const double unit = mode == 8.0 ? 0.001 : 0.01;
+        EXPECT_EQ(m.angle_min, 0.0f);  // the LMS200's 0…180°, 90° ahead
+        EXPECT_FLOAT_EQ(m.angle_max, float(M_PI));
+        EXPECT_FLOAT_EQ(m.angle_increment, float(M_PI / 180));
+        EXPECT_FLOAT_EQ(m.range_max, float(8182 * unit));
+        EXPECT_EQ(m.ranges.size(), 181u);
+        EXPECT_EQ(m.ranges[0], float(1234 * unit));
+        EXPECT_TRUE(std::isinf(m.ranges[1]) && m.ranges[1] > 0);
+        EXPECT_TRUE(std::isnan(m.ranges[2]));
+        EXPECT_TRUE(std::isnan(m.ranges[3]));
+        EXPECT_EQ(m.header.stamp.nanoseconds(), 2500000000ull);
+        // Read back as the LMS200's log: its unit, +Inf its no-echo code, NaN an error code.
+        BagLaserScans b;
+        b.source = "x.bag";
+        b.topic = "/scan";
+        b.scans = {m};
+        const RecordedLog log = recordedLogOf(b, spec);
+        EXPECT_EQ(log.unit_m, unit);
+        EXPECT_EQ(log.scans[0].range[0], 1234.0);
+        EXPECT_EQ(log.scans[0].range[1], 8183.0);
+        EXPECT_TRUE(spec.isErrorValue((long long)log.scans[0].range[2]));
+        EXPECT_NEAR(log.scans[0].angle_rad[90], M_PI / 2, 1e-6);
+    }
+}
+
+TEST(BagCli, ABagOfManyChunksIsReadByTheIndependentReaderThroughItsIndexes)
+{
+    SMOKESCAN_NEED_READERS();
+    std::vector<double> t;
+    for (int k = 0; k < 200; ++k) t.push_back(3 + 0.05 * k);
+    const std::string mcap = writeBytes("many_chunks.mcap", scanMcap(t, 2000));
+    const nlohmann::json j = readIndependently(mcap);
+    EXPECT_TRUE(j["problems"].empty()) << j["problems"];
+    EXPECT_GT(j["chunks"].get<int>(), 20);
+    EXPECT_EQ(j["chunks"], j["chunkIndexes"]);
+    EXPECT_EQ(j["messageIndexes"], j["chunks"]);  // one channel with messages in each chunk
+    ASSERT_EQ(j["messages"].size(), t.size());
+    for (size_t k = 0; k < t.size(); ++k) {
+        const auto& m = j["messages"][k];
+        EXPECT_EQ(std::stoull(m["logTime"].get<std::string>()), (unsigned long long)std::llround(t[k] * 1e9));
+        EXPECT_EQ(m["sequence"], k);
+        EXPECT_EQ(m["message"]["ranges"][7].get<float>(), float(t[k]));
+    }
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "ros1_bag.hpp"
 #include "smokescan/bag/mcap_reader.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
@@ -66,6 +67,8 @@ std::vector<std::string> bagFiles(const std::string& path)
 
 BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic)
 {
+    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
+        return detail::readRos1LaserScans(path, topic);
     BagLaserScans out;
     out.source = path;
     std::map<std::string, std::string> types;  ///< every topic's type, for messages

@@ -1,0 +1,19 @@
+#pragma once
+// Internal: ROS 1 bags (format 2.0), read by Debian's librosbag_storage (bag/bag_input.hpp
+// dispatches to it for a file starting with "#ROSBAG V2.0").
+#include <string>
+
+#include "smokescan/bag/bag_input.hpp"
+
+namespace smokescan::detail {
+
+/// The file's first bytes name a ROS 1 bag.
+bool isRos1Bag(const std::string& path);
+
+/// @brief The LaserScans on `topic` ("" = the only sensor_msgs/LaserScan topic) of a ROS 1 bag.
+/// Its record structure is checked first (every length within the file, chunk sizes and counts
+/// bounded, a known compression), so that librosbag only sees a well-formed file.
+/// @throw Error naming the file.
+BagLaserScans readRos1LaserScans(const std::string& path, const std::string& topic);
+
+}  // namespace smokescan::detail

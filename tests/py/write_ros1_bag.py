@@ -1,0 +1,31 @@
+"""An independent writer of ROS 1 bags for tests/test_bag.cpp: Debian's python3-rosbag and
+python3-sensor-msgs write /front/scan LaserScans and /tf beside them, the values following the
+rule tests/js/write_bag.mjs uses: scan k at stamp 10 + 0.5 k s, beam i reads 0.5 + 0.001 (i + k) m,
+beam 3 +Inf and beam 5 NaN in every scan.
+Usage: python3 write_ros1_bag.py FILE.bag none|bz2|lz4 SCANS BEAMS"""
+import math
+import sys
+
+import genpy
+import rosbag
+from geometry_msgs.msg import TransformStamped
+from sensor_msgs.msg import LaserScan
+from tf2_msgs.msg import TFMessage
+
+path, compression, scans, beams = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
+with rosbag.Bag(path, "w", compression=compression, chunk_threshold=16 * 1024) as bag:
+    for k in range(scans):
+        ns = 10_000_000_000 + k * 500_000_000
+        stamp = genpy.Time(ns // 10**9, ns % 10**9)
+        s = LaserScan()
+        s.header.stamp, s.header.frame_id, s.header.seq = stamp, "laser", k
+        s.angle_min, s.angle_max = -2.0862138271331787, 2.0923497676849365
+        s.angle_increment, s.scan_time, s.range_min, s.range_max = 0.006135923322290182, 0.1, 0.02, 5.6
+        ranges = [0.5 + 0.001 * (i + k) for i in range(beams)]
+        ranges[3], ranges[5] = math.inf, math.nan
+        s.ranges = ranges
+        bag.write("/front/scan", s, stamp)
+        t = TransformStamped()
+        t.header.stamp, t.header.frame_id, t.child_frame_id = stamp, "map", "base_link"
+        t.transform.translation.x, t.transform.rotation.w = k, 1.0
+        bag.write("/tf", TFMessage(transforms=[t]), stamp)
