@@ -21,7 +21,7 @@ namespace {
 /// rank: neither may include the other.
 const std::map<std::string, int> kRank = {
     {"core", 0},   {"io", 1},      {"toml", 1},   {"solve", 1}, {"media", 2},     {"sensor_config", 3},
-    {"scene", 4},  {"sensors", 5}, {"render", 5}, {"plot", 6},  {"lidar", 6},     {"bag", 6},
+    {"scene", 4},  {"sensors", 5}, {"render", 5}, {"plot", 6},  {"lidar", 6},     {"bag", 7},
     {"camera", 7}, {"calib", 8},   {"omni", 8},   {"fit", 9},   {"diagnose", 10}, {"cli", 11}};
 
 struct Violation {
