@@ -7,7 +7,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 build=$1
 seconds=${2:-30}
 mkdir -p "$here/findings"
-for t in scene_toml laser_log saturation_csv sensor_file vdb_header lidar_preset point_cloud mcap cdr; do
+for t in scene_toml laser_log saturation_csv sensor_file vdb_header lidar_preset point_cloud mcap cdr ros1_bag; do
   corpus=$(mktemp -d)
   log=$(mktemp)
   cp "$here/corpus/$t/"* "$corpus/"

@@ -8,7 +8,7 @@ pkgs=(build-essential cmake ninja-build pkg-config
   libopenimageio-dev openimageio-tools libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev libtinyobjloader-dev
   nlohmann-json3-dev fonts-dejavu-core clang clang-format libclang-rt-14-dev llvm
-  python3-open3d zlib1g-dev libzstd-dev liblz4-dev libyaml-cpp-dev
+  python3-open3d zlib1g-dev libzstd-dev liblz4-dev libyaml-cpp-dev libbz2-dev
   librosbag-storage-dev libsensor-msgs-dev librcpputils-dev libament-index-cpp-dev python3-rosbag python3-sensor-msgs
   python3-tf2-msgs)
 missing=()

@@ -1,5 +1,7 @@
 #include "ros1_bag.hpp"
 
+#include "ros1_structure.hpp"
+
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
@@ -17,90 +19,31 @@ namespace {
 constexpr char kMagic[] = "#ROSBAG V2.0\n";
 constexpr size_t kMagicBytes = sizeof kMagic - 1;
 
-/// A record's header fields (name=value, each with its own length).
-std::map<std::string, std::string> headerFields(const std::string& h, const std::string& where)
+/// A ROS 1 LaserScan's bytes (no alignment, little-endian): the header (seq, stamp, frame_id),
+/// seven float32, then ranges and intensities, each a uint32 count then float32s; every count
+/// within the bytes left.
+void checkLaserScanBytes(const std::vector<uint8_t>& b, const std::string& what)
 {
-    std::map<std::string, std::string> f;
     size_t at = 0;
-    while (at < h.size()) {
-        if (h.size() - at < 4) throw Error(where, "ends inside a header field's length");
-        uint32_t n;
-        std::memcpy(&n, h.data() + at, 4);
+    auto u32 = [&] {
+        if (b.size() - at < 4) throw Error(what, "ends at byte " + std::to_string(at) + " (truncated)");
+        uint32_t v;
+        std::memcpy(&v, b.data() + at, 4);
         at += 4;
-        if (n > h.size() - at)
-            throw Error(where, "has a header field of " + std::to_string(n) + " bytes past its header");
-        const std::string field = h.substr(at, n);
-        at += n;
-        const size_t eq = field.find('=');
-        if (eq == std::string::npos) throw Error(where, "has a header field without '='");
-        f[field.substr(0, eq)] = field.substr(eq + 1);
-    }
-    return f;
-}
-
-/// Walks the file's records, checking each length and the fields librosbag trusts.
-void checkStructure(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot be opened");
-    in.seekg(0, std::ios::end);
-    const uint64_t size = uint64_t(in.tellg());
-    in.seekg(0);
-    char magic[kMagicBytes];
-    if (size < kMagicBytes || !in.read(magic, kMagicBytes) || std::memcmp(magic, kMagic, kMagicBytes) != 0)
-        throw Error(path, "is not a ROS 1 bag (format 2.0)");
-    uint64_t pos = kMagicBytes, records = 0;
-    bool bag_header = false;
-    while (pos < size) {
-        const std::string where = path + ": record at byte " + std::to_string(pos);
-        if (size - pos < 8) throw Error(where, "ends inside its lengths (truncated?)");
-        uint32_t hn;
-        in.seekg(std::streamoff(pos));
-        in.read(reinterpret_cast<char*>(&hn), 4);
-        if (hn > size - pos - 8 || hn > (1u << 20))
-            throw Error(where, "claims a header of " + std::to_string(hn) + " bytes");
-        std::string h(hn, '\0');
-        in.read(h.data(), hn);
-        uint32_t dn;
-        in.read(reinterpret_cast<char*>(&dn), 4);
-        if (!in) throw Error(where, "could not be read");
-        if (dn > size - pos - 8 - hn)
-            throw Error(where, "claims " + std::to_string(dn) + " bytes past the file's end (truncated?)");
-        const auto f = headerFields(h, where);
-        const auto op = f.find("op");
-        if (op == f.end() || op->second.size() != 1) throw Error(where, "has no op");
-        auto u32 = [&](const char* name) {
-            const auto v = f.find(name);
-            if (v == f.end() || v->second.size() != 4) throw Error(where, std::string("has no 4-byte ") + name);
-            uint32_t x;
-            std::memcpy(&x, v->second.data(), 4);
-            return x;
-        };
-        switch (op->second[0]) {
-        case 0x03: {  // the bag header
-            const auto index = f.find("index_pos");
-            if (index == f.end() || index->second.size() != 8) throw Error(where, "has no index_pos");
-            uint64_t at;
-            std::memcpy(&at, index->second.data(), 8);
-            if (at > size) throw Error(where, "puts the index at byte " + std::to_string(at) + ", past the file's end");
-            if (u32("conn_count") > 100000 || u32("chunk_count") > 10000000) throw Error(where, "counts too much");
-            bag_header = true;
-            break;
-        }
-        case 0x05: {  // a chunk
-            const auto c = f.find("compression");
-            if (c == f.end() || (c->second != "none" && c->second != "bz2" && c->second != "lz4"))
-                throw Error(where, "is a chunk of an unknown compression");
-            if (u32("size") > limits::kBagChunkBytes) throw Error(where, "is a chunk over the limit unpacked");
-            break;
-        }
-        default:
-            break;
-        }
-        if (!bag_header) throw Error(where, "should be the bag header");
-        if (++records > uint64_t(limits::kBagMessages)) throw Error(path, "has too many records");
-        pos += 8 + uint64_t(hn) + dn;
-    }
+        return v;
+    };
+    auto skip = [&](uint64_t n) {
+        if (n > b.size() - at)
+            throw Error(what,
+                        "claims " + std::to_string(n) + " bytes at byte " + std::to_string(at) + " with " +
+                            std::to_string(b.size() - at) + " left");
+        at += size_t(n);
+    };
+    skip(12);  // seq, stamp
+    skip(u32());  // frame_id
+    skip(7 * 4);
+    skip(uint64_t(u32()) * 4);  // ranges
+    skip(uint64_t(u32()) * 4);  // intensities
 }
 
 }  // namespace
@@ -114,7 +57,7 @@ bool isRos1Bag(const std::string& path)
 
 BagLaserScans readRos1LaserScans(const std::string& path, const std::string& topic)
 {
-    checkStructure(path);
+    checkRos1Structure(path);
     BagLaserScans out;
     out.source = path;
     try {
@@ -137,8 +80,19 @@ BagLaserScans readRos1LaserScans(const std::string& path, const std::string& top
             throw Error(path, "topic " + chosen + " is " + type->second + ", not sensor_msgs/LaserScan");
         out.topic = chosen;
         for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(chosen))) {
-            const auto s = m.instantiate<sensor_msgs::LaserScan>();
-            if (!s) throw Error(path, "a message on " + chosen + " is not a sensor_msgs/LaserScan");
+            const std::string what = path + ": message " + std::to_string(out.scans.size()) + " on " + chosen;
+            if (m.getDataType() != "sensor_msgs/LaserScan" ||
+                m.getMD5Sum() != ros::message_traits::md5sum<sensor_msgs::LaserScan>())
+                throw Error(what, "is not a sensor_msgs/LaserScan of this definition (its MD5 differs)");
+            if (m.size() > limits::kBagChunkBytes) throw Error(what, "is over the limit");
+            // Its bytes, checked before roscpp_serialization sizes its arrays from them.
+            std::vector<uint8_t> raw(m.size());
+            ros::serialization::OStream os(raw.data(), uint32_t(raw.size()));
+            m.write(os);
+            checkLaserScanBytes(raw, what);
+            auto s = boost::make_shared<sensor_msgs::LaserScan>();
+            ros::serialization::IStream is(raw.data(), uint32_t(raw.size()));
+            ros::serialization::deserialize(is, *s);
             if ((int64_t)out.scans.size() >= limits::kBagMessages)
                 throw Error(path, "has too many messages on " + chosen);
             LaserScanMsg l;
