@@ -73,6 +73,40 @@ const RosType kPointCloud2Type = {
     "uint8 UINT32=6\nuint8 FLOAT32=7\nuint8 FLOAT64=8\nstring name\nuint32 offset\nuint8 datatype\n"
     "uint32 count\n" SMOKESCAN_HEADER_DEPS};
 
+const RosType kImageType = {"sensor_msgs/msg/Image",
+                            "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\n"
+                            "uint32 step\nuint8[] data\n" SMOKESCAN_HEADER_DEPS};
+
+std::vector<uint8_t> encode(const ImageMsg& m)
+{
+    CdrWriter w;
+    putHeader(w, m.header);
+    w.put<uint32_t>(m.height);
+    w.put<uint32_t>(m.width);
+    w.putString(m.encoding);
+    w.put<uint8_t>(m.is_bigendian);
+    w.put<uint32_t>(m.step);
+    w.putSequence(m.data);
+    return w.bytes();
+}
+
+ImageMsg decodeImage(const std::vector<uint8_t>& b, const std::string& what)
+{
+    CdrReader r(b.data(), b.size(), what);
+    ImageMsg m;
+    m.header = getHeader(r);
+    m.height = r.get<uint32_t>();
+    m.width = r.get<uint32_t>();
+    m.encoding = r.getString();
+    m.is_bigendian = r.get<uint8_t>();
+    m.step = r.get<uint32_t>();
+    m.data = r.getSequence<uint8_t>();
+    finished(r, what);
+    if (uint64_t(m.step) * m.height != m.data.size())
+        throw Error(what, "has " + std::to_string(m.data.size()) + " bytes of pixels, not height × step");
+    return m;
+}
+
 std::vector<uint8_t> encode(const LaserScanMsg& m)
 {
     CdrWriter w;

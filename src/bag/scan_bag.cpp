@@ -18,7 +18,7 @@ struct ScanBag::Impl {
     SensorMount mount;
     AtomicFolder folder;
     Rosbag2Writer bag;
-    uint16_t data, tf, tf_static;
+    uint16_t data, tf, tf_static, image = 0;
     bool static_written = false;
     Impl(const std::string& dir, const Scene& s, const SensorMount& m, bool lidar)
         : scene(s),
@@ -68,6 +68,14 @@ void ScanBag::add(const LidarFrame& f)
     const RosTime stamp = RosTime::fromSeconds(f.start_s);
     m.transforms(f.start_s, stamp);
     m.bag.write(m.data, stamp, encode(pointCloudOf(f, m.mount.name)));
+}
+
+void ScanBag::addImage(const Image& display, double camera_time_s, const std::string& camera)
+{
+    Impl& m = *impl_;
+    if (m.image == 0) m.image = m.bag.topic("/camera/image", kImageType);
+    const RosTime stamp = RosTime::fromSeconds(camera_time_s);
+    m.bag.write(m.image, stamp, encode(imageOf(display, stamp, camera)));
 }
 
 void ScanBag::finish() { impl_->bag.finish(); }

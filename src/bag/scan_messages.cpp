@@ -1,6 +1,8 @@
 #include "smokescan/bag/scan_messages.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "smokescan/sensor_config/laser_kind.hpp"
@@ -50,6 +52,24 @@ PointCloud2Msg pointCloudOf(const LidarFrame& f, const std::string& frame_id)
         std::memcpy(d + 20, &p.time_s, 4);
         d += m.point_step;
     }
+    return m;
+}
+
+ImageMsg imageOf(const Image& display, const RosTime& stamp, const std::string& frame_id)
+{
+    ImageMsg m;
+    m.header.stamp = stamp;
+    m.header.frame_id = frame_id;
+    m.height = uint32_t(display.height);
+    m.width = uint32_t(display.width);
+    m.encoding = "rgb8";
+    m.step = 3 * m.width;
+    m.data.resize(size_t(m.step) * m.height);
+    for (size_t p = 0; p < size_t(display.width) * size_t(display.height); ++p)
+        for (int c = 0; c < 3; ++c) {
+            const float v = display.data[p * size_t(display.channels) + size_t(std::min(c, display.channels - 1))];
+            m.data[3 * p + size_t(c)] = uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+        }
     return m;
 }
 

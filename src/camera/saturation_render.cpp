@@ -189,4 +189,11 @@ TargetSaturation SaturationRenderer::measure(double time_s, uint64_t frame, Imag
                                       cfg_.target_prefix, cfg_.field, display, ids);
 }
 
+const std::string& SaturationRenderer::cameraName() const
+{
+    const Camera* cam = scene_.findCamera(cfg_.camera);
+    if (!cam) throw Error(scene_.source, "no camera named '" + cfg_.camera + "'");
+    return cam->name;
+}
+
 }  // namespace smokescan

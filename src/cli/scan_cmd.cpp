@@ -53,7 +53,8 @@ struct CameraStream {
 /// The camera's saturation over the scan times: predicted, or measured in rendered frames (kept in
 /// `frames` when given), on the camera's clock.
 CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vector<double>& times,
-                          const SaturationPredictor* predictor, const SaturationRenderer* renderer, FrameFolder* frames)
+                          const SaturationPredictor* predictor, const SaturationRenderer* renderer, FrameFolder* frames,
+                          ScanBag* bag)
 {
     if (times.empty()) throw Error("--saturation-out", "no scan times to cover");
     SaturationSimConfig ss = a.sat;
@@ -74,9 +75,10 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
         out.series = simulateSaturation(
             [&](double t, uint64_t k) {
                 Image display, ids;
-                const TargetSaturation m =
-                    renderer->measure(t, k, frames ? &display : nullptr, frames ? &ids : nullptr);
+                const bool keep = frames || bag;
+                const TargetSaturation m = renderer->measure(t, k, keep ? &display : nullptr, keep ? &ids : nullptr);
                 if (frames) frames->add(k, t + ss.clock_offset_s, display, ids);
+                if (bag) bag->addImage(display, t + ss.clock_offset_s, renderer->cameraName());
                 progress.update((long long)k + 1, total);
                 SaturationFrame f{m.all.mean, {}};
                 for (const auto& [name, p] : m.patches) f.patches[name] = p.mean;
@@ -253,15 +255,16 @@ int runScan(const ScanArgs& a0)
         if (!a.image.empty()) drawn.push_back(Scan{s.time_s, {}, std::move(s.value), {}});
     }
     if (log) log->commit();
-    if (bag) bag->finish();
     if (tau) tau->commit();
     if (!a.image.empty())
         writeScanImage(files.stage(a.image), drawn, sc.spec(),
                        a.image_range_m > 0 ? a.image_range_m : sc.spec().range_max_m);
     if (!a.saturation_out.empty()) {
-        const CameraStream stream = cameraStream(scene, a, times, predictor.get(), renderer.get(), frames.get());
+        const CameraStream stream =
+            cameraStream(scene, a, times, predictor.get(), renderer.get(), frames.get(), bag.get());
         writeSaturationCsv(files.stage(a.saturation_out), stream.series, stream.header);
     }
+    if (bag) bag->finish();
     files.commit([&] {
         if (frames) frames->commit();
         if (bag) bag->commit();

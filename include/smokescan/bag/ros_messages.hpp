@@ -9,6 +9,7 @@
 /// | sensor_msgs/msg/LaserScan    | a 2D laser's scan; error values as REP 117 (docs/bags.md)     |
 /// | tf2_msgs/msg/TFMessage       | the robot's pose over time (/tf), each sensor's mount (/tf_static) |
 /// | sensor_msgs/msg/PointCloud2  | a 3D lidar's frame with its drivers' fields                   |
+/// | sensor_msgs/msg/Image        | a rendered camera frame, rgb8 (8-bit sRGB as delivered)       |
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -73,21 +74,33 @@ struct PointCloud2Msg {
     bool is_dense = true;
 };
 
+/// sensor_msgs/msg/Image.
+struct ImageMsg {
+    RosHeader header;
+    uint32_t height = 0, width = 0;
+    std::string encoding;  ///< e.g. "rgb8"
+    uint8_t is_bigendian = 0;
+    uint32_t step = 0;  ///< bytes a row
+    std::vector<uint8_t> data;
+};
+
 /// A message type as a bag records it.
 struct RosType {
     const char* name;  ///< e.g. "sensor_msgs/msg/LaserScan"
     const char* definition;  ///< ros2msg text with its dependencies
 };
-extern const RosType kLaserScanType, kTfType, kPointCloud2Type;
+extern const RosType kLaserScanType, kTfType, kPointCloud2Type, kImageType;
 
 /// @brief CDR bytes of a message.
 std::vector<uint8_t> encode(const LaserScanMsg& m);
 std::vector<uint8_t> encode(const TfMsg& m);
 std::vector<uint8_t> encode(const PointCloud2Msg& m);
+std::vector<uint8_t> encode(const ImageMsg& m);
 /// @brief A message from its CDR bytes. @param what names it in errors.
 /// @throw Error naming `what` for bytes that are not such a message.
 LaserScanMsg decodeLaserScan(const std::vector<uint8_t>& b, const std::string& what);
 TfMsg decodeTf(const std::vector<uint8_t>& b, const std::string& what);
 PointCloud2Msg decodePointCloud2(const std::vector<uint8_t>& b, const std::string& what);
+ImageMsg decodeImage(const std::vector<uint8_t>& b, const std::string& what);
 
 }  // namespace smokescan

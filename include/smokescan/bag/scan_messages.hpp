@@ -6,6 +6,7 @@
 
 #include "smokescan/bag/ros_messages.hpp"
 #include "smokescan/core/ray.hpp"
+#include "smokescan/io/image.hpp"
 #include "smokescan/lidar/lidar_scanner.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
@@ -24,6 +25,10 @@ LaserScanMsg laserScanOf(const Scan& scan, const LrfSpec& spec, const std::strin
 /// 1 smoke, 2 mirror: ground truth drivers do not have), time (float32: seconds from the frame's
 /// start, as Velodyne's driver writes it); 24 bytes a point.
 PointCloud2Msg pointCloudOf(const LidarFrame& frame, const std::string& frame_id);
+
+/// @brief A delivered camera frame (values in [0, 1], 8-bit sRGB as the camera gives them) as an
+/// rgb8 Image stamped `stamp`.
+ImageMsg imageOf(const Image& display, const RosTime& stamp, const std::string& frame_id);
 
 /// @brief `child`'s pose in `parent` at `stamp`.
 TransformStampedMsg transformOf(const Pose& pose, const RosTime& stamp, const std::string& parent,

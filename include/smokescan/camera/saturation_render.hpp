@@ -90,6 +90,8 @@ public:
     /// @param frame index k: the frame renders with seed cfg.seed + k.
     /// @param display, ids receive the frame and its id channels, if given.
     TargetSaturation measure(double time_s, uint64_t frame, Image* display = nullptr, Image* ids = nullptr) const;
+    /// @brief The name of the scene camera it renders.
+    const std::string& cameraName() const;
 
 private:
     const Scene& scene_;
