@@ -3,6 +3,7 @@
 // @foxglove/rosmsg2-serialization, under node: tests/js/read_bag.mjs, installed by
 // scripts/setup_readers.sh) and compared value by value with the laser log of the same run.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -305,6 +306,32 @@ TEST(BagCli, ABagThatCannotBeWrittenLeavesNothing)
     expectBad("scan bocas --to 1", "--out FILE, --bag DIR", log);
 }
 
+namespace {
+
+/// The scans the independent writers make (tests/js/write_bag.mjs, tests/py/write_ros1_bag.py):
+/// scan k at 10 + 0.5 k s, beam i at 0.5 + 0.001 (i + k) m, beam 3 +Inf, beam 5 NaN.
+void expectTheWritersRule(const BagLaserScans& b, size_t scans, const std::string& label)
+{
+    ASSERT_EQ(b.scans.size(), scans) << label;
+    for (size_t k = 0; k < b.scans.size(); ++k) {
+        const LaserScanMsg& s = b.scans[k];
+        EXPECT_EQ(s.header.stamp.nanoseconds(), 10000000000ull + k * 500000000ull);
+        EXPECT_EQ(s.header.frame_id, "laser");
+        EXPECT_EQ(s.angle_increment, 0.006135923322290182f);
+        ASSERT_EQ(s.ranges.size(), 682u);
+        for (size_t i = 0; i < s.ranges.size(); ++i) {
+            if (i == 3)
+                EXPECT_TRUE(std::isinf(s.ranges[i]) && s.ranges[i] > 0);
+            else if (i == 5)
+                EXPECT_TRUE(std::isnan(s.ranges[i]));
+            else
+                ASSERT_EQ(s.ranges[i], float(0.5 + 0.001 * double(i + k))) << label << " " << k << " " << i;
+        }
+    }
+}
+
+}  // namespace
+
 TEST(BagCli, ReadsTheLaserScansAnIndependentWriterWrote)
 {
     SMOKESCAN_NEED_READERS();
@@ -313,21 +340,7 @@ TEST(BagCli, ReadsTheLaserScansAnIndependentWriterWrote)
     ASSERT_EQ(std::system(cmd.c_str()), 0);
     const BagLaserScans b = readBagLaserScans(mcap, "");
     EXPECT_EQ(b.topic, "/front/scan");  // the only LaserScan topic, beside /tf
-    ASSERT_EQ(b.scans.size(), 40u);
-    for (size_t k = 0; k < b.scans.size(); ++k) {
-        const LaserScanMsg& s = b.scans[k];
-        EXPECT_EQ(s.header.stamp.nanoseconds(), 10000000000ull + k * 500000000ull);
-        EXPECT_EQ(s.header.frame_id, "laser");
-        ASSERT_EQ(s.ranges.size(), 682u);
-        for (size_t i = 0; i < s.ranges.size(); ++i) {
-            if (i == 3)
-                EXPECT_TRUE(std::isinf(s.ranges[i]) && s.ranges[i] > 0);
-            else if (i == 5)
-                EXPECT_TRUE(std::isnan(s.ranges[i]));
-            else
-                EXPECT_EQ(s.ranges[i], float(0.5 + 0.001 * double(i + k))) << k << " " << i;
-        }
-    }
+    expectTheWritersRule(b, 40, "mcap");
     // As the URG-04LX's log: metres to its millimetres, +Inf its no-return code, NaN a failed one.
     const RecordedLog log = recordedLogOf(b, urg04lx());
     EXPECT_EQ(log.unit_m, 0.001);
@@ -649,22 +662,7 @@ TEST(BagCli, ReadsTheRos1BagsDebiansRosbagWrote)
         ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
         const BagLaserScans b = readBagLaserScans(bag, "");
         EXPECT_EQ(b.topic, "/front/scan");
-        ASSERT_EQ(b.scans.size(), 30u) << compression;
-        for (size_t k = 0; k < b.scans.size(); ++k) {
-            const LaserScanMsg& s = b.scans[k];
-            EXPECT_EQ(s.header.stamp.nanoseconds(), 10000000000ull + k * 500000000ull);
-            EXPECT_EQ(s.header.frame_id, "laser");
-            EXPECT_EQ(s.angle_increment, 0.006135923322290182f);
-            ASSERT_EQ(s.ranges.size(), 682u);
-            for (size_t i = 0; i < s.ranges.size(); ++i) {
-                if (i == 3)
-                    EXPECT_TRUE(std::isinf(s.ranges[i]) && s.ranges[i] > 0);
-                else if (i == 5)
-                    EXPECT_TRUE(std::isnan(s.ranges[i]));
-                else
-                    ASSERT_EQ(s.ranges[i], float(0.5 + 0.001 * double(i + k))) << compression << " " << k << " " << i;
-            }
-        }
+        expectTheWritersRule(b, 30, compression);
         EXPECT_NE(bagError(bag, "/tf").find("topic /tf is tf2_msgs/TFMessage, not sensor_msgs/LaserScan"),
                   std::string::npos)
             << bagError(bag, "/tf");
@@ -787,4 +785,80 @@ TEST(BagCli, RenderedCameraFramesGoOnCameraImageAsThePngsTheCameraDelivered)
         ++k;
     }
     EXPECT_EQ(k, 3u);
+}
+
+TEST(Bag, StampsAndBeamsAreCheckedOnEveryScan)
+{
+    // A stamp that is not a time, on the scan that has it.
+    std::ostringstream o;
+    {
+        McapWriter w(o);
+        const uint16_t ch =
+            w.addChannel(w.addSchema(kLaserScanType.name, "ros2msg", kLaserScanType.definition), "/scan", "cdr");
+        for (int k = 0; k < 3; ++k) {
+            LaserScanMsg m;
+            m.header.stamp = {10 + k, k == 1 ? 1999999999u : 0u};
+            m.ranges.assign(682, 1.0f);
+            w.write(ch, uint64_t(k), uint64_t(k), encode(m));
+        }
+        w.finish();
+    }
+    const std::string text = o.str();
+    const std::string e = bagError(writeBytes("bad_stamp.mcap", {text.begin(), text.end()}));
+    EXPECT_NE(e.find("message 1 on /scan"), std::string::npos) << e;
+    EXPECT_NE(e.find("not a time"), std::string::npos) << e;
+    // Every scan's beams are the sensor's: the first angle and the step, not just scan 0's.
+    const LrfSpec urg = urg04lx();
+    BagLaserScans b;
+    b.source = "geometry.mcap";
+    b.topic = "/scan";
+    for (int k = 0; k < 3; ++k) {
+        LaserScanMsg m;
+        m.header.stamp = {10 + k, 0};
+        m.angle_min = float(urg.angle(0));
+        m.angle_increment = float(urg.dangle_rad);
+        m.angle_max = float(urg.angle(urg.n_beams - 1));
+        m.ranges.assign(size_t(urg.n_beams), 1.0f);
+        b.scans.push_back(m);
+    }
+    EXPECT_EQ(recordedLogOf(b, urg).scans.size(), 3u);
+    b.scans[2].angle_min = 0;
+    try {
+        (void)recordedLogOf(b, urg);
+        ADD_FAILURE() << "scan 2's beams taken";
+    } catch (const Error& x) {
+        EXPECT_NE(std::string(x.what()).find("geometry.mcap: /scan scan 2"), std::string::npos) << x.what();
+    }
+    b.scans[2].angle_min = float(urg.angle(0));
+    b.scans[1].angle_max = NAN;
+    EXPECT_THROW((void)recordedLogOf(b, urg), Error);
+    EXPECT_THROW((void)recordedLogOf(b, lms200()), Error);  // another sensor's beams
+}
+
+TEST(BagCli, ABagsFilesAreInputsNoOutputMayReplaceAndAFifoIsRefused)
+{
+    const std::string bag = (dir() / "input_bag").string(), sat = file("input_bag.csv");
+    fs::remove_all(bag);
+    // A trailing slash names the bag by its folder.
+    ASSERT_EQ(cli("scan bocas --from 80 --to 85 --rate 2 --quiet --bag " + bag + "/ --saturation-out " + sat).status,
+              0);
+    const fs::path mcap = fs::path(bag) / "input_bag_0.mcap";
+    ASSERT_TRUE(fs::exists(mcap));
+    const std::string before = slurp(mcap), meta = slurp(fs::path(bag) / "metadata.yaml");
+    const std::string common = " --saturation " + sat + " --scene bocas";
+    for (const std::string& out : {mcap.string(), (fs::path(bag) / "metadata.yaml").string()}) {
+        const CliRun r = cli("fit --bag " + bag + common + " --out " + out);
+        EXPECT_NE(r.status, 0);
+        EXPECT_NE(r.err.find("is the input of --bag"), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(slurp(mcap), before);
+    EXPECT_EQ(slurp(fs::path(bag) / "metadata.yaml"), meta);
+    const fs::path fifo = dir() / "bag_fifo";
+    fs::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    expectBad("fit --bag " + fifo.string() + common + " --out " + file("fifo.toml"), "is not a regular file",
+              file("fifo.toml"));
+    // A text input that is a FIFO no one writes reads as empty at once, not a wait.
+    expectBad("fit --laser " + fifo.string() + common + " --out " + file("fifo.toml"), "holds no scans",
+              file("fifo.toml"));
 }

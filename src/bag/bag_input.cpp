@@ -2,12 +2,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "ros1_bag.hpp"
 #include "smokescan/bag/mcap_reader.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/sensor_config/laser_kind.hpp"
@@ -16,15 +18,25 @@ namespace smokescan {
 namespace fs = std::filesystem;
 namespace {
 
+/// A file a bag is read from: it exists and is a regular file (a FIFO would block, a device
+/// never ends).
+void needRegular(const fs::path& p, const std::string& what)
+{
+    std::error_code e;
+    if (!fs::exists(p, e)) throw Error(p.string(), "does not exist" + what);
+    if (!fs::is_regular_file(p, e)) throw Error(p.string(), "is not a regular file" + what);
+}
+
 /// The MCAP files of a bag: a folder's, from its metadata.yaml, or the file itself.
 std::vector<std::string> bagFiles(const std::string& path)
 {
     if (!fs::is_directory(path)) {
-        if (!fs::exists(path)) throw Error(path, "does not exist");
+        needRegular(path, "");
         return {path};
     }
     const fs::path meta = fs::path(path) / "metadata.yaml";
     if (!fs::exists(meta)) throw Error(path, "is a folder without metadata.yaml (not a rosbag2 bag)");
+    needRegular(meta, "");
     const std::string text = readTextInput(meta.string(), "bag metadata", limits::kTomlInputBytes);
     YAML::Node info;
     try {
@@ -53,9 +65,15 @@ std::vector<std::string> bagFiles(const std::string& path)
             const fs::path f = p.as<std::string>();
             if (f.is_absolute() || f.lexically_normal().string().rfind("..", 0) == 0)
                 throw Error(meta.string(), "relative_file_paths: '" + f.string() + "' is not inside the bag");
-            files.push_back((fs::path(path) / f).string());
-            if (!fs::is_regular_file(files.back()))
-                throw Error(meta.string(), "relative_file_paths: " + f.string() + " does not exist in the bag");
+            const fs::path file = fs::path(path) / f;
+            needRegular(file, " (listed in " + meta.string() + ")");
+            // Inside the folder once links are followed, and listed once.
+            const fs::path folder = fs::weakly_canonical(path), real = fs::weakly_canonical(file);
+            if (real.parent_path().string().rfind(folder.string(), 0) != 0)
+                throw Error(meta.string(), "relative_file_paths: '" + f.string() + "' leads outside the bag");
+            if (std::find(files.begin(), files.end(), file.string()) != files.end())
+                throw Error(meta.string(), "relative_file_paths: '" + f.string() + "' is listed twice");
+            files.push_back(file.string());
         }
     } catch (const YAML::Exception& e) {
         throw Error(meta.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
@@ -64,6 +82,35 @@ std::vector<std::string> bagFiles(const std::string& path)
 }
 
 }  // namespace
+
+namespace detail {
+
+/// A scan appended after the checks every source's scans pass: a stamp that is a time (sec ≥ 0,
+/// nanosec < 1e9) after the previous scan's, and the run's beams within limits::kBagBeams.
+void addLaserScan(BagLaserScans& out, LaserScanMsg&& s, const std::string& what)
+{
+    const RosTime& t = s.header.stamp;
+    if (t.sec < 0 || t.nanosec >= 1000000000u)
+        throw Error(what,
+                    "has the stamp " + std::to_string(t.sec) + " s " + std::to_string(t.nanosec) +
+                        " ns, which is not a time (sec ≥ 0, nanosec < 1e9)");
+    if (!out.scans.empty() && t.nanoseconds() <= out.scans.back().header.stamp.nanoseconds())
+        throw Error(what, "has a stamp that does not follow the previous scan's (stamps must increase)");
+    out.beams += s.ranges.size();
+    if (out.beams > uint64_t(limits::kBagBeams))
+        throw Error(what, "takes the run past " + std::to_string(limits::kBagBeams) + " beams in all");
+    out.scans.push_back(std::move(s));
+}
+
+}  // namespace detail
+
+std::vector<std::string> bagInputFiles(const std::string& path)
+{
+    if (!fs::is_directory(path)) return bagFiles(path);
+    std::vector<std::string> files = bagFiles(path);
+    files.insert(files.begin(), (fs::path(path) / "metadata.yaml").string());
+    return files;
+}
 
 BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic)
 {
@@ -86,9 +133,7 @@ BagLaserScans readBagLaserScans(const std::string& path, const std::string& topi
             if ((int64_t)out.scans.size() >= limits::kBagMessages)
                 throw Error(file, "has more than " + std::to_string(limits::kBagMessages) + " messages on " + ch.topic);
             LaserScanMsg s = decodeLaserScan(m.data, what);
-            if (!out.scans.empty() && s.header.stamp.nanoseconds() <= out.scans.back().header.stamp.nanoseconds())
-                throw Error(what, "has a stamp that does not follow the previous scan's (stamps must increase)");
-            out.scans.push_back(std::move(s));
+            detail::addLaserScan(out, std::move(s), what);
         });
         for (const auto& [id, ch] : channels) types.emplace(ch.topic, ch.schema_name);
     }
@@ -129,8 +174,17 @@ RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec)
             throw Error(bag.source,
                         bag.topic + " scan " + std::to_string(k) + " has " + std::to_string(s.ranges.size()) +
                             " beams, the first " + std::to_string(beams));
-        if (!std::isfinite(s.angle_min) || !std::isfinite(s.angle_increment))
-            throw Error(bag.source, bag.topic + " scan " + std::to_string(k) + " has angles that are not finite");
+        const std::string where = bag.source + ": " + bag.topic + " scan " + std::to_string(k);
+        if (!std::isfinite(s.angle_min) || !std::isfinite(s.angle_increment) || !std::isfinite(s.angle_max))
+            throw Error(where, "has angles that are not finite");
+        // The sensor's beams: its first angle and its step, within a hundredth of a step.
+        const double tol = 0.01 * spec.dangle_rad;
+        if (std::abs(double(s.angle_min) - spec.angle(0)) > tol ||
+            std::abs(double(s.angle_increment) - spec.dangle_rad) > tol)
+            throw Error(where,
+                        fmt("has beams from %.5f rad every %.6f rad; the %s's are from %.5f every %.6f "
+                            "(a scan of another sensor? give --sensor or --sensor-type)",
+                            s.angle_min, s.angle_increment, sensorTypeName(spec.type), spec.angle(0), spec.dangle_rad));
         LaserLogScan l;
         l.time_s = double(s.header.stamp.sec) + 1e-9 * double(s.header.stamp.nanosec);
         for (size_t i = 0; i < beams; ++i) {

@@ -1,12 +1,12 @@
 #include "smokescan/bag/mcap_reader.hpp"
 
-#include <lz4frame.h>
 #include <zstd.h>
 
 #include <cstring>
 #include <fstream>
 #include <memory>
 
+#include "lz4_frame.hpp"
 #include "mcap_records.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
@@ -188,23 +188,7 @@ struct Reader {
             if (r != size)
                 throw Error(w, "decompresses to " + std::to_string(r) + " bytes, not " + std::to_string(size));
         } else if (compression == "lz4") {
-            LZ4F_dctx* ctx = nullptr;
-            if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) throw Error(w, "lz4: no context");
-            std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> guard(ctx,
-                                                                                       LZ4F_freeDecompressionContext);
-            size_t in_at = 0, out_at = 0;
-            while (in_at < n) {
-                size_t src = n - in_at, dst = out.size() - out_at;
-                const size_t r = LZ4F_decompress(ctx, out.data() + out_at, &dst, p + in_at, &src, nullptr);
-                if (LZ4F_isError(r))
-                    throw Error(w, std::string("could not be decompressed (lz4: ") + LZ4F_getErrorName(r) + ")");
-                in_at += src;
-                out_at += dst;
-                if (r == 0) break;
-                if (src == 0 && dst == 0) throw Error(w, "could not be decompressed (lz4: no progress)");
-            }
-            if (out_at != size)
-                throw Error(w, "decompresses to " + std::to_string(out_at) + " bytes, not " + std::to_string(size));
+            detail::unpackLz4Frame(p, n, out, w);
         } else {
             throw Error(w,
                         "uses the compression '" + compression + "', which smokescan does not read (zstd, lz4, none)");

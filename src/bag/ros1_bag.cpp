@@ -108,13 +108,7 @@ BagLaserScans readRos1LaserScans(const std::string& path, const std::string& top
             l.range_max = s->range_max;
             l.ranges = s->ranges;
             l.intensities = s->intensities;
-            if (!out.scans.empty() &&
-                s->header.stamp.toNSec() <=
-                    uint64_t(out.scans.back().header.stamp.sec) * 1000000000ULL + out.scans.back().header.stamp.nanosec)
-                throw Error(path,
-                            "scan " + std::to_string(out.scans.size()) + " on " + chosen +
-                                " has a stamp that does not follow the previous scan's (stamps must increase)");
-            out.scans.push_back(std::move(l));
+            addLaserScan(out, std::move(l), what);
         }
     } catch (const Error&) {
         throw;

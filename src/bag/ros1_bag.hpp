@@ -7,6 +7,11 @@
 
 namespace smokescan::detail {
 
+/// @brief Appends a scan after the checks every source's scans pass (bag_input.cpp): a stamp
+/// that is a time after the previous scan's, the run's beams within limits::kBagBeams.
+/// @throw Error naming `what`.
+void addLaserScan(BagLaserScans& out, LaserScanMsg&& scan, const std::string& what);
+
 /// The file's first bytes name a ROS 1 bag.
 bool isRos1Bag(const std::string& path);
 

@@ -1,7 +1,6 @@
 #include "ros1_structure.hpp"
 
 #include <bzlib.h>
-#include <lz4frame.h>
 
 #include <cstring>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include <set>
 #include <vector>
 
+#include "lz4_frame.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 
@@ -95,21 +95,7 @@ std::vector<uint8_t> unpack(const std::string& compression, const uint8_t* p, ui
                                                  const_cast<char*>(reinterpret_cast<const char*>(p)), n, 0, 0);
         if (r != BZ_OK || got != size) throw Error(where, "is a bz2 chunk that does not unpack to its size");
     } else if (compression == "lz4") {
-        LZ4F_dctx* ctx = nullptr;
-        if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) throw Error(where, "lz4: no context");
-        std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> guard(ctx, LZ4F_freeDecompressionContext);
-        size_t in_at = 0, out_at = 0;
-        while (in_at < n) {
-            size_t src = n - in_at, dst = out.size() - out_at;
-            const size_t r = LZ4F_decompress(ctx, out.data() + out_at, &dst, p + in_at, &src, nullptr);
-            if (LZ4F_isError(r))
-                throw Error(where, std::string("is an lz4 chunk that does not unpack: ") + LZ4F_getErrorName(r));
-            in_at += src;
-            out_at += dst;
-            if (r == 0) break;
-            if (src == 0 && dst == 0) throw Error(where, "is an lz4 chunk that does not unpack");
-        }
-        if (out_at != size) throw Error(where, "is an lz4 chunk that does not unpack to its size");
+        detail::unpackLz4Frame(p, n, out, where);
     } else {
         throw Error(where, "is a chunk of the compression '" + compression + "' (none, bz2, lz4)");
     }

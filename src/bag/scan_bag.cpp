@@ -11,7 +11,15 @@ namespace smokescan {
 
 namespace {
 constexpr const char* kWorld = "map";
+
+/// The bag's name: its folder's (`runs/b1/` → b1).
+std::string bagName(const std::string& dir)
+{
+    std::filesystem::path p = std::filesystem::path(dir).lexically_normal();
+    if (p.filename().empty()) p = p.parent_path();
+    return p.filename().string();
 }
+}  // namespace
 
 struct ScanBag::Impl {
     const Scene& scene;
@@ -24,7 +32,7 @@ struct ScanBag::Impl {
         : scene(s),
           mount(m),
           folder(dir, "the bag", "--bag"),
-          bag(folder, std::filesystem::path(dir).lexically_normal().filename().string()),
+          bag(folder, bagName(dir)),
           data(lidar ? bag.topic("/points", kPointCloud2Type) : bag.topic("/scan", kLaserScanType)),
           tf(bag.topic("/tf", kTfType)),
           tf_static(bag.topic("/tf_static", kTfType))

@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/diagnose/diagnosis_report.hpp"
@@ -117,7 +118,8 @@ int runDiagnose(const DiagnoseArgs& a0)
     a.scans = scansSource(a.in.laser, a.in.bag, a.in.topic);
     RunFiles files;
     files.input(a.in.laser, "--laser");
-    files.input(a.in.bag, "--bag");
+    if (!a.in.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
+        for (const std::string& f : bagInputFiles(a.in.bag)) files.input(f, "--bag");
     files.input(a.in.saturation, "--saturation");
     files.input(a.in.calibration, "--calibration");
     files.input(a.sensor_file, "--sensor-file");

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "commands.hpp"
+#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
@@ -177,7 +178,8 @@ int runFit(const FitArgs& a0)
     const std::string scans = scansSource(a.laser, a.bag, a.topic);
     RunFiles files;
     files.input(a.laser, "--laser");
-    files.input(a.bag, "--bag");
+    if (!a.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
+        for (const std::string& f : bagInputFiles(a.bag)) files.input(f, "--bag");
     files.input(a.saturation, "--saturation");
     files.input(a.surfaces_file, "--surfaces");
     files.input(a.calibration, "--calibration");

@@ -28,8 +28,10 @@ std::string readInputBytes(const std::string& path, const std::string& what, siz
         throw Error(path,
                     "is " + std::to_string(st.st_size >> 20) + " MiB, over the " + std::to_string(max_bytes >> 20) +
                         " MiB a " + what + " may have");
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // A FIFO without a writer would block open(): opened without waiting, it reads as empty.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (S_ISFIFO(st.st_mode) ? O_NONBLOCK : 0));
     if (fd < 0) throw Error(path, "cannot read (" + std::string(std::strerror(errno)) + ")");
+    if (S_ISFIFO(st.st_mode)) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     std::string text;
     char buf[1 << 16];
     for (;;) {

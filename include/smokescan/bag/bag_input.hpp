@@ -16,7 +16,14 @@ namespace smokescan {
 struct BagLaserScans {
     std::string source, topic;  ///< the bag's path; the topic read
     std::vector<LaserScanMsg> scans;  ///< in the bag's order, stamps increasing
+    uint64_t beams = 0;  ///< ranges in all the scans (bounded: limits::kBagBeams)
 };
+
+/// @brief The files a bag is read from: a folder's metadata.yaml and the files it lists, or the
+/// file itself (the run's inputs, which no output may replace).
+/// @throw Error naming the bag when one is missing, not a regular file, outside the folder or
+/// listed twice, or its storage is not MCAP.
+std::vector<std::string> bagInputFiles(const std::string& path);
 
 /// @brief Reads topic `topic` ("" = the bag's only LaserScan topic).
 /// @throw Error naming the file for: no such topic (the LaserScan topics are listed), a topic of
@@ -27,7 +34,8 @@ BagLaserScans readBagLaserScans(const std::string& path, const std::string& topi
 /// @brief The scans as a laser log of the sensor `spec` describes: times from the stamps, angles
 /// from angle_min and angle_increment, ranges in the sensor's unit (snapped to it, as the sensor
 /// reported them), REP 117's ±Inf and NaN back to the sensor kind's error codes.
-/// @throw Error naming the bag when the scans' beam counts differ.
+/// @throw Error naming the bag when a scan's beams differ from the first's in count, first angle
+/// or step, or from the sensor's (by more than a hundredth of its step).
 RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec);
 
 }  // namespace smokescan

@@ -18,6 +18,8 @@ inline constexpr size_t kTomlInputBytes = size_t(32) << 20;
 inline constexpr size_t kPointCloudBytes = size_t(512) << 20;
 /// Bytes of one MCAP chunk or record, compressed or not (a bag's memory is bounded by it).
 inline constexpr uint64_t kBagChunkBytes = uint64_t(256) << 20;
+/// Ranges read from one bag topic, all scans together (about what a 512 MiB text log holds).
+inline constexpr int64_t kBagBeams = 50'000'000;
 /// Messages read from one bag topic.
 inline constexpr int64_t kBagMessages = 10'000'000;
 /// Scans in one `scan` run.
