@@ -587,10 +587,11 @@ std::string base64(const std::string& in)
 {
     static const std::string k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
-    int bits = 0, value = 0;
+    int bits = 0;
+    uint32_t value = 0;
     for (char c : in) {
         if (c == '=') break;
-        value = (value << 6) | int(k.find(c));
+        value = ((value << 6) | uint32_t(k.find(c))) & 0xFFFFFFu;
         bits += 6;
         if (bits >= 8) {
             bits -= 8;
