@@ -549,6 +549,13 @@ TEST(Bag, DamagedOrWrongBagsAreOneLineErrorsNamingTheFileAndRecord)
     EXPECT_NE(meta("mcap", "../../etc/passwd").find("is not inside the bag"), std::string::npos);
     EXPECT_NE(meta("mcap", "missing_0.mcap").find("does not exist"), std::string::npos)
         << meta("mcap", "missing_0.mcap");
+    // A link to a sibling folder whose name extends the bag's leads outside it.
+    const fs::path sibling = dir() / "bad_bag2";
+    fs::create_directories(sibling);
+    (void)writeBytes("bad_bag2/x.mcap", scanMcap({1, 2}));
+    fs::remove(folder / "link.mcap");
+    fs::create_symlink(sibling / "x.mcap", folder / "link.mcap");
+    EXPECT_NE(meta("mcap", "link.mcap").find("leads outside the bag"), std::string::npos) << meta("mcap", "link.mcap");
     std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information: [unclosed\n";
     EXPECT_NE(bagError(folder.string()).find("metadata.yaml:"), std::string::npos) << bagError(folder.string());
 }

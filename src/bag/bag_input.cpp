@@ -69,7 +69,8 @@ std::vector<std::string> bagFiles(const std::string& path)
             needRegular(file, " (listed in " + meta.string() + ")");
             // Inside the folder once links are followed, and listed once.
             const fs::path folder = fs::weakly_canonical(path), real = fs::weakly_canonical(file);
-            if (real.parent_path().string().rfind(folder.string(), 0) != 0)
+            const fs::path inside = real.lexically_relative(folder);
+            if (inside.empty() || *inside.begin() == "..")
                 throw Error(meta.string(), "relative_file_paths: '" + f.string() + "' leads outside the bag");
             if (std::find(files.begin(), files.end(), file.string()) != files.end())
                 throw Error(meta.string(), "relative_file_paths: '" + f.string() + "' is listed twice");
