@@ -16,9 +16,6 @@
 namespace smokescan::detail {
 namespace {
 
-constexpr char kMagic[] = "#ROSBAG V2.0\n";
-constexpr size_t kMagicBytes = sizeof kMagic - 1;
-
 /// A ROS 1 LaserScan's bytes (no alignment, little-endian): the header (seq, stamp, frame_id),
 /// seven float32, then ranges and intensities, each a uint32 count then float32s; every count
 /// within the bytes left.
@@ -47,13 +44,6 @@ void checkLaserScanBytes(const std::vector<uint8_t>& b, const std::string& what)
 }
 
 }  // namespace
-
-bool isRos1Bag(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    char magic[kMagicBytes];
-    return in.read(magic, kMagicBytes) && std::memcmp(magic, kMagic, kMagicBytes) == 0;
-}
 
 BagLaserScans readRos1LaserScans(const std::string& path, const std::string& topic)
 {

@@ -3,6 +3,7 @@
 // dispatches to it for a file starting with "#ROSBAG V2.0").
 #include <string>
 
+#include "ros1_structure.hpp"
 #include "smokescan/bag/bag_input.hpp"
 
 namespace smokescan::detail {
@@ -11,9 +12,6 @@ namespace smokescan::detail {
 /// that is a time after the previous scan's, the run's beams within limits::kBagBeams.
 /// @throw Error naming `what`.
 void addLaserScan(BagLaserScans& out, LaserScanMsg&& scan, const std::string& what);
-
-/// The file's first bytes name a ROS 1 bag.
-bool isRos1Bag(const std::string& path);
 
 /// @brief The LaserScans on `topic` ("" = the only sensor_msgs/LaserScan topic) of a ROS 1 bag.
 /// Its record structure is checked first (every length within the file, chunk sizes and counts

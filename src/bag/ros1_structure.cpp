@@ -104,6 +104,13 @@ std::vector<uint8_t> unpack(const std::string& compression, const uint8_t* p, ui
 
 }  // namespace
 
+bool isRos1Bag(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    char magic[kMagicBytes];
+    return in.read(magic, kMagicBytes) && std::memcmp(magic, kMagic, kMagicBytes) == 0;
+}
+
 void checkRos1Structure(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);

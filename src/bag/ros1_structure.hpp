@@ -6,6 +6,9 @@
 
 namespace smokescan::detail {
 
+/// @brief Whether the file's first bytes name a ROS 1 bag (format 2.0).
+bool isRos1Bag(const std::string& path);
+
 /// @brief Walks every record, and every record inside each chunk (decompressed: none, bz2, lz4):
 /// each length within its container, each header field within its header, a chunk's unpacked
 /// size bounded (limits::kBagChunkBytes) and true; each index entry at a message record of the

@@ -79,9 +79,11 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
         const LidarFrame f = scanner.frame(from + double(k) * period, uint64_t(k));
         char name[32];
         std::snprintf(name, sizeof name, "%06lld.%s", k, a.format.c_str());
-        if (out) (a.format == "pcd" ? writePcd : writePly)(out->path(name), f);
+        if (out) {
+            (a.format == "pcd" ? writePcd : writePly)(out->path(name), f);
+            index += frameIndexRow(f, name);
+        }
         if (bag) bag->add(f);
-        index += frameIndexRow(f, name);
         if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
         if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
         points += (long long)f.points.size();
