@@ -80,8 +80,8 @@ int main(int argc, char** argv)
         for (double t : sc.times()) scans.push_back(sc.scanAt(t, scans.size()));
         auto t0 = std::chrono::steady_clock::now();
         {
-            ScanBag bag((dir / "urg").string(), scene, sc.mount(), false);
-            for (const Scan& s : scans) bag.add(s, sc.spec());
+            ScanBag bag((dir / "urg").string(), scene);
+            for (const Scan& s : scans) bag.add(s, sc.spec(), sc.mount());
             bag.finish();
             bag.commit();
         }
@@ -108,11 +108,11 @@ int main(int argc, char** argv)
         const SensorMount mount = defaultLidarMount(scene, spec.name);
         auto t0 = std::chrono::steady_clock::now();
         {
-            ScanBag bag((dir / "os1").string(), scene, mount, true);
+            ScanBag bag((dir / "os1").string(), scene);
             for (int k = 0; k < n; ++k) {
                 LidarFrame f = frames[size_t(k % 10)];
                 f.start_s = 20 + 0.1 * k;
-                bag.add(f);
+                bag.add(f, mount);
             }
             bag.finish();
             bag.commit();

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "bag_readers.hpp"
 #include "cli_run.hpp"
 #include "smokescan/bag/bag_input.hpp"
 #include "smokescan/bag/cdr.hpp"
@@ -130,33 +131,6 @@ TEST(Cdr, BadBytesAreOneLineErrorsNamingTheMessage)
 }
 
 namespace {
-
-/// The independent readers' folder, or empty (the test skips, or fails when CI requires them).
-std::string readersDir()
-{
-    const char* env = std::getenv("SMOKESCAN_READERS_DIR");
-    const std::string d = env && *env ? env : SMOKESCAN_READERS_DIR;
-    if (std::system("node --version >/dev/null 2>&1") != 0) return "";
-    return fs::exists(fs::path(d) / "node_modules" / "@mcap" / "core") ? d : "";
-}
-
-nlohmann::json readIndependently(const std::string& mcap)
-{
-    const fs::path out = dir() / "read_bag.json", err = dir() / "read_bag.err";
-    const std::string cmd =
-        "node " + readersDir() + "/read_bag.mjs " + mcap + " >" + out.string() + " 2>" + err.string();
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(err);
-    return nlohmann::json::parse(slurp(out));
-}
-
-#define SMOKESCAN_NEED_READERS()                                                                                 \
-    if (readersDir().empty()) {                                                                                  \
-        if (std::getenv("SMOKESCAN_REQUIRE_READERS")) FAIL() << "the independent bag readers are not installed"; \
-        GTEST_SKIP() << "node or the bag readers are missing (scripts/setup_readers.sh; SMOKESCAN_READERS_DIR)"; \
-    }
-
-/// A range as the JSON carries it: a number, or "NaN", "Infinity", "-Infinity".
-double number(const nlohmann::json& v) { return v.is_string() ? std::stod(v.get<std::string>()) : v.get<double>(); }
 
 /// The laser log's scans: time and raw values in mm.
 std::vector<std::pair<double, std::vector<long long>>> logScans(const std::string& path)
@@ -398,8 +372,8 @@ TEST(BagCli, ABagAndTheLogOfTheSameRunGiveTheSameFitAndDiagnosis)
     expectBad("fit --laser " + log + " --topic /scan" + common + " --out " + file("same_c.toml"), "--topic",
               file("same_c.toml"));
     expectBad("fit" + common + " --out " + file("same_c.toml"), "--laser LOG or --bag PATH", file("same_c.toml"));
-    expectBad("fit --bag " + bag + " --topic /tf" + common + " --out " + file("same_c.toml"),
-              "topic /tf is tf2_msgs/msg/TFMessage", file("same_c.toml"));
+    expectBad("fit --bag " + bag + " --topic /tf_static" + common + " --out " + file("same_c.toml"),
+              "topic /tf_static is tf2_msgs/msg/TFMessage", file("same_c.toml"));
     expectBad("fit --bag " + bag + " --topic /nope" + common + " --out " + file("same_c.toml"),
               "has no topic /nope (LaserScan topics: /scan)", file("same_c.toml"));
 }
@@ -588,24 +562,6 @@ double fieldValue(const nlohmann::json& fields, const std::string& name, const s
     }
     ADD_FAILURE() << "no field " << name;
     return NAN;
-}
-
-std::string base64(const std::string& in)
-{
-    static const std::string k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    int bits = 0;
-    uint32_t value = 0;
-    for (char c : in) {
-        if (c == '=') break;
-        value = ((value << 6) | uint32_t(k.find(c))) & 0xFFFFFFu;
-        bits += 6;
-        if (bits >= 8) {
-            bits -= 8;
-            out.push_back(char((value >> bits) & 0xFF));
-        }
-    }
-    return out;
 }
 
 }  // namespace

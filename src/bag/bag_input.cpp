@@ -4,7 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
 
 #include "ros1_bag.hpp"
 #include "smokescan/bag/mcap_reader.hpp"
@@ -113,53 +117,91 @@ std::vector<std::string> bagInputFiles(const std::string& path)
     return files;
 }
 
+namespace {
+
+/// The messages of one topic of a bag's MCAP files, in the bag's order: `topic`, or when empty the
+/// bag's only topic of `type` (`kind` names such topics in errors). @return the topic read.
+std::string readTopic(const std::string& path, const std::string& topic, const RosType& type, const std::string& kind,
+                      const std::function<void(McapMessage&&, const std::string& what)>& each)
+{
+    std::map<std::string, std::string> types;  ///< every topic's type, for messages
+    std::string chosen = topic;
+    int64_t n = 0;
+    for (const std::string& file : bagFiles(path)) {
+        const auto channels = readMcap(file, [&](const McapChannel& ch, McapMessage&& m) {
+            types[ch.topic] = ch.schema_name;
+            if (chosen.empty() && ch.schema_name == type.name) chosen = ch.topic;
+            if (ch.topic != chosen) return;
+            if (ch.schema_name != type.name)
+                throw Error(file, "topic " + ch.topic + " is " + ch.schema_name + ", not " + type.name);
+            if (ch.message_encoding != "cdr")
+                throw Error(file, "topic " + ch.topic + " is encoded as '" + ch.message_encoding + "', not cdr");
+            if (++n > limits::kBagMessages)
+                throw Error(file, "has more than " + std::to_string(limits::kBagMessages) + " messages on " + ch.topic);
+            each(std::move(m), file + ": message " + std::to_string(m.sequence) + " on " + ch.topic);
+        });
+        for (const auto& [id, ch] : channels) types.emplace(ch.topic, ch.schema_name);
+    }
+    std::string listed;  ///< the topics of the type
+    for (const auto& [t, ty] : types)
+        if (ty == type.name) listed += (listed.empty() ? "" : ", ") + t;
+    if (chosen.empty() && listed.find(',') == std::string::npos) chosen = listed;  // the only one, without messages
+    if (n == 0) {
+        if (!chosen.empty() && types.count(chosen) && types[chosen] != type.name)
+            throw Error(path, "topic " + chosen + " is " + types[chosen] + ", not " + type.name);
+        if (!chosen.empty() && types.count(chosen)) throw Error(path, "has no messages on " + chosen);
+        throw Error(
+            path,
+            (chosen.empty() ? "has no " + kind + " topic" : "has no topic " + chosen) +
+                (listed.empty() ? " (no " + kind + " topics at all)" : " (" + kind + " topics: " + listed + ")"));
+    }
+    // The only topic of the type, when none was named.
+    if (topic.empty()) {
+        std::string others;
+        for (const auto& [t, ty] : types)
+            if (ty == type.name && t != chosen) others += " " + t;
+        if (!others.empty())
+            throw Error(path, "has several " + kind + " topics (" + chosen + others + "): give its topic");
+    }
+    return chosen;
+}
+
+}  // namespace
+
 BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic)
 {
     if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
         return detail::readRos1LaserScans(path, topic);
     BagLaserScans out;
     out.source = path;
-    std::map<std::string, std::string> types;  ///< every topic's type, for messages
-    std::string chosen = topic;
-    for (const std::string& file : bagFiles(path)) {
-        const auto channels = readMcap(file, [&](const McapChannel& ch, McapMessage&& m) {
-            types[ch.topic] = ch.schema_name;
-            if (chosen.empty() && ch.schema_name == kLaserScanType.name) chosen = ch.topic;
-            if (ch.topic != chosen) return;
-            const std::string what = file + ": message " + std::to_string(m.sequence) + " on " + ch.topic;
-            if (ch.schema_name != kLaserScanType.name)
-                throw Error(file, "topic " + ch.topic + " is " + ch.schema_name + ", not " + kLaserScanType.name);
-            if (ch.message_encoding != "cdr")
-                throw Error(file, "topic " + ch.topic + " is encoded as '" + ch.message_encoding + "', not cdr");
-            if ((int64_t)out.scans.size() >= limits::kBagMessages)
-                throw Error(file, "has more than " + std::to_string(limits::kBagMessages) + " messages on " + ch.topic);
-            LaserScanMsg s = decodeLaserScan(m.data, what);
-            detail::addLaserScan(out, std::move(s), what);
-        });
-        for (const auto& [id, ch] : channels) types.emplace(ch.topic, ch.schema_name);
-    }
-    std::string scans;  ///< the LaserScan topics
-    for (const auto& [t, type] : types)
-        if (type == kLaserScanType.name) scans += (scans.empty() ? "" : ", ") + t;
-    if (chosen.empty() && scans.find(',') == std::string::npos) chosen = scans;  // the only one, without messages
-    if (out.scans.empty()) {
-        if (!chosen.empty() && types.count(chosen) && types[chosen] != kLaserScanType.name)
-            throw Error(path, "topic " + chosen + " is " + types[chosen] + ", not " + kLaserScanType.name);
-        if (!chosen.empty() && types.count(chosen)) throw Error(path, "has no messages on " + chosen);
-        throw Error(
-            path,
-            (chosen.empty() ? std::string("has no LaserScan topic") : "has no topic " + chosen) +
-                (scans.empty() ? std::string(" (no LaserScan topics at all)") : " (LaserScan topics: " + scans + ")"));
-    }
-    // The only LaserScan topic, when none was named.
-    if (topic.empty()) {
-        std::string others;
-        for (const auto& [t, type] : types)
-            if (type == kLaserScanType.name && t != chosen) others += " " + t;
-        if (!others.empty()) throw Error(path, "has several LaserScan topics (" + chosen + others + "): give --topic");
-    }
-    out.topic = chosen;
+    out.topic = readTopic(path, topic, kLaserScanType, "LaserScan", [&](McapMessage&& m, const std::string& what) {
+        detail::addLaserScan(out, decodeLaserScan(m.data, what), what);
+    });
     return out;
+}
+
+std::string readBagImages(const std::string& path, const std::string& topic,
+                          const std::function<void(ImageMsg&&, const std::string& what)>& each)
+{
+    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
+        throw Error(path,
+                    "is a ROS 1 bag: smokescan reads images from ROS 2 bags (MCAP); convert it, or measure "
+                    "the frames with `saturation` from image files");
+    RosTime last;
+    bool first = true;
+    return readTopic(path, topic, kImageType, "Image", [&](McapMessage&& m, const std::string& what) {
+        ImageMsg img = decodeImage(m.data, what);
+        const RosTime& t = img.header.stamp;
+        if (t.sec < 0 || t.nanosec >= 1000000000u)
+            throw Error(what,
+                        "has the stamp " + std::to_string(t.sec) + " s " + std::to_string(t.nanosec) +
+                            " ns, which is not a time (sec ≥ 0, nanosec < 1e9)");
+        if (!first && t.nanoseconds() <= last.nanoseconds())
+            throw Error(what, "has a stamp that does not follow the previous frame's (stamps must increase)");
+        first = false;
+        last = t;
+        each(std::move(img), what);
+    });
 }
 
 RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec)
@@ -204,6 +246,55 @@ RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec)
         log.scans.push_back(std::move(l));
     }
     return log;
+}
+
+}  // namespace smokescan
+
+namespace smokescan {
+
+Image imageOf(const ImageMsg& m, const std::string& what)
+{
+    struct Layout {
+        const char* encoding;
+        int bytes, r, g, b;  ///< bytes a pixel; each colour's byte
+    };
+    static constexpr Layout kLayouts[] = {
+        {"rgb8", 3, 0, 1, 2}, {"bgr8", 3, 2, 1, 0}, {"rgba8", 4, 0, 1, 2}, {"bgra8", 4, 2, 1, 0}};
+    const Layout* l = nullptr;
+    for (const Layout& k : kLayouts)
+        if (m.encoding == k.encoding) l = &k;
+    if (!l)
+        throw Error(what, "is encoded '" + m.encoding + "': the saturation needs colour (rgb8, bgr8, rgba8, bgra8)");
+    if (m.width == 0 || m.height == 0 || int64_t(m.width) * m.height > limits::kFramePixels)
+        throw Error(what,
+                    "is " + std::to_string(m.width) + "×" + std::to_string(m.height) + " pixels (at most " +
+                        std::to_string(limits::kFramePixels) + ")");
+    if (uint64_t(m.step) < uint64_t(m.width) * uint64_t(l->bytes) ||
+        uint64_t(m.step) * m.height != uint64_t(m.data.size()))
+        throw Error(what,
+                    "has a row step of " + std::to_string(m.step) + " bytes for " + std::to_string(m.width) +
+                        " pixels of " + std::to_string(l->bytes) + " bytes");
+    Image img(int(m.width), int(m.height), 3);
+    for (uint32_t y = 0; y < m.height; ++y)
+        for (uint32_t x = 0; x < m.width; ++x) {
+            const uint8_t* p = m.data.data() + size_t(y) * m.step + size_t(x) * size_t(l->bytes);
+            img.at(int(x), int(y), 0) = float(p[l->r]) / 255.0f;
+            img.at(int(x), int(y), 1) = float(p[l->g]) / 255.0f;
+            img.at(int(x), int(y), 2) = float(p[l->b]) / 255.0f;
+        }
+    return img;
+}
+
+bool isBagPath(const std::string& path)
+{
+    std::error_code e;
+    if (fs::is_directory(path, e)) return true;
+    if (!fs::is_regular_file(path, e)) return false;
+    if (detail::isRos1Bag(path)) return true;
+    std::ifstream in(path, std::ios::binary);
+    char head[8] = {};
+    in.read(head, 8);
+    return in.gcount() == 8 && std::memcmp(head, "\x89MCAP0\r\n", 8) == 0;
 }
 
 }  // namespace smokescan

@@ -1,6 +1,8 @@
 #include "smokescan/bag/scan_bag.hpp"
 
 #include <filesystem>
+#include <map>
+#include <set>
 
 #include "smokescan/bag/rosbag2_writer.hpp"
 #include "smokescan/bag/scan_messages.hpp"
@@ -21,69 +23,89 @@ std::string bagName(const std::string& dir)
 }
 }  // namespace
 
+BagFrame bagFrameOf(const SensorMount& m) { return {m.name, m.pose, m.robot}; }
+
+BagFrame bagFrameOf(const Camera& c) { return {c.name, c.pose, c.robot}; }
+
 struct ScanBag::Impl {
     const Scene& scene;
-    SensorMount mount;
     AtomicFolder folder;
     Rosbag2Writer bag;
-    uint16_t data, tf, tf_static, image = 0;
-    bool static_written = false;
-    Impl(const std::string& dir, const Scene& s, const SensorMount& m, bool lidar)
-        : scene(s),
-          mount(m),
-          folder(dir, "the bag", "--bag"),
-          bag(folder, bagName(dir)),
-          data(lidar ? bag.topic("/points", kPointCloud2Type) : bag.topic("/scan", kLaserScanType)),
-          tf(bag.topic("/tf", kTfType)),
-          tf_static(bag.topic("/tf_static", kTfType))
+    std::map<std::string, uint16_t> topics;
+    std::set<std::string> mounted;  ///< frames whose mount is on /tf_static
+    std::map<int, uint64_t> robot_stamp;  ///< each robot's last pose on /tf [ns]
+    Impl(const std::string& dir, const Scene& s) : scene(s), folder(dir, "the bag", "--bag"), bag(folder, bagName(dir))
     {
     }
-    /// The mount once, then the robot's pose at each message.
-    void transforms(double t_s, const RosTime& stamp)
+    uint16_t topic(const std::string& name, const RosType& type)
     {
-        const std::string robot = mount.robot >= 0 ? scene.robots[size_t(mount.robot)].name : "";
-        if (!static_written) {
+        const auto it = topics.find(name);
+        return it != topics.end() ? it->second : topics[name] = bag.topic(name, type);
+    }
+    /// The frame's mount once (and its optical frame's, when named), its robot's pose at `t_s`
+    /// (once a stamp), then the message.
+    void write(uint16_t data, const RosTime& stamp, const std::vector<uint8_t>& bytes, const BagFrame& where,
+               double t_s, const std::string& optical = "")
+    {
+        const std::string robot = where.robot >= 0 ? scene.robots[size_t(where.robot)].name : "";
+        if (mounted.insert(where.name).second) {
             TfMsg mounts;
-            mounts.transforms.push_back(transformOf(mount.pose, stamp, robot.empty() ? kWorld : robot, mount.name));
-            bag.write(tf_static, stamp, encode(mounts));
-            static_written = true;
+            mounts.transforms.push_back(transformOf(where.pose, stamp, robot.empty() ? kWorld : robot, where.name));
+            if (!optical.empty()) {
+                // REP 103: the optical frame looks along +z with +x right and +y down; smokescan's
+                // pinhole looks along its local +x with +z up and +y left (render/camera.hpp).
+                Pose axes;
+                axes.R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+                mounts.transforms.push_back(transformOf(axes, stamp, where.name, optical));
+            }
+            bag.write(topic("/tf_static", kTfType), stamp, encode(mounts));
         }
-        if (robot.empty()) return;
-        TfMsg moving;
-        moving.transforms.push_back(transformOf(scene.robots[size_t(mount.robot)].at(t_s), stamp, kWorld, robot));
-        bag.write(tf, stamp, encode(moving));
+        if (!robot.empty()) {
+            const RosTime at = RosTime::fromSeconds(t_s);
+            const auto last = robot_stamp.find(where.robot);
+            if (last == robot_stamp.end() || last->second != at.nanoseconds()) {
+                TfMsg moving;
+                moving.transforms.push_back(transformOf(scene.robots[size_t(where.robot)].at(t_s), at, kWorld, robot));
+                bag.write(topic("/tf", kTfType), at, encode(moving));
+                robot_stamp[where.robot] = at.nanoseconds();
+            }
+        }
+        bag.write(data, stamp, bytes);
     }
 };
 
-ScanBag::ScanBag(const std::string& dir, const Scene& scene, const SensorMount& mount, bool lidar)
-    : impl_(std::make_unique<Impl>(dir, scene, mount, lidar))
-{
-}
+ScanBag::ScanBag(const std::string& dir, const Scene& scene) : impl_(std::make_unique<Impl>(dir, scene)) {}
 
 ScanBag::~ScanBag() = default;
 
-void ScanBag::add(const Scan& s, const LrfSpec& spec)
+void ScanBag::add(const Scan& s, const LrfSpec& spec, const SensorMount& mount)
 {
-    Impl& m = *impl_;
-    const RosTime stamp = RosTime::fromSeconds(s.time_s);
-    m.transforms(s.time_s, stamp);
-    m.bag.write(m.data, stamp, encode(laserScanOf(s, spec, m.mount.name)));
+    add("/scan", laserScanOf(s, spec, mount.name), bagFrameOf(mount));
 }
 
-void ScanBag::add(const LidarFrame& f)
+void ScanBag::add(const std::string& topic, const LaserScanMsg& scan, const BagFrame& where)
 {
     Impl& m = *impl_;
-    const RosTime stamp = RosTime::fromSeconds(f.start_s);
-    m.transforms(f.start_s, stamp);
-    m.bag.write(m.data, stamp, encode(pointCloudOf(f, m.mount.name)));
+    const uint16_t id = m.topic(topic, kLaserScanType);
+    m.write(id, scan.header.stamp, encode(scan), where, double(scan.header.stamp.nanoseconds()) * 1e-9);
 }
 
-void ScanBag::addImage(const Image& display, double camera_time_s, const std::string& camera)
+void ScanBag::add(const LidarFrame& f, const SensorMount& mount)
 {
     Impl& m = *impl_;
-    if (m.image == 0) m.image = m.bag.topic("/camera/image", kImageType);
+    const uint16_t id = m.topic("/points", kPointCloud2Type);
+    m.write(id, RosTime::fromSeconds(f.start_s), encode(pointCloudOf(f, mount.name)), bagFrameOf(mount), f.start_s);
+}
+
+void ScanBag::addImage(const Image& display, double camera_time_s, double scene_time_s, const Camera& camera)
+{
+    Impl& m = *impl_;
+    const uint16_t id = m.topic("/camera/image", kImageType);
     const RosTime stamp = RosTime::fromSeconds(camera_time_s);
-    m.bag.write(m.image, stamp, encode(imageOf(display, stamp, camera)));
+    // A pinhole's pictures are in its optical frame, as ROS's camera drivers publish them.
+    const std::string frame = camera.kind == CameraKind::Pinhole ? camera.name + "_optical_frame" : camera.name;
+    m.write(id, stamp, encode(imageOf(display, stamp, frame)), bagFrameOf(camera), scene_time_s,
+            frame == camera.name ? "" : frame);
 }
 
 void ScanBag::finish() { impl_->bag.finish(); }

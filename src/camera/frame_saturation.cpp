@@ -168,15 +168,54 @@ FrameSaturation measureFrame(const Image& img, bool linear, const Image* ids, co
     return out;
 }
 
+FrameRegions frameRegions(const std::vector<std::string>& rects, const std::vector<std::string>& polygons)
+{
+    FrameRegions regions;
+    for (const auto& r : rects) regions.patches.push_back(parseFramePatch(r, true, "--rect"));
+    for (const auto& p : polygons) regions.patches.push_back(parseFramePatch(p, false, "--polygon"));
+    const auto& patches = regions.patches;
+    for (size_t i = 0; i < patches.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (patches[i].name == patches[j].name)
+                throw Error("--rect/--polygon", "patch '" + patches[i].name + "' is named twice");
+    return regions;
+}
+
+FrameSeries::FrameSeries(const FrameRegions& regions) : regions_(regions)
+{
+    s_.patch_names = regions.names();
+    const size_t P = s_.patch_names.size();
+    s_.patch.resize(P);
+    s_.patch_median.resize(P);
+    s_.patch_sd.resize(P);
+}
+
+void FrameSeries::add(const Image& frame, bool linear, const Image* ids, double time_s, const std::string& name)
+{
+    const FrameSaturation m = measureFrame(frame, linear, ids, regions_, s_.patch_names);
+    if (m.all.pixels == 0) throw Error(name, "the target region holds no pixels");
+    if (!s_.time_s.empty() && !(time_s > s_.time_s.back()))
+        throw Error(name,
+                    fmt("its time %.6g s does not follow the previous frame's (%.6g s): frames are measured in "
+                        "time order, each once",
+                        time_s, s_.time_s.back()));
+    s_.time_s.push_back(time_s);
+    s_.saturation.push_back(m.all.mean);
+    s_.median.push_back(m.all.median);
+    s_.sd.push_back(m.all.stddev);
+    s_.pixels.push_back(double(m.all.pixels));
+    for (size_t p = 0; p < s_.patch_names.size(); ++p) {
+        const bool any = m.patch[p].pixels > 0;
+        s_.patch[p].push_back(any ? m.patch[p].mean : NAN);
+        s_.patch_median[p].push_back(any ? m.patch[p].median : NAN);
+        s_.patch_sd[p].push_back(any ? m.patch[p].stddev : NAN);
+    }
+}
+
 SaturationSeries measureFrames(const std::vector<std::string>& frames, const std::vector<std::string>& id_frames,
                                const std::function<double(size_t)>& time_of, const FrameRegions& regions)
 {
-    SaturationSeries s;
-    s.patch_names = regions.names();
-    const size_t P = s.patch_names.size();
-    s.patch.resize(P);
-    s.patch_median.resize(P);
-    s.patch_sd.resize(P);
+    FrameSeries series(regions);
     for (size_t k = 0; k < frames.size(); ++k) {
         const Image img = readImage(frames[k]);
         if (img.channels < 3 || (!img.channel_names.empty() && img.channel("R", -1) < 0))
@@ -189,27 +228,9 @@ SaturationSeries measureFrames(const std::vector<std::string>& frames, const std
             if (ids.channel("object", -1) < 0) throw Error(id_frames[k], "has no 'object' channel (not an id image)");
         }
         const bool linear = fs::path(frames[k]).extension() == ".exr";
-        const FrameSaturation m = measureFrame(img, linear, regions.by_id ? &ids : nullptr, regions, s.patch_names);
-        if (m.all.pixels == 0) throw Error(frames[k], "the target region holds no pixels");
-        const double t = time_of(k);
-        if (!s.time_s.empty() && !(t > s.time_s.back()))
-            throw Error(frames[k],
-                        fmt("its time %.6g s does not follow the previous frame's (%.6g s): frames are measured in "
-                            "time order, each once",
-                            t, s.time_s.back()));
-        s.time_s.push_back(t);
-        s.saturation.push_back(m.all.mean);
-        s.median.push_back(m.all.median);
-        s.sd.push_back(m.all.stddev);
-        s.pixels.push_back(double(m.all.pixels));
-        for (size_t p = 0; p < P; ++p) {
-            const bool any = m.patch[p].pixels > 0;
-            s.patch[p].push_back(any ? m.patch[p].mean : NAN);
-            s.patch_median[p].push_back(any ? m.patch[p].median : NAN);
-            s.patch_sd[p].push_back(any ? m.patch[p].stddev : NAN);
-        }
+        series.add(img, linear, regions.by_id ? &ids : nullptr, time_of(k), frames[k]);
     }
-    return s;
+    return series.take();
 }
 
 }  // namespace smokescan

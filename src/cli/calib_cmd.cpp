@@ -15,11 +15,13 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/camera/frame_saturation.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
+#include "smokescan/fit/bag_saturation.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/text_input.hpp"
@@ -133,21 +135,36 @@ int runCalibrate(const CalibArgs& a)
 
 struct SatArgs {
     std::vector<std::string> inputs, rects, polygons;
-    std::string out, ids, scene, timestamps, prefix = "target_";
+    std::string out, ids, scene, timestamps, prefix = "target_", bag, topic;
     double fps = 0;
 };
 
+/// The frames of a bag's Image topic, on their stamps.
+int runBagSaturation(const SatArgs& a, const FrameRegions& regions)
+{
+    if (!a.inputs.empty()) throw Error("--bag", "is in place of the frame files; give one of them");
+    for (const auto& [given, option] :
+         {std::pair{!a.ids.empty(), "--ids"}, std::pair{!a.scene.empty(), "--scene"},
+          std::pair{!a.timestamps.empty(), "--timestamps"}, std::pair{a.fps > 0, "--fps"}})
+        if (given) throw Error(option, "goes with frame files; a bag's frames carry their stamps");
+    RunFiles files;
+    for (const std::string& f : bagInputFiles(a.bag)) files.input(f, "--bag");
+    files.output(a.out, "--out");
+    const SaturationSeries s = measureBagSaturation(a.bag, a.topic, regions);
+    writeSaturationCsv(files.stage(a.out), s);
+    files.commit();
+    say("wrote %s (%zu frames of %s, patches: %zu)\n", a.out.c_str(), s.time_s.size(), s.path.c_str(),
+        s.patch_names.size());
+    return 0;
+}
+
 int runSaturation(const SatArgs& a)
 {
-    FrameRegions regions;
-    for (const auto& r : a.rects) regions.patches.push_back(parseFramePatch(r, true, "--rect"));
-    for (const auto& p : a.polygons) regions.patches.push_back(parseFramePatch(p, false, "--polygon"));
-    const auto& patches = regions.patches;
-    for (size_t i = 0; i < patches.size(); ++i)
-        for (size_t j = 0; j < i; ++j)
-            if (patches[i].name == patches[j].name)
-                throw Error("--rect/--polygon", "patch '" + patches[i].name + "' is named twice");
-    if (patches.empty() && a.ids.empty())
+    FrameRegions regions = frameRegions(a.rects, a.polygons);
+    if (!a.bag.empty()) return runBagSaturation(a, regions);
+    if (!a.topic.empty()) throw Error("--topic", "names a bag's topic; give --bag");
+    if (a.inputs.empty()) throw Error("saturation", "give the frames: image files, a folder, or --bag PATH");
+    if (regions.patches.empty() && a.ids.empty())
         throw Error("saturation", "give the target region: --rect/--polygon, or --ids with --scene");
     if (!a.ids.empty() && a.scene.empty()) throw Error("--ids", "needs --scene to name the objects");
     const auto frames = listFrames(a.inputs);
@@ -221,7 +238,9 @@ void addCalibration(CLI::App& app, Runner& run)
 
     auto s = std::make_shared<SatArgs>();
     auto* t = app.add_subcommand("saturation", "Target HSV saturation of camera frames (files or a folder) → CSV");
-    t->add_option("inputs", s->inputs, "Image files or a folder of frames")->required();
+    t->add_option("inputs", s->inputs, "Image files or a folder of frames");
+    t->add_option("--bag", s->bag, "Or a ROS 2 bag (rosbag2 folder or .mcap) whose Image topic holds the frames");
+    t->add_option("--topic", s->topic, "The bag's sensor_msgs/Image topic (default: its only one)");
     t->add_option("--out", s->out, "CSV to write: time_s,saturation,... per-patch columns")->required();
     t->add_option("--rect", s->rects, "A patch: NAME=x,y,width,height in pixels (repeatable)");
     t->add_option("--polygon", s->polygons, "A patch: NAME=x1,y1,x2,y2,x3,y3,... in pixels (repeatable)");

@@ -44,6 +44,13 @@ SensorModel sensorModelOption(const std::string& option, const std::string& valu
 void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>& given);
 /// @brief The recorded scans' options: --laser LOG, or --bag PATH with --topic NAME.
 void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::string& topic, const char* laser_help);
+/// @brief --saturation (`help` says what a CSV holds) and the options that measure it on a bag's
+/// frames: --image-topic, --rect, --polygon.
+CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::string& image_topic,
+                                  std::vector<std::string>& rects, std::vector<std::string>& polygons,
+                                  const std::string& help);
+/// @brief The --saturation input's files (a bag's metadata.yaml and the files it lists, or the CSV).
+void saturationInputs(RunFiles& files, const std::string& saturation);
 /// @brief Exactly one of --laser and --bag (and --topic only with --bag): the source's name for
 /// messages. @throw Error naming the option otherwise.
 std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic);

@@ -120,7 +120,7 @@ int runDiagnose(const DiagnoseArgs& a0)
     files.input(a.in.laser, "--laser");
     if (!a.in.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
         for (const std::string& f : bagInputFiles(a.in.bag)) files.input(f, "--bag");
-    files.input(a.in.saturation, "--saturation");
+    saturationInputs(files, a.in.saturation);
     files.input(a.in.calibration, "--calibration");
     files.input(a.sensor_file, "--sensor-file");
     files.outputFolder(a.out, "--out");
@@ -166,9 +166,9 @@ void addDiagnose(CLI::App& app, Runner& run)
                                  "Replay a recorded run, name what the simulation gets wrong and measure the extended "
                                  "model's gain on held-out data");
     addScansOptions(c, a->in.laser, a->in.bag, a->in.topic, "Recorded laser log (the paper's format)");
-    c->add_option("--saturation", a->in.saturation,
-                  "The camera's saturation CSV (drives the replayed smoke; without it the scene's own smoke time "
-                  "line is replayed)");
+    addSaturationOptions(c, a->in.saturation, a->in.image_topic, a->in.rects, a->in.polygons,
+                         "The camera's saturation CSV (drives the replayed smoke; without it the scene's own smoke "
+                         "time line is replayed)");
     c->add_option("--scene", a->in.scene, "Scene the run was recorded in (built-in name or file)")->required();
     c->add_option("--out", a->out, "Folder to write (new): diagnosis.json, report.md, sensor.toml")->required();
     c->add_option("--sensor", a->in.sensor, "Sensor in the scene (default: the first of --sensor-type)");

@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 
 struct FitArgs {
     std::string laser, saturation, scene, sensor, surfaces_file, calibration = "bocas", patch, unit = "mm";
-    std::string bag, topic;
+    std::string bag, topic, image_topic;
+    std::vector<std::string> rects, polygons;
     std::string sensor_type = "urg04lx", prefix = "target_", out, report, plots, aligned, covariates, model = "paper";
     std::vector<std::string> surfaces;
     double offset = 0;
@@ -180,7 +181,7 @@ int runFit(const FitArgs& a0)
     files.input(a.laser, "--laser");
     if (!a.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
         for (const std::string& f : bagInputFiles(a.bag)) files.input(f, "--bag");
-    files.input(a.saturation, "--saturation");
+    saturationInputs(files, a.saturation);
     files.input(a.surfaces_file, "--surfaces");
     files.input(a.calibration, "--calibration");
     files.output(a.out, "--out");
@@ -208,7 +209,10 @@ int runFit(const FitArgs& a0)
                        a.surfaces,
                        {parseRangeUnit(a.unit), a.lenient},
                        a.bag,
-                       a.topic};
+                       a.topic,
+                       a.image_topic,
+                       a.rects,
+                       a.polygons};
     a.cfg.offset_s = a.offset;
     a.cfg.estimate_offset = !a.fixed_offset;
     if (recordedSensor(a.sensor_type).omnicam()) {
@@ -343,8 +347,8 @@ void addFit(CLI::App& app, Runner& run)
     auto* c = app.add_subcommand(
         "fit", "Fit a laser's smoke thresholds from a recorded log and the camera's saturation; write a sensor file");
     addScansOptions(c, a->laser, a->bag, a->topic, "Laser log (the paper's format, as `scan` writes it)");
-    c->add_option("--saturation", a->saturation,
-                  "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it)")
+    addSaturationOptions(c, a->saturation, a->image_topic, a->rects, a->polygons,
+                         "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it)")
         ->required();
     c->add_option("--out", a->out, "Sensor file to write (TOML, for `scan --sensor-file`)")->required();
     c->add_option("--scene", a->scene, "Scene whose surfaces name the beam groups (built-in name or file)");

@@ -6,6 +6,8 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "smokescan/bag/scan_bag.hpp"
+#include "smokescan/bag/scan_messages.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
@@ -15,6 +17,7 @@
 #include "smokescan/omni/omni_compare.hpp"
 #include "smokescan/omni/omni_plots.hpp"
 #include "smokescan/omni/omni_run.hpp"
+#include "smokescan/omni/omni_scan_message.hpp"
 #include "smokescan/omni/sensors_versus_smoke.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/laser_log.hpp"
@@ -23,7 +26,7 @@ namespace smokescan::cli {
 namespace {
 
 struct OmniArgs {
-    std::string scene, out, laser_out, histogram, save_histogram, train, plot, map, fig8, truth;
+    std::string scene, out, bag, laser_out, histogram, save_histogram, train, plot, map, fig8, truth;
     double from = NAN, to = NAN, rate_hz = 1;
     OmniRunConfig cfg;
 };
@@ -44,6 +47,18 @@ void writeLaserScan(std::ostream& o, const OmniFrame& f, const LrfSpec& spec)
     s.angle_rad = f.laser_angle_rad;
     s.value = f.laser_value;
     writeLaserLogScan(o, s, spec);
+}
+
+/// The frame on the bag: the omnicam's ranges on /omni/scan, the laser's scan on /scan.
+void addToBag(ScanBag& bag, const OmniFrame& f, const OmniRun& run, const Scene& scene, const OmniArgs& a)
+{
+    const Camera& cam = *scene.findCamera(run.cameraName());
+    bag.add("/omni/scan", omniLaserScanOf(f.omni, a.cfg.range, f.time_s, 1 / a.rate_hz, cam.name), bagFrameOf(cam));
+    Scan s;
+    s.time_s = f.time_s;
+    s.angle_rad = f.laser_angle_rad;
+    s.value = f.laser_value;
+    bag.add(s, run.laser().spec(), run.laser().mount());
 }
 
 std::vector<double> scanTimes(const OmniArgs& a, const Scene& scene)
@@ -69,6 +84,8 @@ int runOmnirange(const OmniArgs& a)
     recordSceneInputs(files, a.scene, scene);
     files.input(a.histogram, "--histogram");
     files.output(a.out, "--out");
+    files.outputFolder(a.bag, "--bag");
+    if (a.out.empty() && a.bag.empty()) throw Error("--out", "give where the ranges go: --out LOG, --bag DIR or both");
     files.output(a.laser_out, "--laser-out");
     files.output(a.save_histogram, "--save-histogram");
     files.output(a.plot, "--plot");
@@ -95,12 +112,15 @@ int runOmnirange(const OmniArgs& a)
     long long trained = 0;
     for (size_t k = 0; k < train.size(); ++k) trained += run.train(hist, train[k], uint64_t(k));
     if (hist.total() == 0) throw Error("--train", "no free floor pixels to train on (the laser saw no free floor)");
-    AtomicFile log(files.stage(a.out));
-    log.stream() << "# smokescan omnirange " << scene.source << "\n# camera " << run.cameraName() << ", trained on "
-                 << (a.histogram.empty() ? std::to_string(trained) + " pixels at " + a.train : a.histogram)
-                 << ", threshold " << a.cfg.range.threshold << ", N " << a.cfg.range.filter.n_behind << ", K "
-                 << a.cfg.range.filter.k_free << ", range " << a.cfg.range.min_range_m << "-" << a.cfg.range.max_range_m
-                 << " m\n# format: time_s then pairs of (angle_rad, range_mm)\n";
+    std::unique_ptr<AtomicFile> log_file;
+    if (!a.out.empty()) log_file = std::make_unique<AtomicFile>(files.stage(a.out));
+    if (log_file)
+        log_file->stream() << "# smokescan omnirange " << scene.source << "\n# camera " << run.cameraName()
+                           << ", trained on "
+                           << (a.histogram.empty() ? std::to_string(trained) + " pixels at " + a.train : a.histogram)
+                           << ", threshold " << a.cfg.range.threshold << ", N " << a.cfg.range.filter.n_behind << ", K "
+                           << a.cfg.range.filter.k_free << ", range " << a.cfg.range.min_range_m << "-"
+                           << a.cfg.range.max_range_m << " m\n# format: time_s then pairs of (angle_rad, range_mm)\n";
     std::unique_ptr<AtomicFile> laser;
     if (!a.laser_out.empty()) {
         laser = std::make_unique<AtomicFile>(files.stage(a.laser_out));
@@ -109,6 +129,8 @@ int runOmnirange(const OmniArgs& a)
                         << "# format: time_s then pairs of (angle_rad, range_mm); error codes: "
                         << run.laser().spec().errorValueSummary() << "\n";
     }
+    std::unique_ptr<ScanBag> bag;
+    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene);
     std::unique_ptr<SensorsVersusSmoke> versus;
     if (!a.truth.empty()) {
         VersusSmokeConfig vc;
@@ -123,14 +145,16 @@ int runOmnirange(const OmniArgs& a)
         // Keys apart from the training frames': a run with the histogram saved from this one
         // reads the same frames.
         const OmniFrame f = run.read(hist, times[k], (uint64_t(1) << 32) + k);
-        writeOmniScan(log.stream(), f);
+        if (log_file) writeOmniScan(log_file->stream(), f);
         if (laser) writeLaserScan(laser->stream(), f, run.laser().spec());
+        if (bag) addToBag(*bag, f, run, scene, a);
         cmp.add(f);
         if (versus) versus->add(f, run.rangeAt(times[k]).height_m, (uint64_t(1) << 32) + k);
         if (!a.map.empty()) kept.push_back(f);
         progress.update((long long)k + 1, (long long)times.size());
     }
-    log.commit();
+    if (log_file) log_file->commit();
+    if (bag) bag->finish();
     if (laser) laser->commit();
     if (!a.save_histogram.empty()) hist.save(files.stage(a.save_histogram));
     if (!a.plot.empty())
@@ -143,7 +167,9 @@ int runOmnirange(const OmniArgs& a)
     if (versus)
         writeVersusSmokePlot(files.stage(a.truth), versus->tallies(),
                              "each sensor against the truth, by the smoke it looks through: " + scene.source);
-    files.commit();
+    files.commit([&] {
+        if (bag) bag->commit();
+    });
     if (versus) {
         say("against the truth, by the smoke column along each line of sight:\n");
         for (const RangeTally& t : versus->tallies()) say("%s", t.table().c_str());
@@ -156,7 +182,8 @@ int runOmnirange(const OmniArgs& a)
         say("omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
             "(laser - omnicam) %+.4f m; %lld outliers over %.2f m left out\n",
             cmp.pairs, cmp.meanAbsM(), cmp.meanPercent(), cmp.meanSignedM(), cmp.outliers, cmp.outlier_m);
-    say("wrote %s (%zu scans, exposure %.4g)%s%s\n", a.out.c_str(), times.size(), run.exposure(),
+    say("wrote %s (%zu scans, exposure %.4g)%s%s%s%s\n", (a.out.empty() ? a.bag : a.out).c_str(), times.size(),
+        run.exposure(), a.out.empty() || a.bag.empty() ? "" : ", ", a.out.empty() ? "" : a.bag.c_str(),
         a.laser_out.empty() ? "" : ", ", a.laser_out.c_str());
     return 0;
 }
@@ -169,7 +196,10 @@ void addOmnirange(CLI::App& app, Runner& run)
     auto* c = app.add_subcommand(
         "omnirange", "The omnidirectional camera as a colour-based rangefinder beside a laser (docs/omnicam.md)");
     c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml) with an omni camera")->required();
-    c->add_option("--out", a->out, "The omnicam's ranges as a laser log (one range per scanline)")->required();
+    c->add_option("--out", a->out, "The omnicam's ranges as a laser log (one range per scanline)");
+    c->add_option("--bag", a->bag,
+                  "Also (or instead) write a ROS 2 bag: a new folder with the omnicam's ranges on /omni/scan and the "
+                  "laser's on /scan (docs/bags.md)");
     c->add_option("--train", a->train, "Times [s] at which the laser's scan trains the colour histogram (comma list)");
     c->add_option("--histogram", a->histogram, "A trained colour histogram to use instead of --train");
     c->add_option("--save-histogram", a->save_histogram, "Also write the trained colour histogram");

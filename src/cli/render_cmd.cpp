@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "smokescan/bag/scan_bag.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/run_files.hpp"
@@ -17,7 +18,7 @@ namespace smokescan::cli {
 namespace {
 
 struct RenderArgs {
-    std::string scene = "bocas", out, exr, ids, exposure = "auto", birdseye;
+    std::string scene = "bocas", out, exr, ids, exposure = "auto", birdseye, bag;
     BirdseyeConfig bird;
     RenderConfig cfg;
     double from = NAN, to = NAN, every = 0;
@@ -63,11 +64,13 @@ int runRender(const RenderArgs& a)
                         "would render " + limits::count(std::floor((a.to - a.from) / a.every) + 1) +
                             " frames (at most " + std::to_string(limits::kFrames) + ")");
         times.clear();
+        // Each named output holds one frame: its name must change with the frame.
         for (int k = 0; a.from + k * a.every <= a.to + 1e-9; ++k) times.push_back(a.from + k * a.every);
         for (const std::string* p : {&a.out, &a.exr, &a.ids, &a.birdseye})
             if (!p->empty() && p->find("{i}") == std::string::npos && p->find("{t}") == std::string::npos)
                 throw Error(*p, "a time series needs {i} (frame index) or {t} (time) in each output name");
     }
+    if (a.out.empty() && a.bag.empty()) throw Error("--out", "give where the frames go: --out FILE, --bag DIR or both");
     checkFormat(a.out, false);
     checkFormat(a.exr, true);
     checkFormat(a.ids, true);
@@ -76,15 +79,18 @@ int runRender(const RenderArgs& a)
     RunFiles files;
     recordSceneInputs(files, a.scene, scene);
     for (size_t k = 0; k < times.size(); ++k) {
-        files.output(expand(a.out, int(k), times[k]), "--out");
+        if (!a.out.empty()) files.output(expand(a.out, int(k), times[k]), "--out");
         files.output(expand(a.exr, int(k), times[k]), "--exr");
         files.output(expand(a.ids, int(k), times[k]), "--ids");
         files.output(expand(a.birdseye, int(k), times[k]), "--birdseye");
     }
+    files.outputFolder(a.bag, "--bag");
     const SurfaceSet surfaces(scene);
     const Camera* scene_cam = scene.findCamera(a.cfg.camera);
     if (!a.birdseye.empty() && scene_cam && scene_cam->kind != CameraKind::Omni)
         throw Error("--birdseye", "needs an omni camera (camera '" + scene_cam->name + "' is a pinhole)");
+    std::unique_ptr<ScanBag> bag;
+    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene);
     for (size_t k = 0; k < times.size(); ++k) {
         RenderConfig cfg = a.cfg;
         cfg.time_s = times[k];
@@ -98,8 +104,9 @@ int runRender(const RenderArgs& a)
         const auto omni = scene_cam && scene_cam->kind == CameraKind::Omni ? makeCamera(c) : nullptr;
         double used = 0;
         const Image frame = toDisplay(r.radiance, exposure, &used, omni.get());
-        const std::string out = expand(a.out, int(k), times[k]);
-        writeImage(files.stage(out), frame);
+        const std::string out = a.out.empty() ? a.bag : expand(a.out, int(k), times[k]);
+        if (!a.out.empty()) writeImage(files.stage(out), frame);
+        if (bag) bag->addImage(frame, times[k], times[k], *scene_cam);  // render found the camera
         if (!a.exr.empty()) writeImage(files.stage(expand(a.exr, int(k), times[k])), r.radiance);
         if (!a.ids.empty()) writeImage(files.stage(expand(a.ids, int(k), times[k])), r.ids);
         if (!a.birdseye.empty()) {
@@ -112,7 +119,10 @@ int runRender(const RenderArgs& a)
         say("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
             r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);
     }
-    files.commit();
+    if (bag) bag->finish();
+    files.commit([&] {
+        if (bag) bag->commit();
+    });
     return 0;
 }
 
@@ -125,7 +135,9 @@ void addRender(CLI::App& app, Runner& run)
     c->add_option("scene", a->scene, "Built-in scene name or scene file (.toml)")->capture_default_str();
     c->add_option("--time", a->cfg.time_s, "Scene time [s]")->capture_default_str()->check(finite());
     c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
-    c->add_option("--out", a->out, "8-bit sRGB frame (.png, .jpg, .tif); {i}/{t} in a time series")->required();
+    c->add_option("--out", a->out, "8-bit sRGB frame (.png, .jpg, .tif); {i}/{t} in a time series");
+    c->add_option("--bag", a->bag,
+                  "Also (or instead) write the frames as a ROS 2 bag: a new folder, /camera/image (docs/bags.md)");
     c->add_option("--exr", a->exr, "Also write linear radiance (.exr)");
     c->add_option("--ids", a->ids, "Also write object id, material id and depth AOVs (.exr)");
     c->add_option("--camera", a->cfg.camera, "Scene camera name (default: the first)");

@@ -78,7 +78,7 @@ CameraStream cameraStream(const Scene& scene, const ScanArgs& a, const std::vect
                 const bool keep = frames || bag;
                 const TargetSaturation m = renderer->measure(t, k, keep ? &display : nullptr, keep ? &ids : nullptr);
                 if (frames) frames->add(k, t + ss.clock_offset_s, display, ids);
-                if (bag) bag->addImage(display, t + ss.clock_offset_s, renderer->cameraName());
+                if (bag) bag->addImage(display, t + ss.clock_offset_s, t, *scene.findCamera(renderer->cameraName()));
                 progress.update((long long)k + 1, total);
                 SaturationFrame f{m.all.mean, {}};
                 for (const auto& [name, p] : m.patches) f.patches[name] = p.mean;
@@ -239,7 +239,7 @@ int runScan(const ScanArgs& a0)
         writeLaserLogHeader(log->stream(), logHeader(scene, sc, a));
     }
     std::unique_ptr<ScanBag> bag;
-    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene, sc.mount(), false);
+    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene);
     std::unique_ptr<AtomicFile> tau;
     if (!a.tau_csv.empty()) {
         tau = std::make_unique<AtomicFile>(files.stage(a.tau_csv));
@@ -249,7 +249,7 @@ int runScan(const ScanArgs& a0)
     for (size_t k = 0; k < times.size(); ++k) {
         Scan s = sc.scanAt(times[k], k);
         if (log) writeLaserLogScan(log->stream(), s, sc.spec());
-        if (bag) bag->add(s, sc.spec());
+        if (bag) bag->add(s, sc.spec(), sc.mount());
         if (tau) writeBeamCsvScan(tau->stream(), s, scene);
         summary.add(s);
         if (!a.image.empty()) drawn.push_back(Scan{s.time_s, {}, std::move(s.value), {}});

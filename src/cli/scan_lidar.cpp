@@ -70,7 +70,7 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     std::unique_ptr<AtomicFolder> out;
     if (!a.points_dir.empty()) out = std::make_unique<AtomicFolder>(a.points_dir, "the point-cloud folder", "--points");
     std::unique_ptr<ScanBag> bag;
-    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene, mount, true);
+    if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene);
     const long long frames = (long long)frames_wanted;
     const Progress progress("scanning", "lidar frames");
     long long points = 0, smoke = 0;
@@ -83,7 +83,7 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
             (a.format == "pcd" ? writePcd : writePly)(out->path(name), f);
             index += frameIndexRow(f, name);
         }
-        if (bag) bag->add(f);
+        if (bag) bag->add(f, mount);
         if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
         if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
         points += (long long)f.points.size();

@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "commands.hpp"
+#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -167,6 +168,25 @@ void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::str
                   "Or a ROS 2 bag: a rosbag2 folder or .mcap file whose sensor_msgs/LaserScan topic holds the scans "
                   "(docs/bags.md)");
     c->add_option("--topic", topic, "The bag's LaserScan topic (default: its only one)");
+}
+
+CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::string& image_topic,
+                                  std::vector<std::string>& rects, std::vector<std::string>& polygons,
+                                  const std::string& help)
+{
+    CLI::Option* o = c->add_option(
+        "--saturation", saturation,
+        help + "; or a ROS 2 bag whose camera frames are measured (--image-topic, --rect/--polygon; docs/bags.md)");
+    c->add_option("--image-topic", image_topic, "The --saturation bag's Image topic (default: its only one)");
+    c->add_option("--rect", rects, "The target in the bag's frames: NAME=x,y,width,height in pixels (repeatable)");
+    c->add_option("--polygon", polygons, "The target in the bag's frames: NAME=x1,y1,x2,y2,x3,y3,... (repeatable)");
+    return o;
+}
+
+void saturationInputs(RunFiles& files, const std::string& saturation)
+{
+    if (saturation.empty() || !isBagPath(saturation)) return files.input(saturation, "--saturation");
+    for (const std::string& f : bagInputFiles(saturation)) files.input(f, "--saturation");
 }
 
 std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic)

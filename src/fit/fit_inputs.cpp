@@ -5,6 +5,7 @@
 #include "smokescan/bag/bag_input.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/fit/bag_saturation.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan {
@@ -59,6 +60,18 @@ void chooseGroups(const FitInputsConfig& cfg, FitInputs& in)
 
 }  // namespace
 
+/// The camera's saturation: a CSV, or measured on a bag's frames over the given patches.
+SaturationSeries readSaturation(const FitInputsConfig& cfg)
+{
+    if (!isBagPath(cfg.saturation)) {
+        if (!cfg.image_topic.empty() || !cfg.rects.empty() || !cfg.polygons.empty())
+            throw Error(!cfg.image_topic.empty() ? "--image-topic" : "--rect/--polygon",
+                        "measures a bag's frames, and --saturation " + cfg.saturation + " is not a bag");
+        return readSaturationCsv(cfg.saturation, cfg.read);
+    }
+    return measureBagSaturation(cfg.saturation, cfg.image_topic, frameRegions(cfg.rects, cfg.polygons));
+}
+
 SaturationSeries patchSeries(const SaturationSeries& s0, const std::string& patch)
 {
     size_t p = 0;
@@ -92,11 +105,11 @@ FitInputs loadFitData(const FitInputsConfig& cfg)
         laser = cfg.bag + " " + bag.topic;
     }
     // No saturation (diagnose without a camera): the scene's own smoke time line is replayed.
-    const SaturationSeries sat0 =
-        cfg.saturation.empty() ? SaturationSeries{} : readSaturationCsv(cfg.saturation, cfg.read);
+    const SaturationSeries sat0 = cfg.saturation.empty() ? SaturationSeries{} : readSaturation(cfg);
     if (!cfg.saturation.empty()) in.saturation = cfg.patch.empty() ? sat0 : patchSeries(sat0, cfg.patch);
     in.calibration = readCalibrationJson(cfg.calibration, cfg.patch);
-    in.sources = {laser, cfg.saturation, cfg.calibration, "", in.log.unit_m, {}};
+    // A bag's saturation is named with its Image topic, as the scans with theirs.
+    in.sources = {laser, cfg.saturation.empty() ? "" : sat0.path, cfg.calibration, "", in.log.unit_m, {}};
     in.sources.skipped = in.log.skipped;
     in.sources.skipped.insert(in.sources.skipped.end(), sat0.skipped.begin(), sat0.skipped.end());
     return in;

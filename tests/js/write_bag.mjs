@@ -3,15 +3,18 @@
 // whose LaserScans @foxglove/rosmsg2-serialization serialises, with a /tf topic beside them.
 // The values follow a rule the test knows: scan k at stamp 10 + 0.5 k s, beam i reads
 // 0.5 + 0.001 (i + k) m, beam 3 +Inf and beam 5 NaN in every scan.
-// Usage: node write_bag.mjs FILE.mcap SCANS BEAMS
+// With FRAMES, an Image topic /cam/image too (bgra8, rows padded to 40 bytes): frame k, 8×6 px at
+// stamp 10 + 0.5 k s, grey (128) but for the block x 2…5, y 1…3, which is (R, G, B) =
+// (200, 200 − 20 k, 200 − 40 k): HSV saturation 0.2 k.
+// Usage: node write_bag.mjs FILE.mcap SCANS BEAMS [FRAMES]
 import { open } from "node:fs/promises";
 import { McapWriter } from "@mcap/core";
 import { parse } from "@foxglove/rosmsg";
 import { MessageWriter } from "@foxglove/rosmsg2-serialization";
 import zstd from "@foxglove/wasm-zstd";
 
-const [file, scansArg, beamsArg] = process.argv.slice(2);
-const scans = Number(scansArg), beams = Number(beamsArg);
+const [file, scansArg, beamsArg, framesArg] = process.argv.slice(2);
+const scans = Number(scansArg), beams = Number(beamsArg), frames = Number(framesArg ?? 0);
 await zstd.isLoaded;
 const handle = await open(file, "w");
 let position = 0n;
@@ -64,6 +67,28 @@ for (let k = 0; k < scans; k++) {
   const tf = { transforms: [{ header: { stamp, frame_id: "map" }, child_frame_id: "base_link",
     transform: { translation: { x: k, y: 0, z: 0 }, rotation: { x: 0, y: 0, z: 0, w: 1 } } }] };
   await writer.addMessage({ channelId: tfChannel, sequence: k, logTime: ns, publishTime: ns, data: tfWriter.writeMessage(tf) });
+}
+const imageDef =
+  "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\n" +
+  "uint8[] data\n" + sep + header + sep + time;
+if (frames > 0) {
+  const imageSchema = await writer.registerSchema({ name: "sensor_msgs/msg/Image", encoding: "ros2msg", data: enc.encode(imageDef) });
+  const imageChannel = await writer.registerChannel({ schemaId: imageSchema, topic: "/cam/image", messageEncoding: "cdr", metadata: new Map() });
+  const imageWriter = new MessageWriter(parse(imageDef, { ros2: true }));
+  const width = 8, height = 6, step = 40;
+  for (let k = 0; k < frames; k++) {
+    const ns = 10_000_000_000n + BigInt(k) * 500_000_000n;
+    const stamp = { sec: Number(ns / 1_000_000_000n), nanosec: Number(ns % 1_000_000_000n) };
+    const data = new Uint8Array(step * height).fill(7);  // the padding: never read
+    for (let y = 0; y < height; y++)
+      for (let x = 0; x < width; x++) {
+        const inside = x >= 2 && x < 6 && y >= 1 && y < 4;
+        const [r, g, b] = inside ? [200, 200 - 20 * k, 200 - 40 * k] : [128, 128, 128];
+        data.set([b, g, r, 255], y * step + 4 * x);
+      }
+    const image = { header: { stamp, frame_id: "cam" }, height, width, encoding: "bgra8", is_bigendian: 0, step, data };
+    await writer.addMessage({ channelId: imageChannel, sequence: k, logTime: ns, publishTime: ns, data: imageWriter.writeMessage(image) });
+  }
 }
 await writer.end();
 await handle.close();

@@ -3,10 +3,12 @@
 /// @brief A 2D laser's recorded scans from a ROS 2 bag (docs/bags.md): a rosbag2 folder (its
 /// metadata.yaml names its MCAP files) or one .mcap file; the LaserScans of one topic, in the
 /// form `fit` and `diagnose` read (io/recorded.hpp).
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "smokescan/bag/ros_messages.hpp"
+#include "smokescan/io/image.hpp"
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/sensor_config/lrf.hpp"
 
@@ -30,6 +32,23 @@ std::vector<std::string> bagInputFiles(const std::string& path);
 /// another type, no messages on it, stamps that do not increase, a storage other than MCAP, or a
 /// file that is not valid MCAP (bag/mcap_reader.hpp).
 BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic);
+
+/// @brief Calls `each` with every Image on `topic` ("" = the bag's only sensor_msgs/Image topic),
+/// in the bag's order, `what` naming the message for errors. A rosbag2 folder or .mcap file.
+/// @return the topic read
+/// @throw Error naming the file, as readBagLaserScans, and for a ROS 1 bag (its images are not
+/// read) or stamps that are not times or do not increase.
+std::string readBagImages(const std::string& path, const std::string& topic,
+                          const std::function<void(ImageMsg&&, const std::string& what)>& each);
+
+/// @brief A frame as the camera delivered it: rgb8, bgr8, rgba8 or bgra8 (8-bit sRGB) → RGB in [0, 1].
+/// @throw Error naming `what` for another encoding, a zero or over-large size
+/// (limits::kFramePixels), or a row step shorter than a row.
+Image imageOf(const ImageMsg& m, const std::string& what);
+
+/// @brief Whether `path` is a bag: a folder (rosbag2), or a file starting with MCAP's or a ROS 1
+/// bag's magic.
+bool isBagPath(const std::string& path);
 
 /// @brief The scans as a laser log of the sensor `spec` describes: times from the stamps, angles
 /// from angle_min and angle_increment, ranges in the sensor's unit (snapped to it, as the sensor

@@ -1,13 +1,15 @@
 #pragma once
 /// @file scan_bag.hpp
-/// @brief A sensor's run as a ROS 2 bag (docs/bags.md): a 2D laser's scans on /scan
-/// (sensor_msgs/LaserScan) or a 3D lidar's frames on /points (sensor_msgs/PointCloud2), in the
-/// sensor's frame named as its mount; /tf (the robot's pose in "map" at each scan or frame's
-/// start, when the sensor rides on one), /camera/image (rendered frames, when asked) and /tf_static (the sensor's mount on its robot, or in
-/// "map"); stamps on the scene's clock.
+/// @brief A run as a ROS 2 bag (docs/bags.md): a 2D laser's scans (sensor_msgs/LaserScan, /scan),
+/// a 3D lidar's frames (sensor_msgs/PointCloud2, /points), the omnicam's ranges (LaserScan,
+/// /omni/scan) and camera frames (sensor_msgs/Image, /camera/image), each in its sensor's frame
+/// named as the sensor; /tf_static holds each sensor's mount (on its robot, or in "map") once, /tf
+/// the robot's pose in "map" at each message of a sensor that rides on one. Stamps on the scene's
+/// clock (a camera's frames on the camera's own). Topics appear as they are first written.
 #include <memory>
 #include <string>
 
+#include "smokescan/bag/ros_messages.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/lidar/lidar_scanner.hpp"
 #include "smokescan/scene/scene.hpp"
@@ -15,21 +17,33 @@
 
 namespace smokescan {
 
+/// Where a sensor sits: its frame's name, its pose on its robot (or in the world) and its robot.
+struct BagFrame {
+    std::string name;
+    Pose pose;
+    int robot = -1;  ///< index into Scene::robots, or −1: fixed in the world
+};
+/// @brief A laser's or a camera's place in the bag.
+BagFrame bagFrameOf(const SensorMount& mount);
+BagFrame bagFrameOf(const Camera& camera);
+
 class ScanBag {
 public:
     /// @param dir the bag's folder: new, or an empty folder (io/atomic_folder.hpp)
     /// @throw Error when dir cannot be made.
-    /// @param mount the sensor: its name is its frame, its pose and robot the transforms
-    /// @param lidar whether it is a 3D lidar (/points) or a 2D laser (/scan)
-    ScanBag(const std::string& dir, const Scene& scene, const SensorMount& mount, bool lidar);
+    ScanBag(const std::string& dir, const Scene& scene);
     ~ScanBag();
-    /// @brief A 2D laser's scan, in time order. @throw Error for a time before 0 (no ROS stamp).
-    void add(const Scan& scan, const LrfSpec& spec);
-    /// @brief A 3D lidar's frame, in time order.
-    void add(const LidarFrame& frame);
-    /// @brief A camera's delivered frame on /camera/image (sensor_msgs/Image, rgb8), stamped with
-    /// the camera's own clock, `camera` its frame.
-    void addImage(const Image& display, double camera_time_s, const std::string& camera);
+    /// @brief A 2D laser's scan on /scan, in time order. @throw Error for a time before 0 (no ROS stamp).
+    void add(const Scan& scan, const LrfSpec& spec, const SensorMount& mount);
+    /// @brief A 3D lidar's frame on /points, in time order.
+    void add(const LidarFrame& frame, const SensorMount& mount);
+    /// @brief Any LaserScan on `topic`, stamped with its header's stamp (the scene's clock), from `where`.
+    void add(const std::string& topic, const LaserScanMsg& scan, const BagFrame& where);
+    /// @brief A camera's delivered frame on /camera/image (rgb8), stamped with the camera's own
+    /// clock; the robot's pose (when the camera rides on one) at scene time `scene_time_s`. A
+    /// pinhole's frame is NAME_optical_frame (REP 103: +z along the view, +x right, +y down), put
+    /// on /tf_static below the camera's own; an omni camera's is its own.
+    void addImage(const Image& display, double camera_time_s, double scene_time_s, const Camera& camera);
     /// @brief Closes the bag's files (staged; nothing is in place until commit).
     void finish();
     /// @brief Moves the folder into place.

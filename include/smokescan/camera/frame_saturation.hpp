@@ -59,6 +59,10 @@ struct FrameRegions {
     std::vector<std::string> names() const;
 };
 
+/// @brief The patches of "NAME=x,y,width,height" rects and "NAME=x1,y1,…" polygons (parseFramePatch).
+/// @throw Error naming --rect/--polygon for a malformed spec or a name given twice.
+FrameRegions frameRegions(const std::vector<std::string>& rects, const std::vector<std::string>& polygons);
+
 /// One frame's saturation: over all target pixels and per patch (pixels = 0: none).
 struct FrameSaturation {
     SaturationStats all;
@@ -69,6 +73,22 @@ struct FrameSaturation {
 /// id image (required when regions.by_id).
 FrameSaturation measureFrame(const Image& frame, bool linear, const Image* ids, const FrameRegions& regions,
                              const std::vector<std::string>& names);
+
+/// A saturation series measured frame by frame, the frames given in time order.
+class FrameSeries {
+public:
+    explicit FrameSeries(const FrameRegions& regions);
+    /// @brief Measures one frame (measureFrame) taken at `time_s`.
+    /// @throw Error naming `name` when the target region holds no pixels of it or its time does
+    /// not follow the previous frame's.
+    void add(const Image& frame, bool linear, const Image* ids, double time_s, const std::string& name);
+    /// @brief The series so far.
+    SaturationSeries take() { return std::move(s_); }
+
+private:
+    FrameRegions regions_;
+    SaturationSeries s_;
+};
 
 /// @brief The saturation series of a run of frames: whole target and patches (means, with
 /// medians, spreads and pixel counts), on the frames' times. Frames are read one at a time.

@@ -47,6 +47,10 @@ struct FitInputsConfig {
     std::vector<std::string> surfaces;
     ReadOptions read;
     std::string bag, topic;  ///< in place of `laser`
+    /// When `saturation` is a bag (bag/bag_input.hpp: isBagPath): its Image topic ("" = the only
+    /// one) and the target's patches, "NAME=x,y,w,h" rects and "NAME=x1,y1,…" polygons [px].
+    std::string image_topic;
+    std::vector<std::string> rects, polygons;
 };
 
 struct FitInputs {

@@ -1,0 +1,245 @@
+// The bags `render --bag` and `omnirange --bag` write, read back by the independent readers
+// (tests/bag_readers.hpp) and compared value by value with the same run's images and logs.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "bag_readers.hpp"
+#include "cli_run.hpp"
+#include "omni_court.hpp"
+#include "smokescan/io/image.hpp"
+#include "smokescan/io/recorded.hpp"
+#include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/lms200.hpp"
+
+using namespace smokescan;
+using namespace smokescan::test;
+
+namespace {
+
+Eigen::Quaterniond rotationOf(const nlohmann::json& transform)
+{
+    const auto& q = transform["rotation"];
+    return Eigen::Quaterniond(q["w"].get<double>(), q["x"].get<double>(), q["y"].get<double>(), q["z"].get<double>());
+}
+
+Eigen::Vector3d translationOf(const nlohmann::json& transform)
+{
+    const auto& t = transform["translation"];
+    return {t["x"].get<double>(), t["y"].get<double>(), t["z"].get<double>()};
+}
+
+}  // namespace
+
+TEST(BagCli, RenderedFramesGoOnCameraImageInTheCamerasOpticalFrame)
+{
+    SMOKESCAN_NEED_READERS();
+    const fs::path bag = dir() / "render_bag";
+    fs::remove_all(bag);
+    const std::string png = (dir() / "render_{i}.png").string();
+    const CliRun r = cli("render bocas --from 100 --to 100.5 --every 0.5 --width 64 --height 48 --spp 2 --out " + png +
+                         " --bag " + bag.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = readIndependently((bag / "render_bag_0.mcap").string());
+    EXPECT_TRUE(j["problems"].empty()) << j["problems"];
+    const Camera cam = loadScene("bocas").cameras.front();
+    size_t k = 0, statics = 0;
+    for (const auto& m : j["messages"]) {
+        const auto& msg = m["message"];
+        if (m["topic"] == "/tf_static") {
+            ++statics;
+            ASSERT_EQ(msg["transforms"].size(), 2u);
+            const auto& mount = msg["transforms"][0];
+            EXPECT_EQ(mount["header"]["frame_id"], "map");
+            EXPECT_EQ(mount["child_frame_id"], cam.name);
+            EXPECT_LT((translationOf(mount["transform"]) - cam.pose.t).norm(), 1e-12);
+            EXPECT_LT((rotationOf(mount["transform"]).toRotationMatrix() - cam.pose.R).norm(), 1e-12);
+            // REP 103's optical frame: +z along the view (the camera's +x), +x right (its −y),
+            // +y down (its −z).
+            const auto& optical = msg["transforms"][1];
+            EXPECT_EQ(optical["header"]["frame_id"], cam.name);
+            EXPECT_EQ(optical["child_frame_id"], cam.name + "_optical_frame");
+            const Eigen::Quaterniond q = rotationOf(optical["transform"]);
+            EXPECT_LT((q * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
+            EXPECT_LT((q * Eigen::Vector3d::UnitX() + Eigen::Vector3d::UnitY()).norm(), 1e-12);
+            EXPECT_LT((q * Eigen::Vector3d::UnitY() + Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+            continue;
+        }
+        ASSERT_EQ(m["topic"], "/camera/image");
+        EXPECT_EQ(std::stoull(m["logTime"].get<std::string>()), 100000000000ull + 500000000ull * k);
+        EXPECT_EQ(msg["header"]["frame_id"], cam.name + "_optical_frame");
+        EXPECT_EQ(msg["encoding"], "rgb8");
+        ASSERT_EQ(msg["width"], 64);
+        ASSERT_EQ(msg["height"], 48);
+        const Image frame = readImage((dir() / ("render_000" + std::to_string(k) + ".png")).string());
+        const std::string data = base64(msg["data"].get<std::string>());
+        ASSERT_EQ(data.size(), size_t(64 * 48 * 3));
+        for (size_t p = 0; p < size_t(64 * 48); ++p)
+            for (size_t c = 0; c < 3; ++c)
+                ASSERT_EQ(int(uint8_t(data[3 * p + c])),
+                          int(std::lround(frame.data[p * size_t(frame.channels) + c] * 255)))
+                    << k << " pixel " << p;
+        ++k;
+    }
+    EXPECT_EQ(k, 2u);
+    EXPECT_EQ(statics, 1u);
+}
+
+TEST(BagCli, TheOmnicamsRangesGoOnOmniScanAndItsLasersOnScanAsTheirLogs)
+{
+    SMOKESCAN_NEED_READERS();
+    const std::string scene = file("court.toml", omniCourt());
+    const std::string out = file("omni.log"), laser = file("laser.log");
+    const fs::path bag = dir() / "omni_bag";
+    fs::remove_all(bag);
+    const CliRun r = cli("omnirange " + scene + " --train 0 --from 0 --to 1 --spp 4 --max-range 2.2 --out " + out +
+                         " --laser-out " + laser + " --bag " + bag.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const RecordedLog omni = readRecordedLog(out), lms = readRecordedLog(laser);
+    ASSERT_EQ(omni.scans.size(), 2u);
+    const nlohmann::json j = readIndependently((bag / "omni_bag_0.mcap").string());
+    EXPECT_TRUE(j["problems"].empty()) << j["problems"];
+    size_t k_omni = 0, k_laser = 0, beyond = 0, tf = 0;
+    for (const auto& m : j["messages"]) {
+        const auto& msg = m["message"];
+        const double t = double(std::stoull(m["logTime"].get<std::string>())) * 1e-9;
+        if (m["topic"] == "/tf") {
+            ++tf;
+            EXPECT_EQ(msg["transforms"][0]["child_frame_id"], "r");
+        } else if (m["topic"] == "/omni/scan") {
+            ASSERT_LT(k_omni, omni.scans.size());
+            const LaserLogScan& s = omni.scans[k_omni++];
+            EXPECT_NEAR(t, s.time_s, 1e-9);
+            EXPECT_EQ(msg["header"]["frame_id"], "omni");
+            EXPECT_EQ(msg["angle_min"].get<double>(), 0.0);
+            EXPECT_FLOAT_EQ(msg["angle_increment"].get<float>(), float(2 * M_PI / 360));
+            EXPECT_FLOAT_EQ(msg["range_max"].get<float>(), 2.2f);
+            const auto& ranges = msg["ranges"];
+            ASSERT_EQ(ranges.size(), s.range.size());
+            for (size_t b = 0; b < s.range.size(); ++b) {
+                // The log's scanline b is at azimuth 2π·b/360 (wrapped to ±π), as the bag's.
+                EXPECT_NEAR(std::remainder(s.angle_rad[b] - 2 * M_PI * double(b) / 360, 2 * M_PI), 0, 1e-6);
+                const double got = number(ranges[b]);
+                if (std::isinf(got)) {  // no obstacle within range: the log writes the maximum
+                    EXPECT_GT(got, 0) << b;
+                    EXPECT_EQ(s.range[b], 2200) << b;
+                    ++beyond;
+                } else {
+                    EXPECT_NEAR(got * 1000, s.range[b], 0.5 + 1e-3) << b;
+                }
+            }
+        } else if (m["topic"] == "/scan") {
+            ASSERT_LT(k_laser, lms.scans.size());
+            const LaserLogScan& s = lms.scans[k_laser++];
+            EXPECT_NEAR(t, s.time_s, 1e-9);
+            EXPECT_EQ(msg["header"]["frame_id"], "sick");
+            ASSERT_EQ(msg["ranges"].size(), s.range.size());
+            for (size_t b = 0; b < s.range.size(); ++b)
+                if (s.range[b] < lms_code::kNoEcho)  // below the LMS200's error values
+                    EXPECT_FLOAT_EQ(number(msg["ranges"][b]), float(s.range[b] * 0.001)) << b;
+        }
+    }
+    EXPECT_EQ(k_omni, 2u);
+    EXPECT_EQ(k_laser, 2u);
+    EXPECT_EQ(tf, 2u) << "the robot's pose once a frame, for both sensors";
+    // Behind the robot the wall is 2.5 m away, beyond 2.2 m: a quarter of the scanlines at least.
+    EXPECT_GT(beyond, 2 * 60u);
+}
+
+TEST(BagCli, TheSaturationOfABagsFramesIsMeasuredAsTheIndependentWriterDrewThem)
+{
+    SMOKESCAN_NEED_READERS();
+    const std::string mcap = (dir() / "frames_written.mcap").string(), csv = file("bag_sat.csv");
+    fs::remove(mcap);
+    const std::string cmd = "node " + readersDir() + "/write_bag.mjs " + mcap + " 2 682 4";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    // The block drawn in each frame (bgra8, padded rows): saturation 0.2 k at 10 + 0.5 k s.
+    const CliRun r = cli("saturation --bag " + mcap + " --rect block=2,1,4,3 --out " + csv);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const SaturationSeries s = readSaturationCsv(csv);
+    ASSERT_EQ(s.time_s.size(), 4u);
+    ASSERT_EQ(s.patch_names, std::vector<std::string>{"block"});
+    for (size_t k = 0; k < 4; ++k) {
+        EXPECT_DOUBLE_EQ(s.time_s[k], 10 + 0.5 * double(k));
+        EXPECT_NEAR(s.saturation[k], 0.2 * double(k), 1e-6) << k;
+        EXPECT_NEAR(s.patch[0][k], 0.2 * double(k), 1e-6) << k;
+    }
+    // A region over the grey border too: its pixels dilute the mean by their share (12 of 24).
+    ASSERT_EQ(cli("saturation --bag " + mcap + " --rect wide=2,0,4,6 --out " + csv).status, 0);
+    EXPECT_NEAR(readSaturationCsv(csv).saturation[3], 0.6 * 12 / 24, 1e-6);
+    // The topic is the bag's only Image topic; a LaserScan topic is refused by name.
+    const std::string bad = file("bag_sat_bad.csv");
+    expectBad("saturation --bag " + mcap + " --topic /front/scan --rect b=0,0,2,2 --out " + bad,
+              "topic /front/scan is sensor_msgs/msg/LaserScan, not sensor_msgs/msg/Image", bad);
+    expectBad("saturation --bag " + mcap + " --out " + bad, "give the target's region", bad);
+    expectBad("saturation --bag " + mcap + " --rect b=0,0,2,2 --fps 10 --out " + bad, "--fps", bad);
+    expectBad("saturation --topic /cam/image --rect b=0,0,2,2 --out " + bad, "--topic", bad);
+}
+
+TEST(BagCli, AFitOnABagsCameraFramesIsTheFitOnTheSameFramesAsFiles)
+{
+    // bocas at 2 Hz through the smoke's onset, the camera's frames (1 Hz) rendered into the bag and
+    // kept as PNGs.
+    const fs::path bag = dir() / "fit_frames", frames = dir() / "fit_frames_png";
+    fs::remove_all(bag);
+    fs::remove_all(frames);
+    const CliRun s = cli("scan bocas --from 90 --to 110 --rate 2 --quiet --bag " + bag.string() + " --saturation-out " +
+                         file("fit_frames.csv") +
+                         " --saturation-render --saturation-width 48 --saturation-height 36 --saturation-spp 1 "
+                         "--saturation-rate 1 --saturation-frames " +
+                         frames.string());
+    ASSERT_EQ(s.status, 0) << s.err;
+    // The target's box in the frames, from the id images (object = the surface's index).
+    const Scene scene = loadScene("bocas");
+    const Image ids = readImage((frames / "ids" / "frame_000000.exr").string());
+    const int object = ids.channel("object", 0);
+    int x0 = ids.width, y0 = ids.height, x1 = -1, y1 = -1;
+    for (int y = 0; y < ids.height; ++y)
+        for (int x = 0; x < ids.width; ++x) {
+            const int id = int(std::lround(
+                ids.data[(size_t(y) * size_t(ids.width) + size_t(x)) * size_t(ids.channels) + size_t(object)]));
+            if (id < 0 || id >= int(scene.surfaces.size()) || scene.surfaces[size_t(id)].name.rfind("target_", 0) != 0)
+                continue;
+            x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+        }
+    ASSERT_GE(x1, x0 + 2) << "the target is not in the frame";
+    const std::string rect = " --rect target=" + std::to_string(x0 + 1) + "," + std::to_string(y0 + 1) + "," +
+        std::to_string(x1 - x0 - 1) + "," + std::to_string(y1 - y0 - 1);
+    // The same frames as PNG files with their camera times, measured by the folder's path (OpenImageIO
+    // reading the PNGs): the same series, to the CSV's last digit.
+    const std::string from_pngs = file("fit_frames_png.csv"), from_bag = file("fit_frames_bag.csv");
+    ASSERT_EQ(cli("saturation " + frames.string() + rect + " --timestamps " + (frames / "timestamps.csv").string() +
+                  " --out " + from_pngs)
+                  .status,
+              0);
+    ASSERT_EQ(cli("saturation --bag " + bag.string() + rect + " --out " + from_bag).status, 0);
+    EXPECT_EQ(slurp(from_bag), slurp(from_pngs));
+    EXPECT_EQ(readSaturationCsv(from_bag).time_s.size(), 21u);
+    // fit measures the bag's frames itself: the fit on the CSV (whose 10 digits round the series).
+    const std::string common = " --bag " + bag.string() + " --scene bocas";
+    const CliRun a = cli("fit" + common + " --saturation " + from_pngs + " --out " + file("fit_png.toml"));
+    ASSERT_EQ(a.status, 0) << a.err;
+    const CliRun b = cli("fit" + common + " --saturation " + bag.string() + rect + " --out " + file("fit_bag.toml"));
+    ASSERT_EQ(b.status, 0) << b.err;
+    const auto ja = nlohmann::json::parse(slurp(file("fit_png_report.json")));
+    const auto jb = nlohmann::json::parse(slurp(file("fit_bag_report.json")));
+    ASSERT_EQ(ja["groups"].size(), jb["groups"].size());
+    for (size_t g = 0; g < ja["groups"].size(); ++g) {
+        const auto& ta = ja["groups"][g]["threshold"];
+        const auto& tb = jb["groups"][g]["threshold"];
+        ASSERT_EQ(ta["fitted"], tb["fitted"]) << g;
+        if (!ta["fitted"].get<bool>()) continue;
+        EXPECT_NEAR(ta["S_star"]["value"].get<double>(), tb["S_star"]["value"].get<double>(), 1e-7) << g;
+        EXPECT_NEAR(ta["S_star"]["std_error"].get<double>(), tb["S_star"]["std_error"].get<double>(), 1e-7) << g;
+    }
+    EXPECT_NE(jb["sources"].dump().find("/camera/image"), std::string::npos) << jb["sources"];
+    // The bag's options without a bag, and a bag without a region.
+    expectBad("fit" + common + " --saturation " + from_pngs + rect + " --out " + file("fit_x.toml"), "is not a bag",
+              file("fit_x.toml"));
+    expectBad("fit" + common + " --saturation " + bag.string() + " --out " + file("fit_x.toml"),
+              "give the target's region", file("fit_x.toml"));
+}
