@@ -6,13 +6,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "bag_readers.hpp"
 #include "cli_run.hpp"
 #include "omni_court.hpp"
+#include "smokescan/bag/bag_input.hpp"
+#include "smokescan/bag/mcap_writer.hpp"
+#include "smokescan/core/error.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/io/recorded.hpp"
+#include "smokescan/omni/omni_scan_message.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensor_config/lms200.hpp"
 
@@ -63,6 +70,7 @@ TEST(BagCli, RenderedFramesGoOnCameraImageInTheCamerasOpticalFrame)
             const auto& optical = msg["transforms"][1];
             EXPECT_EQ(optical["header"]["frame_id"], cam.name);
             EXPECT_EQ(optical["child_frame_id"], cam.name + "_optical_frame");
+            EXPECT_EQ(translationOf(optical["transform"]), Eigen::Vector3d::Zero());
             const Eigen::Quaterniond q = rotationOf(optical["transform"]);
             EXPECT_LT((q * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
             EXPECT_LT((q * Eigen::Vector3d::UnitX() + Eigen::Vector3d::UnitY()).norm(), 1e-12);
@@ -72,7 +80,11 @@ TEST(BagCli, RenderedFramesGoOnCameraImageInTheCamerasOpticalFrame)
         ASSERT_EQ(m["topic"], "/camera/image");
         EXPECT_EQ(std::stoull(m["logTime"].get<std::string>()), 100000000000ull + 500000000ull * k);
         EXPECT_EQ(msg["header"]["frame_id"], cam.name + "_optical_frame");
+        EXPECT_EQ(msg["header"]["stamp"]["sec"], 100);
+        EXPECT_EQ(msg["header"]["stamp"]["nanosec"], 500000000 * k);
         EXPECT_EQ(msg["encoding"], "rgb8");
+        EXPECT_EQ(msg["step"], 64 * 3);
+        EXPECT_EQ(msg["is_bigendian"], 0);
         ASSERT_EQ(msg["width"], 64);
         ASSERT_EQ(msg["height"], 48);
         const Image frame = readImage((dir() / ("render_000" + std::to_string(k) + ".png")).string());
@@ -87,6 +99,19 @@ TEST(BagCli, RenderedFramesGoOnCameraImageInTheCamerasOpticalFrame)
     }
     EXPECT_EQ(k, 2u);
     EXPECT_EQ(statics, 1u);
+    EXPECT_FALSE(j["topics"].contains("/tf")) << "a fixed camera: no robot, no /tf";
+    // /tf_static offered transient-local and reliable (durability 1, reliability 1), as tf2's
+    // static broadcaster offers it, so that a played bag reaches late subscribers.
+    const std::string meta = slurp(bag / "metadata.yaml");
+    const size_t tf_static = meta.find("name: /tf_static");
+    ASSERT_NE(tf_static, std::string::npos) << meta;
+    const std::string qos = meta.substr(tf_static, meta.find("message_count", tf_static) - tf_static);
+    EXPECT_NE(qos.find("reliability: 1\\n  durability: 1"), std::string::npos) << qos;
+    // A bad time fails before any frame is rendered, naming the option.
+    expectBad("render bocas --time -5 --width 8 --height 6 --bag " + (dir() / "render_bad").string(), "--time",
+              (dir() / "render_bad").string());
+    expectBad("render bocas --from 1 --to 2 --width 8 --height 6 --bag " + (dir() / "render_bad").string(), "--every",
+              (dir() / "render_bad").string());
 }
 
 TEST(BagCli, TheOmnicamsRangesGoOnOmniScanAndItsLasersOnScanAsTheirLogs)
@@ -96,42 +121,58 @@ TEST(BagCli, TheOmnicamsRangesGoOnOmniScanAndItsLasersOnScanAsTheirLogs)
     const std::string out = file("omni.log"), laser = file("laser.log");
     const fs::path bag = dir() / "omni_bag";
     fs::remove_all(bag);
-    const CliRun r = cli("omnirange " + scene + " --train 0 --from 0 --to 1 --spp 4 --max-range 2.2 --out " + out +
-                         " --laser-out " + laser + " --bag " + bag.string());
+    // Walls nearer than 1.4 m (right: 1.2 m) read as too near, beyond 2.2 m (behind: 2.5 m) as none.
+    const CliRun r =
+        cli("omnirange " + scene + " --train 0 --from 0 --to 1 --spp 4 --min-range 1.4 --max-range 2.2 --out " + out +
+            " --laser-out " + laser + " --bag " + bag.string());
     ASSERT_EQ(r.status, 0) << r.err;
     const RecordedLog omni = readRecordedLog(out), lms = readRecordedLog(laser);
     ASSERT_EQ(omni.scans.size(), 2u);
     const nlohmann::json j = readIndependently((bag / "omni_bag_0.mcap").string());
     EXPECT_TRUE(j["problems"].empty()) << j["problems"];
-    size_t k_omni = 0, k_laser = 0, beyond = 0, tf = 0;
+    size_t k_omni = 0, k_laser = 0, tf = 0;
+    std::map<std::string, nlohmann::json> mounts;
     for (const auto& m : j["messages"]) {
         const auto& msg = m["message"];
         const double t = double(std::stoull(m["logTime"].get<std::string>())) * 1e-9;
         if (m["topic"] == "/tf") {
             ++tf;
             EXPECT_EQ(msg["transforms"][0]["child_frame_id"], "r");
+        } else if (m["topic"] == "/tf_static") {
+            for (const auto& x : msg["transforms"]) mounts[x["child_frame_id"].get<std::string>()] = x;
         } else if (m["topic"] == "/omni/scan") {
             ASSERT_LT(k_omni, omni.scans.size());
             const LaserLogScan& s = omni.scans[k_omni++];
             EXPECT_NEAR(t, s.time_s, 1e-9);
+            EXPECT_NEAR(
+                msg["header"]["stamp"]["sec"].get<double>() + msg["header"]["stamp"]["nanosec"].get<double>() * 1e-9,
+                s.time_s, 1e-9);
             EXPECT_EQ(msg["header"]["frame_id"], "omni");
             EXPECT_EQ(msg["angle_min"].get<double>(), 0.0);
             EXPECT_FLOAT_EQ(msg["angle_increment"].get<float>(), float(2 * M_PI / 360));
             EXPECT_FLOAT_EQ(msg["range_max"].get<float>(), 2.2f);
+            EXPECT_FLOAT_EQ(msg["range_min"].get<float>(), 1.4f);
             const auto& ranges = msg["ranges"];
             ASSERT_EQ(ranges.size(), s.range.size());
+            size_t none = 0, near = 0, logged_none = 0, logged_near = 0;
             for (size_t b = 0; b < s.range.size(); ++b) {
                 // The log's scanline b is at azimuth 2π·b/360 (wrapped to ±π), as the bag's.
                 EXPECT_NEAR(std::remainder(s.angle_rad[b] - 2 * M_PI * double(b) / 360, 2 * M_PI), 0, 1e-6);
+                // No obstacle within range is +Inf, one too near −Inf: the log writes the limits.
                 const double got = number(ranges[b]);
-                if (std::isinf(got)) {  // no obstacle within range: the log writes the maximum
-                    EXPECT_GT(got, 0) << b;
-                    EXPECT_EQ(s.range[b], 2200) << b;
-                    ++beyond;
-                } else {
+                none += std::isinf(got) && got > 0;
+                near += std::isinf(got) && got < 0;
+                logged_none += s.range[b] == 2200;
+                logged_near += s.range[b] == 1400;
+                if (std::isinf(got))
+                    EXPECT_EQ(s.range[b], got > 0 ? 2200 : 1400) << b;
+                else
                     EXPECT_NEAR(got * 1000, s.range[b], 0.5 + 1e-3) << b;
-                }
             }
+            EXPECT_EQ(none, logged_none);
+            EXPECT_EQ(near, logged_near);
+            EXPECT_GT(none, 60u) << "behind the robot, a quarter of the scanlines";
+            EXPECT_GT(near, 30u) << "to its right";
         } else if (m["topic"] == "/scan") {
             ASSERT_LT(k_laser, lms.scans.size());
             const LaserLogScan& s = lms.scans[k_laser++];
@@ -146,8 +187,17 @@ TEST(BagCli, TheOmnicamsRangesGoOnOmniScanAndItsLasersOnScanAsTheirLogs)
     EXPECT_EQ(k_omni, 2u);
     EXPECT_EQ(k_laser, 2u);
     EXPECT_EQ(tf, 2u) << "the robot's pose once a frame, for both sensors";
-    // Behind the robot the wall is 2.5 m away, beyond 2.2 m: a quarter of the scanlines at least.
-    EXPECT_GT(beyond, 2 * 60u);
+    // Each sensor's mount on the robot, once (omni_court.hpp).
+    ASSERT_EQ(mounts.size(), 2u);
+    for (const char* name : {"omni", "sick"}) {
+        ASSERT_TRUE(mounts.count(name)) << name;
+        EXPECT_EQ(mounts[name]["header"]["frame_id"], "r");
+    }
+    EXPECT_NEAR(translationOf(mounts["omni"]["transform"]).z(), 0.931, 1e-12);
+    EXPECT_NEAR(translationOf(mounts["sick"]["transform"]).z(), 0.3, 1e-12);
+    // the LMS200 turned −90°: its +x is the robot's −y
+    EXPECT_LT((rotationOf(mounts["sick"]["transform"]) * Eigen::Vector3d::UnitX() + Eigen::Vector3d::UnitY()).norm(),
+              1e-12);
 }
 
 TEST(BagCli, TheSaturationOfABagsFramesIsMeasuredAsTheIndependentWriterDrewThem)
@@ -228,18 +278,125 @@ TEST(BagCli, AFitOnABagsCameraFramesIsTheFitOnTheSameFramesAsFiles)
     const auto ja = nlohmann::json::parse(slurp(file("fit_png_report.json")));
     const auto jb = nlohmann::json::parse(slurp(file("fit_bag_report.json")));
     ASSERT_EQ(ja["groups"].size(), jb["groups"].size());
+    size_t fitted = 0;
     for (size_t g = 0; g < ja["groups"].size(); ++g) {
         const auto& ta = ja["groups"][g]["threshold"];
         const auto& tb = jb["groups"][g]["threshold"];
         ASSERT_EQ(ta["fitted"], tb["fitted"]) << g;
         if (!ta["fitted"].get<bool>()) continue;
+        ++fitted;
         EXPECT_NEAR(ta["S_star"]["value"].get<double>(), tb["S_star"]["value"].get<double>(), 1e-7) << g;
         EXPECT_NEAR(ta["S_star"]["std_error"].get<double>(), tb["S_star"]["std_error"].get<double>(), 1e-7) << g;
     }
+    EXPECT_EQ(fitted, 3u) << "each target's threshold";
     EXPECT_NE(jb["sources"].dump().find("/camera/image"), std::string::npos) << jb["sources"];
     // The bag's options without a bag, and a bag without a region.
     expectBad("fit" + common + " --saturation " + from_pngs + rect + " --out " + file("fit_x.toml"), "is not a bag",
               file("fit_x.toml"));
     expectBad("fit" + common + " --saturation " + bag.string() + " --out " + file("fit_x.toml"),
               "give the target's region", file("fit_x.toml"));
+}
+
+TEST(Bag, ImagesAreDecodedByTheirEncodingAndRowStep)
+{
+    // 3×2 pixels, rows padded to 16 bytes; pixel (x, y) is (R, G, B) = (10 + x, 20 + y, 30 + x + y).
+    for (const std::string enc : {"rgb8", "bgr8", "rgba8", "bgra8"}) {
+        const bool bgr = enc[0] == 'b';
+        const size_t bytes = enc.size() == 5 ? 4 : 3;
+        ImageMsg m;
+        m.width = 3, m.height = 2, m.step = 16, m.encoding = enc;
+        m.data.assign(32, 99);
+        for (uint8_t y = 0; y < 2; ++y)
+            for (uint8_t x = 0; x < 3; ++x) {
+                uint8_t* p = m.data.data() + y * 16 + x * bytes;
+                p[bgr ? 2 : 0] = uint8_t(10 + x), p[1] = uint8_t(20 + y), p[bgr ? 0 : 2] = uint8_t(30 + x + y);
+                if (bytes == 4) p[3] = 255;
+            }
+        Image img = imageOf(m, "frame");
+        ASSERT_EQ(img.channels, 3);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 3; ++x) {
+                EXPECT_FLOAT_EQ(img.at(x, y, 0), float(10 + x) / 255) << enc;
+                EXPECT_FLOAT_EQ(img.at(x, y, 1), float(20 + y) / 255) << enc;
+                EXPECT_FLOAT_EQ(img.at(x, y, 2), float(30 + x + y) / 255) << enc;
+            }
+    }
+    auto error = [](ImageMsg m) {
+        try {
+            (void)imageOf(m, "f.mcap: message 3 on /cam");
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    ImageMsg ok;
+    ok.width = 2, ok.height = 1, ok.step = 6, ok.encoding = "rgb8", ok.data.assign(6, 0);
+    ImageMsg mono = ok;
+    mono.encoding = "mono8";
+    EXPECT_NE(error(mono).find("f.mcap: message 3 on /cam: is encoded 'mono8'"), std::string::npos) << error(mono);
+    ImageMsg short_step = ok;
+    short_step.step = 5, short_step.data.assign(5, 0);
+    EXPECT_NE(error(short_step).find("row step of 5 bytes"), std::string::npos) << error(short_step);
+    ImageMsg empty = ok;
+    empty.width = 0, empty.step = 0, empty.data.clear();
+    EXPECT_NE(error(empty).find("0×1 pixels"), std::string::npos) << error(empty);
+}
+
+TEST(Bag, ABagIsKnownByItsFolderOrMagicAndItsFramesStampsMustIncrease)
+{
+    const fs::path mcap = dir() / "frames_unit.mcap";
+    {
+        std::ostringstream o;
+        McapWriter w(o, McapWriterConfig{});
+        const uint16_t ch = w.addChannel(w.addSchema(kImageType.name, "ros2msg", kImageType.definition), "/cam", "cdr");
+        for (double t : {1.0, 2.0, 1.5}) {
+            ImageMsg m;
+            m.header.stamp = RosTime::fromSeconds(t);
+            m.width = 1, m.height = 1, m.step = 3, m.encoding = "rgb8", m.data = {200, 100, 50};
+            w.write(ch, m.header.stamp.nanoseconds(), m.header.stamp.nanoseconds(), encode(m));
+        }
+        w.finish();
+        std::ofstream(mcap, std::ios::binary) << o.str();
+    }
+    EXPECT_TRUE(isBagPath(mcap.string()));
+    EXPECT_TRUE(isBagPath(dir().string()));
+    EXPECT_FALSE(isBagPath(file("not_a_bag.csv", "time_s,saturation\n1,0.2\n")));
+    EXPECT_FALSE(isBagPath(file("short.mcap", "\x89MC")));
+    EXPECT_FALSE(isBagPath((dir() / "missing.mcap").string()));
+    std::vector<double> stamps;
+    try {
+        (void)readBagImages(mcap.string(), "", [&](ImageMsg&& m, const std::string&) {
+            stamps.push_back(double(m.header.stamp.nanoseconds()) * 1e-9);
+        });
+        FAIL() << "a stamp going back was read";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("message 2 on /cam: has a stamp that does not follow"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(stamps, (std::vector<double>{1.0, 2.0}));
+}
+
+TEST(Bag, TheOmnicamsScanlinesAreALaserScanFromItsPlusXWithRep117Limits)
+{
+    OmniRangeResult r;
+    r.range_m = {1.25, 0.3, 3.8, 2.0};
+    r.status = {OmniRangeStatus::Hit, OmniRangeStatus::MinRange, OmniRangeStatus::MaxRange, OmniRangeStatus::Hit};
+    r.angle_rad = {0, M_PI / 2, M_PI, -M_PI / 2};
+    OmniRangeConfig cfg;
+    const LaserScanMsg m = omniLaserScanOf(r, cfg, 12.5, 0.2, "omni");
+    EXPECT_EQ(m.header.stamp.sec, 12);
+    EXPECT_EQ(m.header.stamp.nanosec, 500000000u);
+    EXPECT_EQ(m.header.frame_id, "omni");
+    EXPECT_EQ(m.angle_min, 0.0f);
+    EXPECT_FLOAT_EQ(m.angle_increment, float(M_PI / 2));
+    EXPECT_FLOAT_EQ(m.angle_max, float(3 * M_PI / 2));
+    EXPECT_FLOAT_EQ(m.range_min, 0.3f);
+    EXPECT_FLOAT_EQ(m.range_max, 3.8f);
+    EXPECT_FLOAT_EQ(m.scan_time, 0.2f);
+    EXPECT_EQ(m.time_increment, 0.0f);
+    ASSERT_EQ(m.ranges.size(), 4u);
+    EXPECT_EQ(m.ranges[0], 1.25f);
+    EXPECT_TRUE(std::isinf(m.ranges[1]) && m.ranges[1] < 0);
+    EXPECT_TRUE(std::isinf(m.ranges[2]) && m.ranges[2] > 0);
+    EXPECT_EQ(m.ranges[3], 2.0f);
 }

@@ -22,6 +22,20 @@ struct Rosbag2Writer::Impl {
     }
 };
 
+namespace {
+/// The QoS a topic was offered with, as rosbag2 records it (a YAML list of profiles as text):
+/// /tf_static reliable and transient-local, as tf2's static broadcaster offers it, so that
+/// `ros2 bag play` re-offers it to late subscribers (RViz); "" (the player's default) elsewhere.
+std::string offeredQos(const std::string& topic)
+{
+    if (topic != "/tf_static") return "";
+    const std::string never = "\n    sec: 9223372036\n    nsec: 854775807";
+    return "- history: 1\n  depth: 1\n  reliability: 1\n  durability: 1\n  deadline:" + never +
+        "\n  lifespan:" + never + "\n  liveliness: 1\n  liveliness_lease_duration:" + never +
+        "\n  avoid_ros_namespace_conventions: false";
+}
+}  // namespace
+
 Rosbag2Writer::Rosbag2Writer(AtomicFolder& folder, const std::string& name, McapWriterConfig cfg)
     : impl_(std::make_unique<Impl>(folder, name, std::move(cfg)))
 {
@@ -38,7 +52,7 @@ uint16_t Rosbag2Writer::topic(const std::string& name, const RosType& type)
         s = m.schemas.emplace(type.name, m.mcap.addSchema(type.name, "ros2msg", type.definition)).first;
     if (m.types.count(name)) throw Error("bag", "topic " + name + " added twice");
     m.types[name] = type.name;
-    return m.mcap.addChannel(s->second, name, "cdr", {{"offered_qos_profiles", ""}});
+    return m.mcap.addChannel(s->second, name, "cdr", {{"offered_qos_profiles", offeredQos(name)}});
 }
 
 void Rosbag2Writer::write(uint16_t channel, const RosTime& stamp, const std::vector<uint8_t>& cdr)
@@ -72,8 +86,8 @@ McapWriteResult Rosbag2Writer::finish()
         const auto n = r.per_topic.find(topic);
         y << YAML::BeginMap << YAML::Key << "topic_metadata" << YAML::Value << YAML::BeginMap << YAML::Key << "name"
           << YAML::Value << topic << YAML::Key << "type" << YAML::Value << type << YAML::Key << "serialization_format"
-          << YAML::Value << "cdr" << YAML::Key << "offered_qos_profiles" << YAML::Value << YAML::DoubleQuoted << ""
-          << YAML::EndMap << YAML::Key << "message_count" << YAML::Value
+          << YAML::Value << "cdr" << YAML::Key << "offered_qos_profiles" << YAML::Value << YAML::DoubleQuoted
+          << offeredQos(topic) << YAML::EndMap << YAML::Key << "message_count" << YAML::Value
           << (n == r.per_topic.end() ? uint64_t(0) : n->second) << YAML::EndMap;
     }
     y << YAML::EndSeq;

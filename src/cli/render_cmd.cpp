@@ -70,7 +70,12 @@ int runRender(const RenderArgs& a)
             if (!p->empty() && p->find("{i}") == std::string::npos && p->find("{t}") == std::string::npos)
                 throw Error(*p, "a time series needs {i} (frame index) or {t} (time) in each output name");
     }
+    if (!series && (!std::isnan(a.from) || !std::isnan(a.to)))
+        throw Error(std::isnan(a.from) ? "--to" : "--from", "makes a time series with --every (and --from, --to)");
     if (a.out.empty() && a.bag.empty()) throw Error("--out", "give where the frames go: --out FILE, --bag DIR or both");
+    // A ROS stamp counts from 0 s, below 2^31 s: checked before any frame is rendered.
+    if (!a.bag.empty() && (times.front() < 0 || times.back() >= 2147483648.0))
+        throw Error(series ? "--from" : "--time", "a bag's stamps lie in [0, 2^31) s");
     checkFormat(a.out, false);
     checkFormat(a.exr, true);
     checkFormat(a.ids, true);

@@ -104,6 +104,9 @@ FitInputs loadFitData(const FitInputsConfig& cfg)
         in.log = recordedLogOf(bag, specFor(chooseSensor(cfg, in.scene.get()).config));
         laser = cfg.bag + " " + bag.topic;
     }
+    if (cfg.saturation.empty() && (!cfg.image_topic.empty() || !cfg.rects.empty() || !cfg.polygons.empty()))
+        throw Error(!cfg.image_topic.empty() ? "--image-topic" : "--rect/--polygon",
+                    "measures a bag's camera frames: give the bag as --saturation");
     // No saturation (diagnose without a camera): the scene's own smoke time line is replayed.
     const SaturationSeries sat0 = cfg.saturation.empty() ? SaturationSeries{} : readSaturation(cfg);
     if (!cfg.saturation.empty()) in.saturation = cfg.patch.empty() ? sat0 : patchSeries(sat0, cfg.patch);

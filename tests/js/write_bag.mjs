@@ -1,6 +1,7 @@
 // An independent writer of the bags smokescan reads (tests/test_bag.cpp): Foxglove's @mcap/core
 // writes an MCAP file (zstd chunks by @foxglove/wasm-zstd, small enough that there are several)
 // whose LaserScans @foxglove/rosmsg2-serialization serialises, with a /tf topic beside them.
+// Log and publish times are 1 ms after each header stamp (a reader must take the stamp).
 // The values follow a rule the test knows: scan k at stamp 10 + 0.5 k s, beam i reads
 // 0.5 + 0.001 (i + k) m, beam 3 +Inf and beam 5 NaN in every scan.
 // With FRAMES, an Image topic /cam/image too (bgra8, rows padded to 40 bytes): frame k, 8×6 px at
@@ -63,10 +64,10 @@ for (let k = 0; k < scans; k++) {
     angle_min: -2.0862138271331787, angle_max: 2.0923497676849365, angle_increment: 0.006135923322290182,
     time_increment: 0, scan_time: 0.1, range_min: 0.02, range_max: 5.6, ranges, intensities: new Float32Array(0),
   };
-  await writer.addMessage({ channelId: scanChannel, sequence: k, logTime: ns, publishTime: ns, data: scanWriter.writeMessage(scan) });
+  await writer.addMessage({ channelId: scanChannel, sequence: k, logTime: ns + 1_000_000n, publishTime: ns + 1_000_000n, data: scanWriter.writeMessage(scan) });
   const tf = { transforms: [{ header: { stamp, frame_id: "map" }, child_frame_id: "base_link",
     transform: { translation: { x: k, y: 0, z: 0 }, rotation: { x: 0, y: 0, z: 0, w: 1 } } }] };
-  await writer.addMessage({ channelId: tfChannel, sequence: k, logTime: ns, publishTime: ns, data: tfWriter.writeMessage(tf) });
+  await writer.addMessage({ channelId: tfChannel, sequence: k, logTime: ns + 1_000_000n, publishTime: ns + 1_000_000n, data: tfWriter.writeMessage(tf) });
 }
 const imageDef =
   "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\n" +
@@ -87,7 +88,7 @@ if (frames > 0) {
         data.set([b, g, r, 255], y * step + 4 * x);
       }
     const image = { header: { stamp, frame_id: "cam" }, height, width, encoding: "bgra8", is_bigendian: 0, step, data };
-    await writer.addMessage({ channelId: imageChannel, sequence: k, logTime: ns, publishTime: ns, data: imageWriter.writeMessage(image) });
+    await writer.addMessage({ channelId: imageChannel, sequence: k, logTime: ns + 1_000_000n, publishTime: ns + 1_000_000n, data: imageWriter.writeMessage(image) });
   }
 }
 await writer.end();
