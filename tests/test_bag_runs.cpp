@@ -1,6 +1,7 @@
 // The bags `render --bag` and `omnirange --bag` write, read back by the independent readers
 // (tests/bag_readers.hpp) and compared value by value with the same run's images and logs.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -228,6 +229,13 @@ TEST(BagCli, TheSaturationOfABagsFramesIsMeasuredAsTheIndependentWriterDrewThem)
     expectBad("saturation --bag " + mcap + " --out " + bad, "give the target's region", bad);
     expectBad("saturation --bag " + mcap + " --rect b=0,0,2,2 --fps 10 --out " + bad, "--fps", bad);
     expectBad("saturation --topic /cam/image --rect b=0,0,2,2 --out " + bad, "--topic", bad);
+    expectBad("saturation --bag " + mcap + " --topic '' --rect b=0,0,2,2 --out " + bad, "--topic", bad);
+    // A frame file that is a FIFO is refused, not waited on.
+    const std::string fifo = (dir() / "frame_fifo.png").string();
+    fs::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    expectBad("saturation " + fifo + " --rect b=0,0,2,2 --out " + bad, "is not a regular file", bad);
+    fs::remove(fifo);
 }
 
 TEST(BagCli, AFitOnABagsCameraFramesIsTheFitOnTheSameFramesAsFiles)
@@ -357,6 +365,27 @@ TEST(Bag, ABagIsKnownByItsFolderOrMagicAndItsFramesStampsMustIncrease)
         }
         w.finish();
         std::ofstream(mcap, std::ios::binary) << o.str();
+    }
+    // Two Image topics and no topic named: that is the error, before any frame's own.
+    const fs::path two = dir() / "frames_two.mcap";
+    {
+        std::ostringstream o;
+        McapWriter w(o, McapWriterConfig{});
+        const uint16_t schema = w.addSchema(kImageType.name, "ros2msg", kImageType.definition);
+        const uint16_t a = w.addChannel(schema, "/a", "cdr"), b = w.addChannel(schema, "/b", "cdr");
+        ImageMsg m;
+        m.width = 1, m.height = 1, m.step = 3, m.encoding = "mono8", m.data = {0, 0, 0};
+        w.write(a, 1, 1, encode(m));
+        w.write(b, 2, 2, encode(m));
+        w.finish();
+        std::ofstream(two, std::ios::binary) << o.str();
+    }
+    try {
+        (void)readBagImages(two.string(), "", [](ImageMsg&& m, const std::string& what) { (void)imageOf(m, what); });
+        FAIL() << "two Image topics read without one named";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("has several Image topics (/a /b): give its topic"), std::string::npos)
+            << e.what();
     }
     EXPECT_TRUE(isBagPath(mcap.string()));
     EXPECT_TRUE(isBagPath(dir().string()));

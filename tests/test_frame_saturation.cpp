@@ -89,3 +89,29 @@ TEST(FrameSaturation, BadPatchSpecsAndNamesAreOneLineErrors)
     EXPECT_THROW(frameTimeFromName("/x/frame.png", 0), Error);
     EXPECT_DOUBLE_EQ(frameTimeFromName("/x/frame_000125.png", 25), 5.0);
 }
+
+TEST(FrameSaturation, ASeriesKeepsItsFirstFramesSizeAndItsPatchesInsideIt)
+{
+    FrameSeries inside(frameRegions({"a=0,0,8,6"}, {}));
+    inside.add(flat(8, 6, 0.5f, 0.25f, 0.25f), false, nullptr, 1.0, "f1.png");
+    try {
+        inside.add(flat(4, 3, 0.5f, 0.25f, 0.25f), false, nullptr, 2.0, "f2.png");
+        FAIL() << "a frame of another size was measured";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("f2.png: is 4×3 pixels, the first frame 8×6"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(inside.take().time_s.size(), 1u);
+    // A rect one pixel past the frame's edge, and a polygon vertex before it.
+    for (const auto& [rects, polygons] :
+         {std::pair<std::vector<std::string>, std::vector<std::string>>{{"a=1,1,8,2"}, {}},
+          {{}, {"b=-0.5,1,3,1,3,4"}}}) {
+        FrameSeries outside(frameRegions(rects, polygons));
+        try {
+            outside.add(flat(8, 6, 0.5f, 0.25f, 0.25f), false, nullptr, 1.0, "f1.png");
+            FAIL() << "a patch outside the frame was clipped";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("outside the 8×6 frame"), std::string::npos) << e.what();
+        }
+    }
+}

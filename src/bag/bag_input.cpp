@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 
 #include "ros1_bag.hpp"
 #include "smokescan/bag/mcap_reader.hpp"
@@ -127,6 +128,9 @@ std::string readTopic(const std::string& path, const std::string& topic, const R
     std::map<std::string, std::string> types;  ///< every topic's type, for messages
     std::string chosen = topic;
     int64_t n = 0;
+    // When the topic is the bag's only one of its type, a bad message waits until the whole bag
+    // has shown there is no other: "give its topic" is the error then.
+    std::optional<Error> failed;
     for (const std::string& file : bagFiles(path)) {
         const auto channels = readMcap(file, [&](const McapChannel& ch, McapMessage&& m) {
             types[ch.topic] = ch.schema_name;
@@ -138,7 +142,13 @@ std::string readTopic(const std::string& path, const std::string& topic, const R
                 throw Error(file, "topic " + ch.topic + " is encoded as '" + ch.message_encoding + "', not cdr");
             if (++n > limits::kBagMessages)
                 throw Error(file, "has more than " + std::to_string(limits::kBagMessages) + " messages on " + ch.topic);
-            each(std::move(m), file + ": message " + std::to_string(m.sequence) + " on " + ch.topic);
+            if (failed) return;
+            try {
+                each(std::move(m), file + ": message " + std::to_string(m.sequence) + " on " + ch.topic);
+            } catch (const Error& e) {
+                if (!topic.empty()) throw;
+                failed = e;
+            }
         });
         for (const auto& [id, ch] : channels) types.emplace(ch.topic, ch.schema_name);
     }
@@ -163,6 +173,7 @@ std::string readTopic(const std::string& path, const std::string& topic, const R
         if (!others.empty())
             throw Error(path, "has several " + kind + " topics (" + chosen + others + "): give its topic");
     }
+    if (failed) throw *failed;
     return chosen;
 }
 

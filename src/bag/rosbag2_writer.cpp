@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <map>
 
@@ -63,9 +65,21 @@ void Rosbag2Writer::write(uint16_t channel, const RosTime& stamp, const std::vec
 McapWriteResult Rosbag2Writer::finish()
 {
     Impl& m = *impl_;
-    const McapWriteResult r = m.mcap.finish();
+    // A write that failed (a full disk, a file-size limit) is named on the bag's own file.
+    const auto failed = [&] {
+        return Error(
+            m.folder.finalPath(m.file),
+            std::string("could not be written") + (errno ? std::string(" (") + std::strerror(errno) + ")" : ""));
+    };
+    errno = 0;
+    McapWriteResult r;
+    try {
+        r = m.mcap.finish();
+    } catch (const Error&) {
+        throw failed();
+    }
     m.out.close();
-    if (!m.out) throw Error(m.folder.path(m.file), "could not be written");
+    if (!m.out) throw failed();
     // rosbag2's metadata (rosbag2_storage/metadata_io: version 5).
     YAML::Emitter y;
     auto duration = [&](const char* key, uint64_t ns) {
@@ -103,7 +117,7 @@ McapWriteResult Rosbag2Writer::finish()
     std::ofstream meta(m.folder.path("metadata.yaml"));
     meta << y.c_str() << "\n";
     meta.close();
-    if (!meta) throw Error(m.folder.path("metadata.yaml"), "could not be written");
+    if (!meta) throw Error(m.folder.finalPath("metadata.yaml"), "could not be written");
     return r;
 }
 

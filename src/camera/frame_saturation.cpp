@@ -137,6 +137,7 @@ std::vector<std::string> listFrames(const std::vector<std::string>& inputs)
             out.insert(out.end(), v.begin(), v.end());
         } else {
             if (!fs::exists(in)) throw Error(in, "no such file");
+            if (!fs::is_regular_file(in)) throw Error(in, "is not a regular file (a frame is an image file)");
             out.push_back(in);
         }
     }
@@ -192,6 +193,20 @@ FrameSeries::FrameSeries(const FrameRegions& regions) : regions_(regions)
 
 void FrameSeries::add(const Image& frame, bool linear, const Image* ids, double time_s, const std::string& name)
 {
+    if (s_.time_s.empty()) {
+        width_ = frame.width, height_ = frame.height;
+        // A patch reaching past the frame would be measured on the part inside, silently.
+        for (const FramePatch& p : regions_.patches)
+            for (const auto& [x, y] : p.polygon_px)
+                if (!(x >= 0 && x <= width_ && y >= 0 && y <= height_))
+                    throw Error(name,
+                                fmt("patch '%s' reaches (%g, %g), outside the %d×%d frame", p.name.c_str(), x, y,
+                                    width_, height_));
+    } else if (frame.width != width_ || frame.height != height_) {
+        throw Error(name,
+                    fmt("is %d×%d pixels, the first frame %d×%d (the patches are in its pixels)", frame.width,
+                        frame.height, width_, height_));
+    }
     const FrameSaturation m = measureFrame(frame, linear, ids, regions_, s_.patch_names);
     if (m.all.pixels == 0) throw Error(name, "the target region holds no pixels");
     if (!s_.time_s.empty() && !(time_s > s_.time_s.back()))

@@ -153,8 +153,8 @@ int runBagSaturation(const SatArgs& a, const FrameRegions& regions)
     const SaturationSeries s = measureBagSaturation(a.bag, a.topic, regions);
     writeSaturationCsv(files.stage(a.out), s);
     files.commit();
-    say("wrote %s (%zu frames of %s, patches: %zu)\n", a.out.c_str(), s.time_s.size(), s.path.c_str(),
-        s.patch_names.size());
+    say("wrote %s (%zu frames of %s, patches: %zu)\n", printable(a.out).c_str(), s.time_s.size(),
+        printable(s.path).c_str(), s.patch_names.size());
     return 0;
 }
 
@@ -240,7 +240,7 @@ void addCalibration(CLI::App& app, Runner& run)
     auto* t = app.add_subcommand("saturation", "Target HSV saturation of camera frames (files or a folder) → CSV");
     t->add_option("inputs", s->inputs, "Image files or a folder of frames");
     t->add_option("--bag", s->bag, "Or a ROS 2 bag (rosbag2 folder or .mcap) whose Image topic holds the frames");
-    t->add_option("--topic", s->topic, "The bag's sensor_msgs/Image topic (default: its only one)");
+    t->add_option("--topic", s->topic, "The bag's sensor_msgs/Image topic (default: its only one)")->check(nonEmpty());
     t->add_option("--out", s->out, "CSV to write: time_s,saturation,... per-patch columns")->required();
     t->add_option("--rect", s->rects, "A patch: NAME=x,y,width,height in pixels (repeatable)");
     t->add_option("--polygon", s->polygons, "A patch: NAME=x1,y1,x2,y2,x3,y3,... in pixels (repeatable)");

@@ -182,9 +182,9 @@ int runOmnirange(const OmniArgs& a)
         say("omnicam against the laser: %lld scanline pairs, mean |difference| %.4f m, %.2f %%, mean "
             "(laser - omnicam) %+.4f m; %lld outliers over %.2f m left out\n",
             cmp.pairs, cmp.meanAbsM(), cmp.meanPercent(), cmp.meanSignedM(), cmp.outliers, cmp.outlier_m);
-    say("wrote %s (%zu scans, exposure %.4g)%s%s%s%s\n", (a.out.empty() ? a.bag : a.out).c_str(), times.size(),
-        run.exposure(), a.out.empty() || a.bag.empty() ? "" : ", ", a.out.empty() ? "" : a.bag.c_str(),
-        a.laser_out.empty() ? "" : ", ", a.laser_out.c_str());
+    say("wrote %s (%zu scans, exposure %.4g)%s%s%s%s\n", printable(a.out.empty() ? a.bag : a.out).c_str(), times.size(),
+        run.exposure(), a.out.empty() || a.bag.empty() ? "" : ", ", a.out.empty() ? "" : printable(a.bag).c_str(),
+        a.laser_out.empty() ? "" : ", ", printable(a.laser_out).c_str());
     return 0;
 }
 

@@ -121,8 +121,9 @@ int runRender(const RenderArgs& a)
             writeImage(files.stage(expand(a.birdseye, int(k), times[k])),
                        birdseye(frame, dynamic_cast<const OmniCamera&>(*omni), bc));
         }
-        say("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k], out.c_str(),
-            r.radiance.width, r.radiance.height, cfg.spp, r.seconds, r.samples / r.seconds / 1e6, used);
+        say("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k],
+            printable(out).c_str(), r.radiance.width, r.radiance.height, cfg.spp, r.seconds,
+            r.samples / r.seconds / 1e6, used);
     }
     if (bag) bag->finish();
     files.commit([&] {

@@ -167,7 +167,7 @@ void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::str
     c->add_option("--bag", bag,
                   "Or a ROS 2 bag: a rosbag2 folder or .mcap file whose sensor_msgs/LaserScan topic holds the scans "
                   "(docs/bags.md)");
-    c->add_option("--topic", topic, "The bag's LaserScan topic (default: its only one)");
+    c->add_option("--topic", topic, "The bag's LaserScan topic (default: its only one)")->check(nonEmpty());
 }
 
 CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::string& image_topic,
@@ -177,7 +177,8 @@ CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::str
     CLI::Option* o = c->add_option(
         "--saturation", saturation,
         help + "; or a ROS 2 bag whose camera frames are measured (--image-topic, --rect/--polygon; docs/bags.md)");
-    c->add_option("--image-topic", image_topic, "The --saturation bag's Image topic (default: its only one)");
+    c->add_option("--image-topic", image_topic, "The --saturation bag's Image topic (default: its only one)")
+        ->check(nonEmpty());
     c->add_option("--rect", rects, "The target in the bag's frames: NAME=x,y,width,height in pixels (repeatable)");
     c->add_option("--polygon", polygons, "The target in the bag's frames: NAME=x1,y1,x2,y2,x3,y3,... (repeatable)");
     return o;

@@ -27,7 +27,8 @@ AtomicFolder::AtomicFolder(std::string dir, std::string what, const std::string&
     struct stat st {};
     if (::lstat(dir_.c_str(), &st) == 0) {
         if (S_ISLNK(st.st_mode)) throw Error(dir_, "is a symbolic link (" + option + " writes a new folder)");
-        if (!(S_ISDIR(st.st_mode) && fs::is_empty(dir_)))
+        if (!S_ISDIR(st.st_mode)) throw Error(dir_, "exists and is not a folder (" + option + " writes a new one)");
+        if (!fs::is_empty(dir_))
             throw Error(dir_, "exists and is not an empty folder (" + option + " writes a new one)");
     }
     const fs::path parent = fs::path(dir_).parent_path();

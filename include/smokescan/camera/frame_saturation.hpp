@@ -79,8 +79,9 @@ class FrameSeries {
 public:
     explicit FrameSeries(const FrameRegions& regions);
     /// @brief Measures one frame (measureFrame) taken at `time_s`.
-    /// @throw Error naming `name` when the target region holds no pixels of it or its time does
-    /// not follow the previous frame's.
+    /// @throw Error naming `name` when the target region holds no pixels of it, its time does not
+    /// follow the previous frame's, its size is not the first frame's, or (on the first frame) a
+    /// patch reaches outside it.
     void add(const Image& frame, bool linear, const Image* ids, double time_s, const std::string& name);
     /// @brief The series so far.
     SaturationSeries take() { return std::move(s_); }
@@ -88,6 +89,7 @@ public:
 private:
     FrameRegions regions_;
     SaturationSeries s_;
+    int width_ = 0, height_ = 0;  ///< the first frame's [px]
 };
 
 /// @brief The saturation series of a run of frames: whole target and patches (means, with

@@ -19,6 +19,8 @@ public:
 
     /// @brief Where to write `relative` (a file or a subfolder) until commit().
     std::string path(const std::string& relative) const { return tmp_ + "/" + relative; }
+    /// @brief The path `relative` will have once committed (for messages).
+    std::string finalPath(const std::string& relative) const { return dir_ + "/" + relative; }
     /// @brief Makes the subfolder `relative`.
     void makeFolder(const std::string& relative);
     /// @brief Moves the folder into place.
