@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -17,9 +18,12 @@
 #include "omni_court.hpp"
 #include "smokescan/bag/bag_input.hpp"
 #include "smokescan/bag/mcap_writer.hpp"
+#include "smokescan/bag/scan_messages.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/io/recorded.hpp"
+#include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/omni/omni_scan_message.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensor_config/lms200.hpp"
@@ -428,4 +432,96 @@ TEST(Bag, TheOmnicamsScanlinesAreALaserScanFromItsPlusXWithRep117Limits)
     EXPECT_TRUE(std::isinf(m.ranges[1]) && m.ranges[1] < 0);
     EXPECT_TRUE(std::isinf(m.ranges[2]) && m.ranges[2] > 0);
     EXPECT_EQ(m.ranges[3], 2.0f);
+}
+
+TEST(BagCli, APlanarMultiEchoLidarsFramesAlsoGoOnEchoesBeamByBeam)
+{
+    SMOKESCAN_NEED_READERS();
+    // A 2D multi-echo scanner as a pattern file: 271 beams from −135° to +135° in 1° steps in its
+    // x–y plane, a turn in 25 ms (40 Hz), dual returns (strongest and last).
+    const fs::path d = dir() / "planar_lidar", bag = dir() / "planar_bag";
+    fs::remove_all(bag);
+    fs::create_directories(d);
+    {
+        std::ofstream beams(d / "pattern.csv");
+        for (int i = 0; i < 271; ++i) beams << (-135 + i) << ", 0, " << fmt("%.9f", 0.025 * i / 360) << "\n";
+        std::ofstream(d / "scanner.toml") << "name = \"scanner\"\npattern = \"file\"\npattern_file = \"pattern.csv\"\n"
+                                             "wavelength_nm = 905\nrate_hz = 40\nrange_min_m = 0.1\nrange_max_m = 30\n"
+                                             "return_modes = [\"strongest\", \"last\", \"dual\"]\nmax_echoes = 3\n";
+    }
+    const CliRun r = cli("scan plume --sensor " + (d / "scanner.toml").string() +
+                         " --from 40 --to 40.05 --returns dual --bag " + bag.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = readIndependently((bag / "planar_bag_0.mcap").string());
+    EXPECT_TRUE(j["problems"].empty()) << j["problems"];
+    std::vector<nlohmann::json> clouds, echoes;
+    for (const auto& m : j["messages"]) {
+        if (m["topic"] == "/points") clouds.push_back(m);
+        if (m["topic"] == "/echoes") echoes.push_back(m);
+    }
+    ASSERT_EQ(clouds.size(), 3u);  // 40, 40.025, 40.05 s
+    ASSERT_EQ(echoes.size(), 3u);
+    size_t doubles = 0;
+    for (size_t k = 0; k < 3; ++k) {
+        const auto& e = echoes[k]["message"];
+        EXPECT_EQ(echoes[k]["schema"], "sensor_msgs/msg/MultiEchoLaserScan");
+        EXPECT_EQ(echoes[k]["logTime"], clouds[k]["logTime"]);
+        EXPECT_EQ(e["header"]["frame_id"], clouds[k]["message"]["header"]["frame_id"]);
+        EXPECT_FLOAT_EQ(e["angle_min"].get<float>(), float(-135 * M_PI / 180));
+        EXPECT_FLOAT_EQ(e["angle_increment"].get<float>(), float(M_PI / 180));
+        EXPECT_NEAR(e["angle_max"].get<double>(), 135 * M_PI / 180, 1e-6);
+        EXPECT_NEAR(e["time_increment"].get<double>(), 0.025 / 360, 1e-9);
+        EXPECT_FLOAT_EQ(e["scan_time"].get<float>(), 0.025f);
+        EXPECT_FLOAT_EQ(e["range_max"].get<float>(), 30.0f);
+        ASSERT_EQ(e["ranges"].size(), 271u);
+        ASSERT_EQ(e["intensities"].size(), 271u);
+        // The cloud's points, each put on its beam by its azimuth, in order: the beam's echoes.
+        std::vector<std::vector<float>> want(271), want_intensity(271);
+        const auto& c = clouds[k]["message"];
+        const std::string data = base64(c["data"].get<std::string>());
+        for (size_t at = 0; at + 24 <= data.size(); at += 24) {
+            float p[4];
+            std::memcpy(p, data.data() + at, 16);
+            const long b = std::lround(std::atan2(p[1], p[0]) * 180 / M_PI) + 135;
+            ASSERT_TRUE(b >= 0 && b < 271) << b;
+            want[size_t(b)].push_back(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
+            want_intensity[size_t(b)].push_back(p[3]);
+        }
+        for (size_t b = 0; b < 271; ++b) {
+            const auto& got = e["ranges"][b]["echoes"];
+            ASSERT_EQ(got.size(), want[b].size()) << "frame " << k << " beam " << b;
+            doubles += got.size() == 2;
+            for (size_t i = 0; i < got.size(); ++i) {
+                EXPECT_NEAR(got[i].get<double>(), want[b][i], 1e-4 * want[b][i]) << k << " " << b << " " << i;
+                EXPECT_EQ(e["intensities"][b]["echoes"][i].get<float>(), want_intensity[b][i]) << k << " " << b;
+            }
+        }
+    }
+    EXPECT_GE(doubles, 3u) << "the plume at 40 s: beams with a smoke echo and a wall's (6 in this seed)";
+}
+
+TEST(Bag, APatternIsAPlanarFanOnlyInOnePlaneWithEvenSteps)
+{
+    auto fanOf = [](int n, double step_deg, double elevation_deg = 0, int channel = 0) {
+        std::vector<PatternBeam> p(static_cast<size_t>(n));
+        for (int i = 0; i < n; ++i)
+            p[size_t(i)] = {(10 + i * step_deg) * M_PI / 180, elevation_deg * M_PI / 180, channel, 1e-4 * i};
+        return p;
+    };
+    const auto up = planarFan(fanOf(5, 2));
+    ASSERT_TRUE(up.has_value());
+    EXPECT_NEAR(up->angle_min_rad, 10 * M_PI / 180, 1e-15);
+    EXPECT_NEAR(up->step_rad, 2 * M_PI / 180, 1e-15);
+    EXPECT_NEAR(up->time_step_s, 1e-4, 1e-15);
+    const auto down = planarFan(fanOf(5, -0.25));  // a clockwise sweep
+    ASSERT_TRUE(down.has_value());
+    EXPECT_NEAR(down->step_rad, -0.25 * M_PI / 180, 1e-15);
+    EXPECT_FALSE(planarFan(fanOf(5, 2, 1.0)).has_value()) << "out of the plane";
+    EXPECT_FALSE(planarFan(fanOf(5, 2, 0, 3)).has_value()) << "another channel";
+    auto uneven = fanOf(5, 2);
+    uneven[2].azimuth_rad += 0.01 * M_PI / 180;
+    EXPECT_FALSE(planarFan(uneven).has_value()) << "an uneven step";
+    EXPECT_FALSE(planarFan(fanOf(1, 2)).has_value()) << "one beam";
+    LidarSpec vlp = lidarSpec("vlp16");
+    EXPECT_FALSE(planarFan(framePattern(vlp)).has_value()) << "16 channels";
 }

@@ -77,6 +77,27 @@ const RosType kImageType = {"sensor_msgs/msg/Image",
                             "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\n"
                             "uint32 step\nuint8[] data\n" SMOKESCAN_HEADER_DEPS};
 
+const RosType kMultiEchoLaserScanType = {
+    "sensor_msgs/msg/MultiEchoLaserScan",
+    "std_msgs/Header header\nfloat32 angle_min\nfloat32 angle_max\nfloat32 angle_increment\n"
+    "float32 time_increment\nfloat32 scan_time\nfloat32 range_min\nfloat32 range_max\n"
+    "sensor_msgs/LaserEcho[] ranges\nsensor_msgs/LaserEcho[] intensities\n" SMOKESCAN_SEPARATOR
+    "MSG: sensor_msgs/LaserEcho\nfloat32[] echoes\n" SMOKESCAN_HEADER_DEPS};
+
+std::vector<uint8_t> encode(const MultiEchoLaserScanMsg& m)
+{
+    CdrWriter w;
+    putHeader(w, m.header);
+    for (float v :
+         {m.angle_min, m.angle_max, m.angle_increment, m.time_increment, m.scan_time, m.range_min, m.range_max})
+        w.put<float>(v);
+    for (const auto* echoes : {&m.ranges, &m.intensities}) {
+        w.put<uint32_t>(uint32_t(echoes->size()));
+        for (const std::vector<float>& e : *echoes) w.putSequence(e);
+    }
+    return w.bytes();
+}
+
 std::vector<uint8_t> encode(const ImageMsg& m)
 {
     CdrWriter w;

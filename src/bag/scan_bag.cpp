@@ -97,6 +97,14 @@ void ScanBag::add(const LidarFrame& f, const SensorMount& mount)
     m.write(id, RosTime::fromSeconds(f.start_s), encode(pointCloudOf(f, mount.name)), bagFrameOf(mount), f.start_s);
 }
 
+void ScanBag::add(const MultiEchoLaserScanMsg& echoes, const SensorMount& mount)
+{
+    Impl& m = *impl_;
+    const uint16_t id = m.topic("/echoes", kMultiEchoLaserScanType);
+    m.write(id, echoes.header.stamp, encode(echoes), bagFrameOf(mount),
+            double(echoes.header.stamp.nanoseconds()) * 1e-9);
+}
+
 void ScanBag::addImage(const Image& display, double camera_time_s, double scene_time_s, const Camera& camera)
 {
     Impl& m = *impl_;

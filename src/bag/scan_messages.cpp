@@ -55,6 +55,48 @@ PointCloud2Msg pointCloudOf(const LidarFrame& f, const std::string& frame_id)
     return m;
 }
 
+std::optional<PlanarFan> planarFan(const std::vector<PatternBeam>& pattern)
+{
+    if (pattern.size() < 2) return std::nullopt;
+    // The steps from the ends: a file's rounding does not add up over the beams.
+    const double n = double(pattern.size() - 1);
+    PlanarFan f{pattern[0].azimuth_rad, (pattern.back().azimuth_rad - pattern[0].azimuth_rad) / n,
+                (pattern.back().time_s - pattern[0].time_s) / n};
+    if (!(std::abs(f.step_rad) > 0)) return std::nullopt;
+    for (size_t i = 0; i < pattern.size(); ++i) {
+        const PatternBeam& b = pattern[i];
+        if (b.channel != 0 || std::abs(b.elevation_rad) > 1e-9 ||
+            std::abs(b.azimuth_rad - (f.angle_min_rad + double(i) * f.step_rad)) > 1e-3 * std::abs(f.step_rad) ||
+            std::abs(b.time_s - (pattern[0].time_s + double(i) * f.time_step_s)) >
+                1e-3 * std::abs(f.time_step_s) + 1e-9)
+            return std::nullopt;
+    }
+    return f;
+}
+
+MultiEchoLaserScanMsg multiEchoOf(const LidarFrame& frame, const PlanarFan& fan, size_t beams, const LidarSpec& spec,
+                                  const std::string& frame_id)
+{
+    MultiEchoLaserScanMsg m;
+    m.header.stamp = RosTime::fromSeconds(frame.start_s);
+    m.header.frame_id = frame_id;
+    m.angle_min = float(fan.angle_min_rad);
+    m.angle_increment = float(fan.step_rad);
+    m.angle_max = float(fan.angle_min_rad + double(beams - 1) * fan.step_rad);
+    m.time_increment = float(fan.time_step_s);
+    m.scan_time = float(1 / spec.rate_hz);
+    m.range_min = float(spec.range_min_m);
+    m.range_max = float(spec.range_max_m);
+    m.ranges.resize(beams);
+    m.intensities.resize(beams);
+    for (const LidarPoint& p : frame.points) {  // in firing order, a beam's points in return order
+        if (p.beam >= beams) continue;
+        m.ranges[p.beam].push_back(p.range_m);
+        m.intensities[p.beam].push_back(p.intensity);
+    }
+    return m;
+}
+
 ImageMsg imageOf(const Image& display, const RosTime& stamp, const std::string& frame_id)
 {
     ImageMsg m;

@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 #include "smokescan/bag/scan_bag.hpp"
+#include "smokescan/bag/scan_messages.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
@@ -71,6 +72,9 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     if (!a.points_dir.empty()) out = std::make_unique<AtomicFolder>(a.points_dir, "the point-cloud folder", "--points");
     std::unique_ptr<ScanBag> bag;
     if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene);
+    // A planar pattern is a 2D multi-echo scanner: its frames also as MultiEchoLaserScans.
+    const std::vector<PatternBeam> pattern = bag ? framePattern(spec) : std::vector<PatternBeam>{};
+    const std::optional<PlanarFan> fan = planarFan(pattern);
     const long long frames = (long long)frames_wanted;
     const Progress progress("scanning", "lidar frames");
     long long points = 0, smoke = 0;
@@ -84,6 +88,7 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
             index += frameIndexRow(f, name);
         }
         if (bag) bag->add(f, mount);
+        if (bag && fan) bag->add(multiEchoOf(f, *fan, pattern.size(), spec, mount.name), mount);
         if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
         if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
         points += (long long)f.points.size();

@@ -40,6 +40,11 @@ const official = {
     "MSG: sensor_msgs/PointField\nuint8 INT8    = 1\nuint8 UINT8   = 2\nuint8 INT16   = 3\nuint8 UINT16  = 4\n" +
     "uint8 INT32   = 5\nuint8 UINT32  = 6\nuint8 FLOAT32 = 7\nuint8 FLOAT64 = 8\nstring name\nuint32 offset\n" +
     "uint8  datatype\nuint32 count\n" + sep + header,
+  "sensor_msgs/msg/MultiEchoLaserScan":
+    "std_msgs/Header header\nfloat32 angle_min\nfloat32 angle_max\nfloat32 angle_increment\n" +
+    "float32 time_increment\nfloat32 scan_time\nfloat32 range_min\nfloat32 range_max\n" +
+    "LaserEcho[] ranges\nLaserEcho[] intensities\n" + sep + "MSG: sensor_msgs/LaserEcho\nfloat32[] echoes\n" + sep +
+    header,
   "sensor_msgs/msg/Image":
     "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\n" +
     "uint8[] data\n" + sep + header,

@@ -10,6 +10,7 @@
 /// | tf2_msgs/msg/TFMessage       | the robot's pose over time (/tf), each sensor's mount (/tf_static) |
 /// | sensor_msgs/msg/PointCloud2  | a 3D lidar's frame with its drivers' fields                   |
 /// | sensor_msgs/msg/Image        | a rendered camera frame, rgb8 (8-bit sRGB as delivered)       |
+/// | sensor_msgs/msg/MultiEchoLaserScan | a planar multi-echo lidar's frame, every echo of each beam |
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -40,6 +41,16 @@ struct LaserScanMsg {
     float range_min = 0, range_max = 0;  ///< [m]
     std::vector<float> ranges;  ///< [m]; −Inf too close, +Inf no return, NaN a measurement error
     std::vector<float> intensities;
+};
+
+/// sensor_msgs/msg/MultiEchoLaserScan: LaserScan's fields, each beam's echoes (LaserEcho).
+struct MultiEchoLaserScanMsg {
+    RosHeader header;
+    float angle_min = 0, angle_max = 0, angle_increment = 0;  ///< [rad]
+    float time_increment = 0, scan_time = 0;  ///< [s]
+    float range_min = 0, range_max = 0;  ///< [m]
+    std::vector<std::vector<float>> ranges;  ///< per beam, its echoes' ranges [m] (none: no echo)
+    std::vector<std::vector<float>> intensities;  ///< per beam, its echoes' intensities
 };
 
 /// geometry_msgs/msg/TransformStamped: child_frame_id's pose in header.frame_id.
@@ -89,13 +100,14 @@ struct RosType {
     const char* name;  ///< e.g. "sensor_msgs/msg/LaserScan"
     const char* definition;  ///< ros2msg text with its dependencies
 };
-extern const RosType kLaserScanType, kTfType, kPointCloud2Type, kImageType;
+extern const RosType kLaserScanType, kTfType, kPointCloud2Type, kImageType, kMultiEchoLaserScanType;
 
 /// @brief CDR bytes of a message.
 std::vector<uint8_t> encode(const LaserScanMsg& m);
 std::vector<uint8_t> encode(const TfMsg& m);
 std::vector<uint8_t> encode(const PointCloud2Msg& m);
 std::vector<uint8_t> encode(const ImageMsg& m);
+std::vector<uint8_t> encode(const MultiEchoLaserScanMsg& m);
 /// @brief A message from its CDR bytes. @param what names it in errors.
 /// @throw Error naming `what` for bytes that are not such a message.
 LaserScanMsg decodeLaserScan(const std::vector<uint8_t>& b, const std::string& what);

@@ -1,7 +1,8 @@
 #pragma once
 /// @file scan_bag.hpp
 /// @brief A run as a ROS 2 bag (docs/bags.md): a 2D laser's scans (sensor_msgs/LaserScan, /scan),
-/// a 3D lidar's frames (sensor_msgs/PointCloud2, /points), the omnicam's ranges (LaserScan,
+/// a 3D lidar's frames (sensor_msgs/PointCloud2, /points; a planar one's also as
+/// sensor_msgs/MultiEchoLaserScan, /echoes), the omnicam's ranges (LaserScan,
 /// /omni/scan) and camera frames (sensor_msgs/Image, /camera/image), each in its sensor's frame
 /// named as the sensor; /tf_static holds each sensor's mount (on its robot, or in "map") once, /tf
 /// the robot's pose in "map" at each message of a sensor that rides on one. Stamps on the scene's
@@ -37,6 +38,8 @@ public:
     void add(const Scan& scan, const LrfSpec& spec, const SensorMount& mount);
     /// @brief A 3D lidar's frame on /points, in time order.
     void add(const LidarFrame& frame, const SensorMount& mount);
+    /// @brief A planar multi-echo lidar's frame on /echoes (sensor_msgs/MultiEchoLaserScan).
+    void add(const MultiEchoLaserScanMsg& echoes, const SensorMount& mount);
     /// @brief Any LaserScan on `topic`, stamped with its header's stamp (the scene's clock), from `where`.
     void add(const std::string& topic, const LaserScanMsg& scan, const BagFrame& where);
     /// @brief A camera's delivered frame on /camera/image (rgb8), stamped with the camera's own

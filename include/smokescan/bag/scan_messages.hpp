@@ -2,12 +2,15 @@
 /// @file scan_messages.hpp
 /// @brief smokescan's scans and poses as ROS messages (docs/bags.md): a 2D laser's scan as a
 /// LaserScan in the sensor's frame, a pose as a transform.
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "smokescan/bag/ros_messages.hpp"
 #include "smokescan/core/ray.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/lidar/lidar_scanner.hpp"
+#include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
 namespace smokescan {
@@ -25,6 +28,22 @@ LaserScanMsg laserScanOf(const Scan& scan, const LrfSpec& spec, const std::strin
 /// 1 smoke, 2 mirror: ground truth drivers do not have), time (float32: seconds from the frame's
 /// start, as Velodyne's driver writes it); 24 bytes a point.
 PointCloud2Msg pointCloudOf(const LidarFrame& frame, const std::string& frame_id);
+
+/// A lidar pattern that is a 2D scan: one ring in the sensor's x–y plane, its azimuths evenly spaced.
+struct PlanarFan {
+    double angle_min_rad = 0, step_rad = 0;  ///< the first beam's azimuth; the next's minus it
+    double time_step_s = 0;  ///< between beams' firings
+};
+/// @brief The fan a pattern is, or nothing: at least two beams, every one at elevation 0 on
+/// channel 0, beam i at angle_min + i·step and fired at t0 + i·time_step (each to a thousandth of
+/// its step: a pattern file's rounding).
+std::optional<PlanarFan> planarFan(const std::vector<PatternBeam>& pattern);
+
+/// @brief A planar lidar's frame as a MultiEchoLaserScan: beam i's echoes are its points in return
+/// order (range along the beam [m], intensity the calibrated reflectivity [%]); a beam without an
+/// echo has none. @param spec the sensor (range limits, rate)
+MultiEchoLaserScanMsg multiEchoOf(const LidarFrame& frame, const PlanarFan& fan, size_t beams, const LidarSpec& spec,
+                                  const std::string& frame_id);
 
 /// @brief A delivered camera frame (values in [0, 1], 8-bit sRGB as the camera gives them) as an
 /// rgb8 Image stamped `stamp`.
