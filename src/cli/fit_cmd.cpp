@@ -271,34 +271,46 @@ int runFit(const FitArgs& a0)
 }
 
 struct PlumeArgs {
-    std::string laser, scene, sensor, unit = "mm", out;
+    std::string laser, bag, topic, scene, sensor, unit = "mm", out;
     bool lenient = false;
     PlumeFitConfig cfg;
 };
 
 int runFitPlume(const PlumeArgs& a)
 {
+    const std::string scans = scansSource(a.laser, a.bag, a.topic);
     const Scene scene = loadScene(a.scene);
     RunFiles files;
     files.input(a.laser, "--laser");
+    if (!a.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
+        for (const std::string& f : bagInputFiles(a.bag)) files.input(f, "--bag");
     recordSceneInputs(files, a.scene, scene);
     files.output(a.out, "--out");
     ReadOptions ro;
     ro.unit_m = parseRangeUnit(a.unit);
     ro.lenient = a.lenient;
-    const RecordedLog log = readRecordedLog(a.laser, ro);
-    const SurfaceSet surfaces(scene);
     const int si = scene.findSensor(a.sensor.empty() ? "lms200" : a.sensor);
     if (si < 0) throw Error(scene.source, "no sensor '" + (a.sensor.empty() ? std::string("lms200") : a.sensor) + "'");
     const SensorMount& mount = scene.sensors[size_t(si)];
+    // A bag's scans in the unit of the scene's sensor, which recorded them; named with their topic.
+    std::string source = a.laser;
+    RecordedLog log;
+    if (a.bag.empty()) {
+        log = readRecordedLog(a.laser, ro);
+    } else {
+        const BagLaserScans bag = readBagLaserScans(a.bag, a.topic);
+        log = recordedLogOf(bag, specFor(mount.config));
+        source = a.bag + " " + bag.topic;
+    }
+    const SurfaceSet surfaces(scene);
     const size_t beams = log.scans.front().range.size(), expected = size_t(specFor(mount.config).n_beams);
     if (laserKind(mount.config.type).fitsPlume() && beams != expected)  // else fitSickPlume names the kind
-        throw Error(a.laser,
+        throw Error(scans,
                     "has " + std::to_string(beams) + " beams a scan; the scene's sensor '" + mount.name + "' (" +
                         sensorTypeName(mount.config.type) + ") has " + std::to_string(expected) +
                         " (a log of another sensor?)");
     const PlumeFitResult r = fitSickPlume(log, scene, surfaces, mount, a.cfg);
-    writePlumeFitJson(files.stage(a.out), r, a.cfg, a.laser, a.scene);
+    writePlumeFitJson(files.stage(a.out), r, a.cfg, source, a.scene);
     say("%zu beams crossed a plume (%zu bad lines skipped)\n", r.obs.size(), log.skipped.size());
     say("%-22s %6s %6s %6s %6s %12s\n", "peak density", "beams", "echo", "wall", "error", "depth [m]");
     for (const auto& b : r.bins)
@@ -307,7 +319,7 @@ int runFitPlume(const PlumeArgs& a)
                 b.mean_depth_m);
     for (const auto& d : r.diagnoses) say("diagnosis: %s\n", d.c_str());
     if (!r.ok)
-        throw Error(a.laser,
+        throw Error(scans,
                     "no plume penetration could be fitted: " +
                         (r.diagnoses.empty() ? std::string("see ") + a.out : r.diagnoses.front()));
     say("penetration depth D = %.3f +/- %.3f m at density %.5f, falling as density^-k, k = %.2f +/- %.2f\n",
@@ -328,7 +340,7 @@ void addFitPlume(CLI::App& app, Runner& run)
     auto* c = app.add_subcommand(
         "fit-plume",
         "Fit a Sick LMS200's penetration into smoke plumes: reported distance against the scene's plume density");
-    c->add_option("--laser", a->laser, "Sick laser log (the paper's format)")->required();
+    addScansOptions(c, a->laser, a->bag, a->topic, "Sick laser log (the paper's format)");
     c->add_option("--scene", a->scene, "Scene with the plumes and the Sick (built-in name or file)")->required();
     c->add_option("--out", a->out, "JSON report to write")->required();
     c->add_option("--sensor", a->sensor, "Sensor in the scene (default: the first lms200)");
