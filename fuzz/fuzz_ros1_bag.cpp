@@ -1,4 +1,5 @@
-// Fuzzes the ROS 1 bag reader (bag/bag_input.hpp: the structure check, then librosbag_storage):
+// Fuzzes the ROS 1 bag reader (bag/bag_input.hpp: the structure check, then librosbag_storage),
+// its LaserScans and its Images:
 // the bytes go to a file, which is what librosbag reads.
 #include <unistd.h>
 
@@ -16,6 +17,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         const smokescan::BagLaserScans b = smokescan::readBagLaserScans(path, "");
         for (const smokescan::LaserScanMsg& s : b.scans)
             if (s.ranges.size() > size_t(1) << 28) __builtin_trap();
+    });
+    (void)fuzzReader(data, size, [](const std::string&) {
+        (void)smokescan::readBagImages(
+            path, "", [](smokescan::ImageMsg&& m, const std::string& what) { (void)smokescan::imageOf(m, what); });
     });
     std::remove(path.c_str());
     return r;

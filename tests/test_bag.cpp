@@ -20,6 +20,7 @@
 #include "smokescan/bag/ros_messages.hpp"
 #include "smokescan/bag/scan_messages.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/fit/bag_saturation.hpp"
 #include "smokescan/io/image.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/sensor_config/lms200.hpp"
@@ -622,11 +623,18 @@ TEST(BagCli, ReadsTheRos1BagsDebiansRosbagWrote)
     for (const std::string compression : {"none", "bz2", "lz4"}) {
         const std::string bag = (dir() / ("ros1_" + compression + ".bag")).string();
         const std::string cmd = "/usr/bin/python3 " SMOKESCAN_SOURCE_DIR "/tests/py/write_ros1_bag.py " + bag + " " +
-            compression + " 30 682";
+            compression + " 30 682 4";
         ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
         const BagLaserScans b = readBagLaserScans(bag, "");
         EXPECT_EQ(b.topic, "/front/scan");
         expectTheWritersRule(b, 30, compression);
+        // Its camera frames (bgra8, padded rows): the saturation drawn into them, on their stamps.
+        const SaturationSeries sat = measureBagSaturation(bag, "", frameRegions({"block=2,1,4,3"}, {}));
+        ASSERT_EQ(sat.time_s.size(), 4u) << compression;
+        for (size_t k = 0; k < 4; ++k) {
+            EXPECT_DOUBLE_EQ(sat.time_s[k], 10 + 0.5 * double(k)) << compression;
+            EXPECT_NEAR(sat.saturation[k], 0.2 * double(k), 1e-6) << compression;
+        }
         EXPECT_NE(bagError(bag, "/tf").find("topic /tf is tf2_msgs/TFMessage, not sensor_msgs/LaserScan"),
                   std::string::npos)
             << bagError(bag, "/tf");

@@ -194,14 +194,10 @@ BagLaserScans readBagLaserScans(const std::string& path, const std::string& topi
 std::string readBagImages(const std::string& path, const std::string& topic,
                           const std::function<void(ImageMsg&&, const std::string& what)>& each)
 {
-    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
-        throw Error(path,
-                    "is a ROS 1 bag: smokescan reads images from ROS 2 bags (MCAP); convert it, or measure "
-                    "the frames with `saturation` from image files");
     RosTime last;
     bool first = true;
-    return readTopic(path, topic, kImageType, "Image", [&](McapMessage&& m, const std::string& what) {
-        ImageMsg img = decodeImage(m.data, what);
+    // Stamps that are times and increase, then the caller's.
+    const auto checked = [&](ImageMsg&& img, const std::string& what) {
         const RosTime& t = img.header.stamp;
         if (t.sec < 0 || t.nanosec >= 1000000000u)
             throw Error(what,
@@ -212,7 +208,11 @@ std::string readBagImages(const std::string& path, const std::string& topic,
         first = false;
         last = t;
         each(std::move(img), what);
-    });
+    };
+    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
+        return detail::readRos1Images(path, topic, checked);
+    return readTopic(path, topic, kImageType, "Image",
+                     [&](McapMessage&& m, const std::string& what) { checked(decodeImage(m.data, what), what); });
 }
 
 RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec)

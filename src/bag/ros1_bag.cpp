@@ -4,10 +4,12 @@
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
 #include <sensor_msgs/LaserScan.h>
 
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 
 #include "smokescan/core/error.hpp"
@@ -43,62 +45,76 @@ void checkLaserScanBytes(const std::vector<uint8_t>& b, const std::string& what)
     skip(uint64_t(u32()) * 4);  // intensities
 }
 
-}  // namespace
+/// A ROS 1 Image's bytes: the header (seq, stamp, frame_id), height, width, encoding,
+/// is_bigendian, step, then data (a uint32 count and the bytes); every count within the bytes left.
+void checkImageBytes(const std::vector<uint8_t>& b, const std::string& what)
+{
+    size_t at = 0;
+    auto u32 = [&] {
+        if (b.size() - at < 4) throw Error(what, "ends at byte " + std::to_string(at) + " (truncated)");
+        uint32_t v;
+        std::memcpy(&v, b.data() + at, 4);
+        at += 4;
+        return v;
+    };
+    auto skip = [&](uint64_t n) {
+        if (n > b.size() - at)
+            throw Error(what,
+                        "claims " + std::to_string(n) + " bytes at byte " + std::to_string(at) + " with " +
+                            std::to_string(b.size() - at) + " left");
+        at += size_t(n);
+    };
+    skip(12);  // seq, stamp
+    skip(u32());  // frame_id
+    skip(8);  // height, width
+    skip(u32());  // encoding
+    skip(5);  // is_bigendian, step
+    skip(u32());  // data
+}
 
-BagLaserScans readRos1LaserScans(const std::string& path, const std::string& topic)
+/// The messages on `topic` ("" = the only one of `type`) of a ROS 1 bag, each as its bytes checked
+/// by `check` before librosbag's deserialiser sizes arrays from them.
+template <class Msg>
+void readRos1Topic(const std::string& path, const std::string& topic, const std::string& type, const char* option,
+                   void (*check)(const std::vector<uint8_t>&, const std::string&),
+                   const std::function<void(Msg&&, const std::string& what)>& each, std::string& chosen)
 {
     checkRos1Structure(path);
-    BagLaserScans out;
-    out.source = path;
+    const std::string kind = type.substr(type.find('/') + 1);
+    int64_t n = 0;
     try {
         rosbag::Bag bag(path, rosbag::bagmode::Read);
         std::map<std::string, std::string> types;
         for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections()) types[c->topic] = c->datatype;
-        std::string chosen = topic, scans;
-        for (const auto& [t, type] : types)
-            if (type == "sensor_msgs/LaserScan") scans += (scans.empty() ? "" : ", ") + t;
+        std::string listed;
+        chosen = topic;
+        for (const auto& [t, ty] : types)
+            if (ty == type) listed += (listed.empty() ? "" : ", ") + t;
         if (chosen.empty()) {
-            if (scans.empty()) throw Error(path, "has no sensor_msgs/LaserScan topic");
-            if (scans.find(',') != std::string::npos)
-                throw Error(path, "has several LaserScan topics (" + scans + "): give --topic");
-            chosen = scans;
+            if (listed.empty()) throw Error(path, "has no " + type + " topic");
+            if (listed.find(',') != std::string::npos)
+                throw Error(path, "has several " + kind + " topics (" + listed + "): give " + option);
+            chosen = listed;
         }
-        const auto type = types.find(chosen);
-        if (type == types.end())
-            throw Error(path, "has no topic " + chosen + (scans.empty() ? "" : " (LaserScan topics: " + scans + ")"));
-        if (type->second != "sensor_msgs/LaserScan")
-            throw Error(path, "topic " + chosen + " is " + type->second + ", not sensor_msgs/LaserScan");
-        out.topic = chosen;
+        const auto found = types.find(chosen);
+        if (found == types.end())
+            throw Error(path,
+                        "has no topic " + chosen + (listed.empty() ? "" : " (" + kind + " topics: " + listed + ")"));
+        if (found->second != type) throw Error(path, "topic " + chosen + " is " + found->second + ", not " + type);
         for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(chosen))) {
-            const std::string what = path + ": message " + std::to_string(out.scans.size()) + " on " + chosen;
-            if (m.getDataType() != "sensor_msgs/LaserScan" ||
-                m.getMD5Sum() != ros::message_traits::md5sum<sensor_msgs::LaserScan>())
-                throw Error(what, "is not a sensor_msgs/LaserScan of this definition (its MD5 differs)");
+            const std::string what = path + ": message " + std::to_string(n) + " on " + chosen;
+            if (m.getDataType() != type || m.getMD5Sum() != ros::message_traits::md5sum<Msg>())
+                throw Error(what, "is not a " + type + " of this definition (its MD5 differs)");
             if (m.size() > limits::kBagChunkBytes) throw Error(what, "is over the limit");
-            // Its bytes, checked before roscpp_serialization sizes its arrays from them.
+            if (++n > limits::kBagMessages) throw Error(path, "has too many messages on " + chosen);
             std::vector<uint8_t> raw(m.size());
             ros::serialization::OStream os(raw.data(), uint32_t(raw.size()));
             m.write(os);
-            checkLaserScanBytes(raw, what);
-            auto s = boost::make_shared<sensor_msgs::LaserScan>();
+            check(raw, what);
+            Msg msg;
             ros::serialization::IStream is(raw.data(), uint32_t(raw.size()));
-            ros::serialization::deserialize(is, *s);
-            if ((int64_t)out.scans.size() >= limits::kBagMessages)
-                throw Error(path, "has too many messages on " + chosen);
-            LaserScanMsg l;
-            l.header.stamp.sec = int32_t(s->header.stamp.sec);
-            l.header.stamp.nanosec = s->header.stamp.nsec;
-            l.header.frame_id = s->header.frame_id;
-            l.angle_min = s->angle_min;
-            l.angle_max = s->angle_max;
-            l.angle_increment = s->angle_increment;
-            l.time_increment = s->time_increment;
-            l.scan_time = s->scan_time;
-            l.range_min = s->range_min;
-            l.range_max = s->range_max;
-            l.ranges = s->ranges;
-            l.intensities = s->intensities;
-            addLaserScan(out, std::move(l), what);
+            ros::serialization::deserialize(is, msg);
+            each(std::move(msg), what);
         }
     } catch (const Error&) {
         throw;
@@ -108,8 +124,60 @@ BagLaserScans readRos1LaserScans(const std::string& path, const std::string& top
             if (c == '\n' || c == '\r') c = ' ';
         throw Error(path, "could not be read as a ROS 1 bag: " + m);
     }
-    if (out.scans.empty()) throw Error(path, "has no messages on " + out.topic);
+    if (n == 0) throw Error(path, "has no messages on " + chosen);
+}
+
+}  // namespace
+
+BagLaserScans readRos1LaserScans(const std::string& path, const std::string& topic)
+{
+    BagLaserScans out;
+    out.source = path;
+    readRos1Topic<sensor_msgs::LaserScan>(
+        path, topic, "sensor_msgs/LaserScan", "--topic", checkLaserScanBytes,
+        [&](sensor_msgs::LaserScan&& s, const std::string& what) {
+            LaserScanMsg l;
+            l.header.stamp.sec = int32_t(s.header.stamp.sec);
+            l.header.stamp.nanosec = s.header.stamp.nsec;
+            l.header.frame_id = s.header.frame_id;
+            l.angle_min = s.angle_min;
+            l.angle_max = s.angle_max;
+            l.angle_increment = s.angle_increment;
+            l.time_increment = s.time_increment;
+            l.scan_time = s.scan_time;
+            l.range_min = s.range_min;
+            l.range_max = s.range_max;
+            l.ranges = std::move(s.ranges);
+            l.intensities = std::move(s.intensities);
+            addLaserScan(out, std::move(l), what);
+        },
+        out.topic);
     return out;
+}
+
+std::string readRos1Images(const std::string& path, const std::string& topic,
+                           const std::function<void(ImageMsg&&, const std::string& what)>& each)
+{
+    std::string chosen;
+    readRos1Topic<sensor_msgs::Image>(
+        path, topic, "sensor_msgs/Image", "its topic", checkImageBytes,
+        [&](sensor_msgs::Image&& s, const std::string& what) {
+            ImageMsg m;
+            m.header.stamp.sec = int32_t(s.header.stamp.sec);
+            m.header.stamp.nanosec = s.header.stamp.nsec;
+            m.header.frame_id = s.header.frame_id;
+            m.height = s.height;
+            m.width = s.width;
+            m.encoding = s.encoding;
+            m.is_bigendian = s.is_bigendian;
+            m.step = s.step;
+            m.data = std::move(s.data);
+            if (uint64_t(m.step) * m.height != m.data.size())
+                throw Error(what, "has " + std::to_string(m.data.size()) + " bytes of pixels, not height × step");
+            each(std::move(m), what);
+        },
+        chosen);
+    return chosen;
 }
 
 }  // namespace smokescan::detail

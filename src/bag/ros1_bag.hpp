@@ -1,6 +1,7 @@
 #pragma once
 // Internal: ROS 1 bags (format 2.0), read by Debian's librosbag_storage (bag/bag_input.hpp
 // dispatches to it for a file starting with "#ROSBAG V2.0").
+#include <functional>
 #include <string>
 
 #include "ros1_structure.hpp"
@@ -18,5 +19,11 @@ void addLaserScan(BagLaserScans& out, LaserScanMsg&& scan, const std::string& wh
 /// bounded, a known compression), so that librosbag only sees a well-formed file.
 /// @throw Error naming the file.
 BagLaserScans readRos1LaserScans(const std::string& path, const std::string& topic);
+
+/// @brief Calls `each` with every sensor_msgs/Image on `topic` ("" = the only Image topic) of a
+/// ROS 1 bag, checked as readRos1LaserScans checks scans. @return the topic read
+/// @throw Error naming the file.
+std::string readRos1Images(const std::string& path, const std::string& topic,
+                           const std::function<void(ImageMsg&&, const std::string& what)>& each);
 
 }  // namespace smokescan::detail

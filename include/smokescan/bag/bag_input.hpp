@@ -34,10 +34,10 @@ std::vector<std::string> bagInputFiles(const std::string& path);
 BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic);
 
 /// @brief Calls `each` with every Image on `topic` ("" = the bag's only sensor_msgs/Image topic),
-/// in the bag's order, `what` naming the message for errors. A rosbag2 folder or .mcap file.
-/// @return the topic read
-/// @throw Error naming the file, as readBagLaserScans, and for a ROS 1 bag (its images are not
-/// read) or stamps that are not times or do not increase.
+/// in the bag's order, `what` naming the message for errors. A rosbag2 folder, an .mcap file or a
+/// ROS 1 .bag file. @return the topic read
+/// @throw Error naming the file, as readBagLaserScans, and for stamps that are not times or do
+/// not increase.
 std::string readBagImages(const std::string& path, const std::string& topic,
                           const std::function<void(ImageMsg&&, const std::string& what)>& each);
 
