@@ -519,9 +519,22 @@ TEST(Bag, APatternIsAPlanarFanOnlyInOnePlaneWithEvenSteps)
     EXPECT_FALSE(planarFan(fanOf(5, 2, 1.0)).has_value()) << "out of the plane";
     EXPECT_FALSE(planarFan(fanOf(5, 2, 0, 3)).has_value()) << "another channel";
     auto uneven = fanOf(5, 2);
-    uneven[2].azimuth_rad += 0.01 * M_PI / 180;
+    uneven[2].azimuth_rad += 0.1 * M_PI / 180;  // a twentieth of the step
     EXPECT_FALSE(planarFan(uneven).has_value()) << "an uneven step";
     EXPECT_FALSE(planarFan(fanOf(1, 2)).has_value()) << "one beam";
+    // A UTM-30LX-EW's 1081 steps of 0.25° in a 25 ms turn, times rounded to µs and azimuths to
+    // 1e-3°, as a pattern file may hold them: planar.
+    std::vector<PatternBeam> utm(1081);
+    for (size_t i = 0; i < utm.size(); ++i)
+        utm[i] = {std::round((-135 + 0.25 * double(i)) * 1e3) / 1e3 * M_PI / 180, 0, 0,
+                  std::round(0.025 * double(i) / 1440 * 1e6) / 1e6};
+    ASSERT_TRUE(planarFan(utm).has_value());
+    EXPECT_NEAR(planarFan(utm)->time_step_s, 0.025 / 1440, 1e-9);
+    // Azimuths that wrap at ±180° (10° … 209° as −151°) are no even fan.
+    auto wrapped = fanOf(200, 1.0);
+    ASSERT_TRUE(planarFan(wrapped).has_value());
+    for (PatternBeam& b : wrapped) b.azimuth_rad = std::remainder(b.azimuth_rad, 2 * M_PI);
+    EXPECT_FALSE(planarFan(wrapped).has_value()) << "wrapped";
     LidarSpec vlp = lidarSpec("vlp16");
     EXPECT_FALSE(planarFan(framePattern(vlp)).has_value()) << "16 channels";
 }

@@ -18,58 +18,67 @@
 namespace smokescan::detail {
 namespace {
 
-/// A ROS 1 LaserScan's bytes (no alignment, little-endian): the header (seq, stamp, frame_id),
-/// seven float32, then ranges and intensities, each a uint32 count then float32s; every count
-/// within the bytes left.
+/// A walk over a ROS 1 message's bytes (no alignment, little-endian): each count read must
+/// fit in the bytes left.
+class ByteWalk {
+public:
+    ByteWalk(const std::vector<uint8_t>& b, const std::string& what) : b_(b), what_(what) {}
+    uint32_t u32()
+    {
+        if (b_.size() - at_ < 4) throw Error(what_, "ends at byte " + std::to_string(at_) + " (truncated)");
+        uint32_t v;
+        std::memcpy(&v, b_.data() + at_, 4);
+        at_ += 4;
+        return v;
+    }
+    void skip(uint64_t n)
+    {
+        if (n > b_.size() - at_)
+            throw Error(what_,
+                        "claims " + std::to_string(n) + " bytes at byte " + std::to_string(at_) + " with " +
+                            std::to_string(b_.size() - at_) + " left");
+        at_ += size_t(n);
+    }
+
+private:
+    const std::vector<uint8_t>& b_;
+    const std::string& what_;
+    size_t at_ = 0;
+};
+
+/// A LaserScan: the header (seq, stamp, frame_id), seven float32, then ranges and intensities,
+/// each a uint32 count then float32s.
 void checkLaserScanBytes(const std::vector<uint8_t>& b, const std::string& what)
 {
-    size_t at = 0;
-    auto u32 = [&] {
-        if (b.size() - at < 4) throw Error(what, "ends at byte " + std::to_string(at) + " (truncated)");
-        uint32_t v;
-        std::memcpy(&v, b.data() + at, 4);
-        at += 4;
-        return v;
-    };
-    auto skip = [&](uint64_t n) {
-        if (n > b.size() - at)
-            throw Error(what,
-                        "claims " + std::to_string(n) + " bytes at byte " + std::to_string(at) + " with " +
-                            std::to_string(b.size() - at) + " left");
-        at += size_t(n);
-    };
-    skip(12);  // seq, stamp
-    skip(u32());  // frame_id
-    skip(7 * 4);
-    skip(uint64_t(u32()) * 4);  // ranges
-    skip(uint64_t(u32()) * 4);  // intensities
+    ByteWalk w(b, what);
+    w.skip(12);  // seq, stamp
+    w.skip(w.u32());  // frame_id
+    w.skip(7 * 4);
+    w.skip(uint64_t(w.u32()) * 4);  // ranges
+    w.skip(uint64_t(w.u32()) * 4);  // intensities
 }
 
-/// A ROS 1 Image's bytes: the header (seq, stamp, frame_id), height, width, encoding,
-/// is_bigendian, step, then data (a uint32 count and the bytes); every count within the bytes left.
+/// An Image: the header, height, width, encoding, is_bigendian, step, then data (a uint32 count
+/// and the bytes).
 void checkImageBytes(const std::vector<uint8_t>& b, const std::string& what)
 {
-    size_t at = 0;
-    auto u32 = [&] {
-        if (b.size() - at < 4) throw Error(what, "ends at byte " + std::to_string(at) + " (truncated)");
-        uint32_t v;
-        std::memcpy(&v, b.data() + at, 4);
-        at += 4;
-        return v;
-    };
-    auto skip = [&](uint64_t n) {
-        if (n > b.size() - at)
-            throw Error(what,
-                        "claims " + std::to_string(n) + " bytes at byte " + std::to_string(at) + " with " +
-                            std::to_string(b.size() - at) + " left");
-        at += size_t(n);
-    };
-    skip(12);  // seq, stamp
-    skip(u32());  // frame_id
-    skip(8);  // height, width
-    skip(u32());  // encoding
-    skip(5);  // is_bigendian, step
-    skip(u32());  // data
+    ByteWalk w(b, what);
+    w.skip(12);  // seq, stamp
+    w.skip(w.u32());  // frame_id
+    w.skip(8);  // height, width
+    w.skip(w.u32());  // encoding
+    w.skip(5);  // is_bigendian, step
+    w.skip(w.u32());  // data
+}
+
+/// A ROS 1 header as ROS 2's (no sequence number).
+RosHeader headerOf(const std_msgs::Header& h)
+{
+    RosHeader r;
+    r.stamp.sec = int32_t(h.stamp.sec);
+    r.stamp.nanosec = h.stamp.nsec;
+    r.frame_id = h.frame_id;
+    return r;
 }
 
 /// The messages on `topic` ("" = the only one of `type`) of a ROS 1 bag, each as its bytes checked
@@ -114,7 +123,13 @@ void readRos1Topic(const std::string& path, const std::string& topic, const std:
             Msg msg;
             ros::serialization::IStream is(raw.data(), uint32_t(raw.size()));
             ros::serialization::deserialize(is, msg);
-            each(std::move(msg), what);
+            try {  // the caller's own failures are not the bag's
+                each(std::move(msg), what);
+            } catch (const Error&) {
+                throw;
+            } catch (const std::exception& e) {
+                throw Error(what, e.what());
+            }
         }
     } catch (const Error&) {
         throw;
@@ -137,9 +152,7 @@ BagLaserScans readRos1LaserScans(const std::string& path, const std::string& top
         path, topic, "sensor_msgs/LaserScan", "--topic", checkLaserScanBytes,
         [&](sensor_msgs::LaserScan&& s, const std::string& what) {
             LaserScanMsg l;
-            l.header.stamp.sec = int32_t(s.header.stamp.sec);
-            l.header.stamp.nanosec = s.header.stamp.nsec;
-            l.header.frame_id = s.header.frame_id;
+            l.header = headerOf(s.header);
             l.angle_min = s.angle_min;
             l.angle_max = s.angle_max;
             l.angle_increment = s.angle_increment;
@@ -163,9 +176,7 @@ std::string readRos1Images(const std::string& path, const std::string& topic,
         path, topic, "sensor_msgs/Image", "its topic", checkImageBytes,
         [&](sensor_msgs::Image&& s, const std::string& what) {
             ImageMsg m;
-            m.header.stamp.sec = int32_t(s.header.stamp.sec);
-            m.header.stamp.nanosec = s.header.stamp.nsec;
-            m.header.frame_id = s.header.frame_id;
+            m.header = headerOf(s.header);
             m.height = s.height;
             m.width = s.width;
             m.encoding = s.encoding;

@@ -41,6 +41,16 @@ RosHeader getHeader(CdrReader& r)
     return h;
 }
 
+/// The header and the seven float32 a LaserScan and a MultiEchoLaserScan open with.
+template <class Scan>
+void putScanFields(CdrWriter& w, const Scan& m)
+{
+    putHeader(w, m.header);
+    for (float v :
+         {m.angle_min, m.angle_max, m.angle_increment, m.time_increment, m.scan_time, m.range_min, m.range_max})
+        w.put<float>(v);
+}
+
 void finished(const CdrReader& r, const std::string& what)
 {
     if (r.remaining() > 3)  // at most the padding a writer may add to a 4-byte boundary
@@ -87,10 +97,7 @@ const RosType kMultiEchoLaserScanType = {
 std::vector<uint8_t> encode(const MultiEchoLaserScanMsg& m)
 {
     CdrWriter w;
-    putHeader(w, m.header);
-    for (float v :
-         {m.angle_min, m.angle_max, m.angle_increment, m.time_increment, m.scan_time, m.range_min, m.range_max})
-        w.put<float>(v);
+    putScanFields(w, m);
     for (const auto* echoes : {&m.ranges, &m.intensities}) {
         w.put<uint32_t>(uint32_t(echoes->size()));
         for (const std::vector<float>& e : *echoes) w.putSequence(e);
@@ -131,10 +138,7 @@ ImageMsg decodeImage(const std::vector<uint8_t>& b, const std::string& what)
 std::vector<uint8_t> encode(const LaserScanMsg& m)
 {
     CdrWriter w;
-    putHeader(w, m.header);
-    for (float v :
-         {m.angle_min, m.angle_max, m.angle_increment, m.time_increment, m.scan_time, m.range_min, m.range_max})
-        w.put<float>(v);
+    putScanFields(w, m);
     w.putSequence(m.ranges);
     w.putSequence(m.intensities);
     return w.bytes();

@@ -76,7 +76,8 @@ McapWriteResult Rosbag2Writer::finish()
     try {
         r = m.mcap.finish();
     } catch (const Error&) {
-        throw failed();
+        if (!m.out) throw failed();  // the stream failed: say where and why
+        throw;
     }
     m.out.close();
     if (!m.out) throw failed();

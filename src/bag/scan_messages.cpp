@@ -66,9 +66,8 @@ std::optional<PlanarFan> planarFan(const std::vector<PatternBeam>& pattern)
     for (size_t i = 0; i < pattern.size(); ++i) {
         const PatternBeam& b = pattern[i];
         if (b.channel != 0 || std::abs(b.elevation_rad) > 1e-9 ||
-            std::abs(b.azimuth_rad - (f.angle_min_rad + double(i) * f.step_rad)) > 1e-3 * std::abs(f.step_rad) ||
-            std::abs(b.time_s - (pattern[0].time_s + double(i) * f.time_step_s)) >
-                1e-3 * std::abs(f.time_step_s) + 1e-9)
+            std::abs(b.azimuth_rad - (f.angle_min_rad + double(i) * f.step_rad)) > 0.01 * std::abs(f.step_rad) ||
+            std::abs(b.time_s - (pattern[0].time_s + double(i) * f.time_step_s)) > 0.1 * std::abs(f.time_step_s) + 1e-9)
             return std::nullopt;
     }
     return f;

@@ -164,9 +164,10 @@ void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>
 void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::string& topic, const char* laser_help)
 {
     c->add_option("--laser", laser, laser_help);
-    c->add_option("--bag", bag,
-                  "Or a ROS 2 bag: a rosbag2 folder or .mcap file whose sensor_msgs/LaserScan topic holds the scans "
-                  "(docs/bags.md)");
+    c->add_option(
+        "--bag", bag,
+        "Or a bag: a rosbag2 folder, .mcap or ROS 1 .bag file whose sensor_msgs/LaserScan topic holds the scans "
+        "(docs/bags.md)");
     c->add_option("--topic", topic, "The bag's LaserScan topic (default: its only one)")->check(nonEmpty());
 }
 
@@ -176,7 +177,8 @@ CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::str
 {
     CLI::Option* o = c->add_option(
         "--saturation", saturation,
-        help + "; or a ROS 2 bag whose camera frames are measured (--image-topic, --rect/--polygon; docs/bags.md)");
+        help +
+            "; or a bag (ROS 2 or ROS 1) whose camera frames are measured (--image-topic, --rect/--polygon; docs/bags.md)");
     c->add_option("--image-topic", image_topic, "The --saturation bag's Image topic (default: its only one)")
         ->check(nonEmpty());
     c->add_option("--rect", rects, "The target in the bag's frames: NAME=x,y,width,height in pixels (repeatable)");

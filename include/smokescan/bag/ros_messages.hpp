@@ -10,7 +10,7 @@
 /// | tf2_msgs/msg/TFMessage       | the robot's pose over time (/tf), each sensor's mount (/tf_static) |
 /// | sensor_msgs/msg/PointCloud2  | a 3D lidar's frame with its drivers' fields                   |
 /// | sensor_msgs/msg/Image        | a rendered camera frame, rgb8 (8-bit sRGB as delivered)       |
-/// | sensor_msgs/msg/MultiEchoLaserScan | a planar multi-echo lidar's frame, every echo of each beam |
+/// | sensor_msgs/msg/MultiEchoLaserScan | a planar multi-echo lidar's frame, each beam's echoes |
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -35,13 +35,13 @@ struct PlanarFan {
     double time_step_s = 0;  ///< between beams' firings
 };
 /// @brief The fan a pattern is, or nothing: at least two beams, every one at elevation 0 on
-/// channel 0, beam i at angle_min + i·step and fired at t0 + i·time_step (each to a thousandth of
-/// its step: a pattern file's rounding).
+/// channel 0, beam i at angle_min + i·step (to a hundredth of the step) and fired at
+/// t0 + i·time_step (to a tenth of it: a pattern file's times rounded to µs).
 std::optional<PlanarFan> planarFan(const std::vector<PatternBeam>& pattern);
 
-/// @brief A planar lidar's frame as a MultiEchoLaserScan: beam i's echoes are its points in return
-/// order (range along the beam [m], intensity the calibrated reflectivity [%]); a beam without an
-/// echo has none. @param spec the sensor (range limits, rate)
+/// @brief A planar lidar's frame as a MultiEchoLaserScan: beam i's echoes are its points, the
+/// return mode's (one, or two with dual), nearest first (range along the beam [m], intensity the
+/// calibrated reflectivity [%]); a beam without an echo has none. Stamped at the frame's start. @param spec the sensor (range limits, rate)
 MultiEchoLaserScanMsg multiEchoOf(const LidarFrame& frame, const PlanarFan& fan, size_t beams, const LidarSpec& spec,
                                   const std::string& frame_id);
 
