@@ -718,47 +718,6 @@ TEST(BagCli, ABagOfManyChunksIsReadByTheIndependentReaderThroughItsIndexes)
     }
 }
 
-TEST(BagCli, RenderedCameraFramesGoOnCameraImageAsThePngsTheCameraDelivered)
-{
-    SMOKESCAN_NEED_READERS();
-    const fs::path bag = dir() / "bag_frames", frames = dir() / "bag_frames_png";
-    fs::remove_all(bag);
-    fs::remove_all(frames);
-    const CliRun r = cli("scan bocas --from 100 --to 101 --rate 2 --quiet --bag " + bag.string() +
-                         " --saturation-out " + file("bag_frames.csv") +
-                         " --saturation-render --saturation-width 64 --saturation-height 48 --saturation-spp 4 "
-                         "--saturation-rate 2 --camera-offset 0.25 --saturation-frames " +
-                         frames.string());
-    ASSERT_EQ(r.status, 0) << r.err;
-    const nlohmann::json j = readIndependently((bag / "bag_frames_0.mcap").string());
-    EXPECT_TRUE(j["problems"].empty()) << j["problems"];
-    size_t k = 0;
-    for (const auto& m : j["messages"]) {
-        if (m["topic"] != "/camera/image") continue;
-        EXPECT_EQ(m["schema"], "sensor_msgs/msg/Image");
-        const auto& msg = m["message"];
-        // The camera's own clock: the scene's plus --camera-offset.
-        EXPECT_EQ(std::stoull(m["logTime"].get<std::string>()), 100250000000ull + 500000000ull * k);
-        EXPECT_EQ(msg["encoding"], "rgb8");
-        EXPECT_EQ(msg["width"], 64);
-        EXPECT_EQ(msg["height"], 48);
-        EXPECT_EQ(msg["step"], 64 * 3);
-        char name[32];
-        std::snprintf(name, sizeof name, "frame_%06zu.png", k);
-        const Image png = readImage((frames / name).string());
-        const std::string data = base64(msg["data"].get<std::string>());
-        ASSERT_EQ(data.size(), size_t(64 * 48 * 3));
-        for (int y = 0; y < 48; ++y)
-            for (int x = 0; x < 64; ++x)
-                for (int c = 0; c < 3; ++c)
-                    ASSERT_EQ(int(uint8_t(data[size_t((y * 64 + x) * 3 + c)])),
-                              int(std::lround(png.data[size_t((y * 64 + x) * png.channels + c)] * 255)))
-                        << k << " " << x << " " << y;
-        ++k;
-    }
-    EXPECT_EQ(k, 3u);
-}
-
 TEST(Bag, StampsAndBeamsAreCheckedOnEveryScan)
 {
     // A stamp that is not a time, on the scan that has it.
