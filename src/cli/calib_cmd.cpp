@@ -15,7 +15,6 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
-#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/camera/frame_saturation.hpp"
 #include "smokescan/core/error.hpp"
@@ -148,7 +147,7 @@ int runBagSaturation(const SatArgs& a, const FrameRegions& regions)
           std::pair{!a.timestamps.empty(), "--timestamps"}, std::pair{a.fps > 0, "--fps"}})
         if (given) throw Error(option, "goes with frame files; a bag's frames carry their stamps");
     RunFiles files;
-    for (const std::string& f : bagInputFiles(a.bag)) files.input(f, "--bag");
+    bagInputs(files, a.bag, "--bag");
     files.output(a.out, "--out");
     const SaturationSeries s = measureBagSaturation(a.bag, a.topic, regions);
     writeSaturationCsv(files.stage(a.out), s);

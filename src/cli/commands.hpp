@@ -49,6 +49,9 @@ void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::str
 CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::string& image_topic,
                                   std::vector<std::string>& rects, std::vector<std::string>& polygons,
                                   const std::string& help);
+/// @brief A bag's files as the run's inputs, which no output may replace: a folder's metadata.yaml
+/// and the files it lists, or the file itself; nothing when `bag` is empty.
+void bagInputs(RunFiles& files, const std::string& bag, const std::string& option);
 /// @brief The --saturation input's files (a bag's metadata.yaml and the files it lists, or the CSV).
 void saturationInputs(RunFiles& files, const std::string& saturation);
 /// @brief Exactly one of --laser and --bag (and --topic only with --bag): the source's name for

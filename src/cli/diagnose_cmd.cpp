@@ -7,7 +7,6 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
-#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
 #include "smokescan/diagnose/diagnosis_report.hpp"
@@ -118,8 +117,7 @@ int runDiagnose(const DiagnoseArgs& a0)
     a.scans = scansSource(a.in.laser, a.in.bag, a.in.topic);
     RunFiles files;
     files.input(a.in.laser, "--laser");
-    if (!a.in.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
-        for (const std::string& f : bagInputFiles(a.in.bag)) files.input(f, "--bag");
+    bagInputs(files, a.in.bag, "--bag");
     saturationInputs(files, a.in.saturation);
     files.input(a.in.calibration, "--calibration");
     files.input(a.sensor_file, "--sensor-file");

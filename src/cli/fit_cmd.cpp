@@ -179,8 +179,7 @@ int runFit(const FitArgs& a0)
     const std::string scans = scansSource(a.laser, a.bag, a.topic);
     RunFiles files;
     files.input(a.laser, "--laser");
-    if (!a.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
-        for (const std::string& f : bagInputFiles(a.bag)) files.input(f, "--bag");
+    bagInputs(files, a.bag, "--bag");
     saturationInputs(files, a.saturation);
     files.input(a.surfaces_file, "--surfaces");
     files.input(a.calibration, "--calibration");
@@ -282,8 +281,7 @@ int runFitPlume(const PlumeArgs& a)
     const Scene scene = loadScene(a.scene);
     RunFiles files;
     files.input(a.laser, "--laser");
-    if (!a.bag.empty())  // a folder's metadata.yaml and its files: no output may replace them
-        for (const std::string& f : bagInputFiles(a.bag)) files.input(f, "--bag");
+    bagInputs(files, a.bag, "--bag");
     recordSceneInputs(files, a.scene, scene);
     files.output(a.out, "--out");
     ReadOptions ro;

@@ -7,7 +7,6 @@
 #include "commands.hpp"
 #include "progress.hpp"
 #include "smokescan/bag/scan_bag.hpp"
-#include "smokescan/bag/scan_messages.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"

@@ -186,10 +186,16 @@ CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::str
     return o;
 }
 
+void bagInputs(RunFiles& files, const std::string& bag, const std::string& option)
+{
+    if (bag.empty()) return;
+    for (const std::string& f : bagInputFiles(bag)) files.input(f, option);
+}
+
 void saturationInputs(RunFiles& files, const std::string& saturation)
 {
     if (saturation.empty() || !isBagPath(saturation)) return files.input(saturation, "--saturation");
-    for (const std::string& f : bagInputFiles(saturation)) files.input(f, "--saturation");
+    bagInputs(files, saturation, "--saturation");
 }
 
 std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic)
