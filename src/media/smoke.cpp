@@ -63,7 +63,10 @@ BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuer
             beta_parts.push_back(std::move(beta));
         }
     }
-    if (q.want_profile) {
+    if (q.want_profile && parts.size() == 1) {  // one volume on the beam: its own profiles
+        out.sigma_t_profile = std::move(parts.front());
+        out.beta_profile = std::move(beta_parts.front());
+    } else if (q.want_profile) {
         out.sigma_t_profile = sumProfiles(parts);
         out.beta_profile = sumProfiles(beta_parts);
     }

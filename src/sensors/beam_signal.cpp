@@ -9,10 +9,10 @@ namespace {
 
 /// Sub-ray directions: the centre and four rays at 0.7 of the half divergence (in the scan
 /// plane and across it), an equal-weight quadrature of a Gaussian-ish footprint.
-std::vector<Vec3> footprint(const Vec3& d, double half_angle_rad, int n)
+void footprint(const Vec3& d, double half_angle_rad, int n, std::vector<Vec3>& out)
 {
-    std::vector<Vec3> out{d};
-    if (n <= 1) return out;
+    out.assign(1, d);
+    if (n <= 1) return;
     const Vec3 helper = std::abs(d.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX();
     const Vec3 u = d.cross(helper).normalized(), v = d.cross(u);
     const double t = std::tan(0.7 * half_angle_rad);
@@ -29,7 +29,6 @@ std::vector<Vec3> footprint(const Vec3& d, double half_angle_rad, int n)
     }
     out.reserve(size_t(n));
     for (const auto& [c, s] : ring) out.push_back((d + t * (c * u + s * v)).normalized());
-    return out;
 }
 
 }  // namespace
@@ -49,14 +48,18 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
     BeamSignal sig;
     const double wl = wavelength_nm;
     const double half = 0.5e-3 * p.divergence_mrad;
-    const std::vector<Vec3> dirs = footprint(ray.d, half, p.sub_rays);
+    // Each beam's scratch, kept for each thread (a frame traces many beams).
+    thread_local std::vector<Vec3> dirs;
+    thread_local std::vector<SurfaceHit> hits;
+    thread_local std::vector<double> blocked;
+    footprint(ray.d, half, p.sub_rays, dirs);
     const double w = 1.0 / double(dirs.size());
     // Echoes beyond the sensor's range window still pull the phase or widen the waveform; look
     // a pulse length further than the maximum range.
     const double reach = range_max_m + 1.0;
 
-    std::vector<SurfaceHit> hits(dirs.size());
-    std::vector<double> blocked(dirs.size());
+    hits.resize(dirs.size());
+    blocked.resize(dirs.size());
     double t_end = 0;
     for (size_t j = 0; j < dirs.size(); ++j) {
         hits[j] = surfaces.closest(Ray{ray.o, dirs[j]}, reach);

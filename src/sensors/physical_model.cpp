@@ -124,6 +124,8 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     const double n_sub = blocked.empty() ? 1.0 : double(blocked.size());
     auto blockedAfter = blocked.begin();  // the first sub-ray stop beyond the piece's start
     double last_end = -1, last_T2 = 1;  // where the last segment ended, and T² there
+    auto sig_at = tau.segments().begin();
+    const auto sig_end = tau.segments().end();
     for (const auto& g : beta) {
         const double a = std::max(g.t0_m, 0.0), b = std::min(g.t1_m, s1);
         if (!(b > a) || g.density <= 0) continue;
@@ -133,13 +135,35 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
         // The segment in stretches of constant σ_t (a volume that only absorbs may change σ_t
         // inside a β segment), so that over a piece [x, y]: ∫T² = T²(x)·(1 − exp(−2σ(y − x)))/(2σ).
         for (double sa = a; sa < b;) {
-            const double sb = std::min(b, tau.stretchEnd(sa)), sig = tau.sigmaAt(0.5 * (sa + sb));
+            // The σ_t segment holding sa (or the gap before the next), walked along with sa.
+            while (sig_at != sig_end && sig_at->t1_m <= sa) ++sig_at;
+            const bool inside = sig_at != sig_end && sig_at->t0_m <= sa;
+            const double sb = std::min(b, sig_at == sig_end ? kInf : inside ? sig_at->t1_m : sig_at->t0_m);
+            const double sig = inside ? sig_at->density : 0.0;
             // Over a piece of length len: the step of T², ∫T² / T²(start), and the centre of T².
             auto piece = [sig](double len, double& step, double& integral, double& centre) {
                 const double h = 2 * sig * len;
+                if (h < 0.03) {
+                    // Their series in h (the next terms below 1e-16 of the value): no exp, no division.
+                    step = 1 -
+                        h *
+                            (1 -
+                             h *
+                                 (1.0 / 2 -
+                                  h *
+                                      (1.0 / 6 -
+                                       h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
+                    integral = len *
+                        (1 -
+                         h *
+                             (1.0 / 2 -
+                              h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
+                    centre = len * (0.5 - h * (1.0 / 12 - h * h * (1.0 / 720 - h * h * (1.0 / 30240))));
+                    return;
+                }
                 step = std::exp(-h);
-                integral = h > 1e-6 ? (1 - step) / (2 * sig) : len * (1 - 0.5 * h);
-                centre = h > 1e-4 ? 1 / (2 * sig) - len * step / (1 - step) : len * (0.5 - h / 12);
+                integral = (1 - step) / (2 * sig);
+                centre = 1 / (2 * sig) - len * step / (1 - step);
             };
             double full_step, full_integral, full_centre;  // a whole piece between two points
             piece(c, full_step, full_integral, full_centre);

@@ -50,15 +50,19 @@ struct BeamSignal {
 /// Optical depth along a beam from a piecewise-constant σ_t profile: τ(r) in O(log n).
 class TauProfile {
 public:
+    /// The profile is referred to, not copied: it must outlive this.
     explicit TauProfile(const std::vector<ProfileSegment>& sigma_t);
+    explicit TauProfile(std::vector<ProfileSegment>&&) = delete;
     double tau(double r_m) const;
     double sigmaAt(double r_m) const;  ///< σ_t [1/m] at r (0 outside the segments)
     /// Where the stretch of constant σ_t holding r ends [m]: its segment's end, the next
     /// segment's start in a gap, +inf beyond the last.
     double stretchEnd(double r_m) const;
+    /// The σ_t segments, in order along the beam.
+    const std::vector<ProfileSegment>& segments() const { return seg_; }
 
 private:
-    std::vector<ProfileSegment> seg_;
+    const std::vector<ProfileSegment>& seg_;
     std::vector<double> cum_;  ///< τ at each segment's start
 };
 
