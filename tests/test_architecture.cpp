@@ -20,9 +20,9 @@ namespace {
 /// Rank of each module: a module may include those of lower rank. sensors and render share a
 /// rank: neither may include the other.
 const std::map<std::string, int> kRank = {
-    {"core", 0},   {"io", 1},      {"toml", 1},   {"solve", 1}, {"media", 2},     {"sensor_config", 3},
-    {"scene", 4},  {"sensors", 5}, {"render", 5}, {"plot", 6},  {"lidar", 6},     {"bag", 7},
-    {"camera", 7}, {"calib", 8},   {"omni", 8},   {"fit", 9},   {"diagnose", 10}, {"cli", 11}};
+    {"core", 0},    {"io", 1},     {"toml", 1},      {"solve", 1},     {"media", 2}, {"sensor_config", 3}, {"scene", 4},
+    {"sensors", 5}, {"render", 5}, {"plot", 6},      {"lidar", 6},     {"bag", 7},   {"camera", 7},        {"calib", 8},
+    {"omni", 8},    {"fit", 9},    {"diagnose", 10}, {"pipeline", 11}, {"cli", 12}};
 
 struct Violation {
     std::string file, line;

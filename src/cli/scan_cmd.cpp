@@ -24,6 +24,7 @@
 #include "smokescan/io/image.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/lidar/lidar_spec.hpp"
+#include "smokescan/pipeline/laser_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/sensors/scan_summary.hpp"
@@ -183,18 +184,19 @@ int runScan(const ScanArgs& a0)
     recordFiles(files, a);
     if (!a.image.empty() && !isImageExtension(a.image))
         throw Error(a.image, "unknown image format (png, exr, jpg, tif)");
-    const SurfaceSet surfaces(scene);
     if (!std::isnan(a.from)) a.cfg.from_s = a.from;
     if (!std::isnan(a.to)) a.cfg.to_s = a.to;
     if (!a.model.empty()) a.cfg.model = sensorModelOption("--model", a.model);
-    const Scanner sc(scene, surfaces, a.cfg);  // an unknown sensor is named before anything else
+    const LaserRun scan_run(scene, a.cfg);  // an unknown sensor is named before anything else
+    const Scanner& sc = scan_run.scanner();
+    const SurfaceSet& surfaces = scan_run.surfaces();
     for (const auto& [given, option] : lidarOnly(a))
         if (given) throw Error(option, "is for a 3D lidar (--sensor vlp16, hdl32e, os1-128 or a preset file)");
     if (a.out.empty() && a.bag.empty())
         throw Error("--out", "a 2D laser's scans need a log or a bag to go to (--out FILE, --bag DIR)");
     // The clock offset a sensor file learned (smokescan diagnose) is the default of --camera-offset.
     if (std::isnan(a.sat.clock_offset_s)) a.sat.clock_offset_s = sc.mount().config.extensions.clock_offset_s;
-    const auto times = sc.times();
+    const std::vector<double>& times = scan_run.times();
     if (!a.image.empty() && (long long)times.size() > limits::kImageScans)
         throw Error("--image",
                     "would draw " + std::to_string(times.size()) + " scans (at most " +
@@ -246,14 +248,13 @@ int runScan(const ScanArgs& a0)
         writeBeamCsvHeader(tau->stream());
     }
     std::vector<Scan> drawn;  // values only, for --image
-    for (size_t k = 0; k < times.size(); ++k) {
-        Scan s = sc.scanAt(times[k], k);
+    scan_run.run([&](Scan&& s) {
         if (log) writeLaserLogScan(log->stream(), s, sc.spec());
         if (bag) bag->add(s, sc.spec(), sc.mount());
         if (tau) writeBeamCsvScan(tau->stream(), s, scene);
         summary.add(s);
         if (!a.image.empty()) drawn.push_back(Scan{s.time_s, {}, std::move(s.value), {}});
-    }
+    });
     if (log) log->commit();
     if (tau) tau->commit();
     if (!a.image.empty())

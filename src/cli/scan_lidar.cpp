@@ -16,6 +16,7 @@
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/lidar/frame_pictures.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
+#include "smokescan/pipeline/lidar_run.hpp"
 #include "smokescan/scene/scene.hpp"
 
 namespace smokescan::cli {
@@ -47,27 +48,23 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     if (a.format != "pcd" && a.format != "ply") throw Error("--points-format", "must be pcd or ply");
     if (a.top_view_m != LidarScanArgs{}.top_view_m && a.top_view.empty())
         throw Error("--top-view-width", "needs --top-view");
-    LidarSpec spec = lidarSpec(a.sensor);
+    if (a.returns_given) parseReturnMode(a.returns, "--returns");  // "" too: the option was given
+    LidarRunConfig cfg;
+    cfg.sensor = a.sensor;
+    cfg.returns = a.returns_given ? a.returns : "";
+    cfg.rate_hz = a.rate_hz;
+    cfg.columns = a.columns;
+    cfg.from_s = a.from;
+    cfg.to_s = a.to;
+    cfg.seed = a.seed;
+    const LidarRun run(scene, cfg);
+    const LidarSpec& spec = run.spec();
     files.input(spec.pattern_file, "--sensor (its pattern file)");
-    configureLidar(spec, a.rate_hz, a.columns, "--sensor " + a.sensor);
     if (!a.range_image.empty() && spec.pattern != PatternKind::Spinning)
         throw Error("--range-image",
                     "the " + spec.name + " fires a pattern file: it has no channels × columns to draw");
-    // Without --returns, the sensor's own first mode (strongest where it offers it).
-    const ReturnMode mode = a.returns_given  ? parseReturnMode(a.returns, "--returns")
-        : spec.offers(ReturnMode::Strongest) ? ReturnMode::Strongest
-                                             : spec.return_modes.front();
-    const SensorMount mount = defaultLidarMount(scene, spec.name);
-    const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? from : a.to;
-    if (!(to >= from)) throw Error("--to", "must not precede --from");
-    const double period = 1 / spec.rate_hz;
-    const double frames_wanted = std::floor((to - from) / period + 1e-9) + 1;
-    if (frames_wanted > double(limits::kFrames))
-        throw Error("--to",
-                    "would make " + limits::count(frames_wanted) + " lidar frames (at most " +
-                        std::to_string(limits::kFrames) + ")");
-    const SurfaceSet surfaces(scene);
-    const LidarScanner scanner(scene, surfaces, mount, spec, mode, a.seed);
+    const ReturnMode mode = run.mode();
+    const SensorMount& mount = run.mount();
     std::unique_ptr<AtomicFolder> out;
     if (!a.points_dir.empty()) out = std::make_unique<AtomicFolder>(a.points_dir, "the point-cloud folder", "--points");
     std::unique_ptr<ScanBag> bag;
@@ -75,26 +72,29 @@ int runLidarScan(const Scene& scene, const LidarScanArgs& a)
     // A planar pattern is a 2D multi-echo scanner: its frames also as MultiEchoLaserScans.
     const std::vector<PatternBeam> pattern = bag ? framePattern(spec) : std::vector<PatternBeam>{};
     const std::optional<PlanarFan> fan = planarFan(pattern);
-    const long long frames = (long long)frames_wanted;
+    const long long frames = run.frames();
     const Progress progress("scanning", "lidar frames");
     long long points = 0, smoke = 0;
     std::string index = frameIndexHeader();
-    for (long long k = 0; k < frames; ++k) {
-        const LidarFrame f = scanner.frame(from + double(k) * period, uint64_t(k));
-        char name[32];
-        std::snprintf(name, sizeof name, "%06lld.%s", k, a.format.c_str());
-        if (out) {
-            (a.format == "pcd" ? writePcd : writePly)(out->path(name), f);
-            index += frameIndexRow(f, name);
-        }
-        if (bag) bag->add(f, mount);
-        if (bag && fan) bag->add(multiEchoOf(f, *fan, pattern.size(), spec, mount.name), mount);
-        if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
-        if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
-        points += (long long)f.points.size();
-        for (const LidarPoint& p : f.points) smoke += p.source == uint8_t(EchoSource::Smoke);
-        progress.update(k + 1, frames);
-    }
+    RunControl control;
+    control.progress = [&](long long done, long long total) { progress.update(done, total); };
+    run.run(
+        [&](LidarFrame&& f) {
+            const long long k = (long long)f.index;
+            char name[32];
+            std::snprintf(name, sizeof name, "%06lld.%s", k, a.format.c_str());
+            if (out) {
+                (a.format == "pcd" ? writePcd : writePly)(out->path(name), f);
+                index += frameIndexRow(f, name);
+            }
+            if (bag) bag->add(f, mount);
+            if (bag && fan) bag->add(multiEchoOf(f, *fan, pattern.size(), spec, mount.name), mount);
+            if (k == 0 && !a.range_image.empty()) writeImage(files.stage(a.range_image), rangeImage(f, spec, 0));
+            if (k == 0 && !a.top_view.empty()) writeImage(files.stage(a.top_view), topView(f, a.top_view_m, 800));
+            points += (long long)f.points.size();
+            for (const LidarPoint& p : f.points) smoke += p.source == uint8_t(EchoSource::Smoke);
+        },
+        control);
     if (out) {
         AtomicFile csv(out->path("frames.csv"));
         csv.stream() << index;

@@ -24,6 +24,10 @@ inline constexpr int64_t kBagBeams = 50'000'000;
 inline constexpr int64_t kBagMessages = 10'000'000;
 /// Scans in one `scan` run.
 inline constexpr int64_t kScans = 1'000'000;
+/// Readings a library run keeps in memory when no sink takes them one by one (pipeline/, the
+/// Python module): a 2D laser's beams over all its scans, a lidar's points at most (every beam's
+/// echoes) over all its frames.
+inline constexpr int64_t kKeptReadings = 50'000'000;
 /// Rows of `scan`'s summary table (--bin).
 inline constexpr int64_t kSummaryRows = 10'000;
 /// Scans drawn by `scan --image` (each 2 px tall).

@@ -1,0 +1,256 @@
+// The Python module `smokescan` (its compiled part, smokescan._smokescan): scenes, a 2D laser's
+// scans and a 3D lidar's frames as numpy arrays, through the library's runs (pipeline/). Long
+// calls release the GIL, report progress to a Python callable and stop on Ctrl-C; the library's
+// errors are smokescan.Error carrying their one-line message.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/version.hpp"
+#include "smokescan/pipeline/laser_run.hpp"
+#include "smokescan/pipeline/lidar_run.hpp"
+#include "smokescan/scene/scene_io.hpp"
+#include "smokescan/sensor_config/sensor_kind.hpp"
+
+namespace py = pybind11;
+using namespace smokescan;
+
+namespace {
+
+/// One beam of one scan, a row of scan()'s array.
+struct ScanRow {
+    double time_s;
+    double angle_rad;
+    double range_m;  // NaN for an error value
+    int64_t value;  // as the sensor reports it: a range in its unit, or an error code
+    int32_t beam;
+    bool error;
+};
+
+/// A vector handed to numpy without a copy: the array owns it through a capsule.
+template <class T>
+py::array_t<T> ownedArray(std::vector<T>&& v)
+{
+    auto* held = new std::vector<T>(std::move(v));
+    py::capsule owner(held, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+    return py::array_t<T>({py::ssize_t(held->size())}, {py::ssize_t(sizeof(T))}, held->data(), owner);
+}
+
+/// A run's control from Python: progress to `progress` (a callable or None), and a stop when
+/// Ctrl-C (or any signal whose handler raises) arrives. Called without the GIL; takes it.
+struct PyControl {
+    py::object progress;
+    bool interrupted = false;
+    RunControl control()
+    {
+        RunControl c;
+        c.cancel = [this] {
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() != 0) {
+                interrupted = true;  // the signal's exception is raised again once the run is out
+                return true;
+            }
+            return false;
+        };
+        if (!progress.is_none())
+            c.progress = [this](long long done, long long total) {
+                py::gil_scoped_acquire gil;
+                progress(done, total);
+            };
+        return c;
+    }
+};
+
+/// Runs f without the GIL; a Ctrl-C that cancelled it comes back as Python's own exception.
+template <class F>
+auto released(PyControl& pc, F&& f)
+{
+    try {
+        py::gil_scoped_release nogil;
+        return f(pc.control());
+    } catch (const Cancelled&) {
+        if (pc.interrupted) throw py::error_already_set();
+        throw;
+    }
+}
+
+/// A pose as a 4×4 homogeneous matrix [m].
+py::array_t<double> poseMatrix(const Pose& p)
+{
+    py::array_t<double> m({4, 4});
+    auto a = m.mutable_unchecked<2>();
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) a(i, j) = i < 3 && j < 3 ? p.R(i, j) : i < 3 ? p.t(i) : j == 3 ? 1.0 : 0.0;
+    return m;
+}
+
+py::array scanArray(const std::vector<Scan>& scans, const LrfSpec& spec)
+{
+    size_t n = 0;
+    for (const Scan& s : scans) n += s.value.size();
+    std::vector<ScanRow> rows(n);  // value-initialised: the rows' padding is zero (equal runs, equal bytes)
+    size_t i = 0;
+    for (const Scan& s : scans)
+        for (size_t b = 0; b < s.value.size(); ++b, ++i) {
+            const long long v = s.value[b];
+            ScanRow& r = rows[i];
+            r.time_s = s.time_s;
+            r.angle_rad = s.angle_rad[b];
+            r.range_m = spec.rangeOf(v);
+            r.value = int64_t(v);
+            r.beam = int32_t(b);
+            r.error = spec.isErrorValue(v);
+        }
+    return ownedArray(std::move(rows));
+}
+
+/// One lidar frame for Python: its points without a copy, its poses and range image.
+py::dict frameDict(LidarFrame&& f)
+{
+    py::dict d;
+    d["index"] = f.index;
+    d["start_s"] = f.start_s;
+    d["end_s"] = f.end_s;
+    d["start_pose"] = poseMatrix(f.start_pose);
+    d["end_pose"] = poseMatrix(f.end_pose);
+    if (!f.range_image.empty()) {
+        py::array_t<float> img = ownedArray(std::move(f.range_image));
+        d["range_image"] = img.reshape({py::ssize_t(f.channels), py::ssize_t(f.columns)});
+    } else {
+        d["range_image"] = py::none();
+    }
+    d["points"] = ownedArray(std::move(f.points));
+    return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_smokescan, m)
+{
+    m.doc() = "smokescan: laser range finders, 3D lidars and cameras simulated in smoke (the compiled part)";
+    PYBIND11_NUMPY_DTYPE(ScanRow, time_s, angle_rad, range_m, value, beam, error);
+    PYBIND11_NUMPY_DTYPE(LidarPoint, x, y, z, range_m, intensity, ring, return_index, source, time_s, beam);
+    static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const Cancelled& e) {
+            error(e.what());
+        } catch (const Error& e) {
+            error(e.what());
+        }
+    });
+    m.attr("__version__") = version();
+
+    py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene", "A scene: surfaces, sensors, cameras and smoke over time")
+        .def_readonly("source", &Scene::source, "The file it came from, or builtin:NAME")
+        .def_readonly("t_start_s", &Scene::t_start_s, "Start of the scene's time line [s]")
+        .def_readonly("t_end_s", &Scene::t_end_s, "End of the scene's time line [s]")
+        .def_property_readonly(
+            "sensors",
+            [](const Scene& s) {
+                std::vector<std::pair<std::string, std::string>> v;
+                for (const SensorMount& m : s.sensors) v.emplace_back(m.name, sensorTypeName(m.config.type));
+                return v;
+            },
+            "The 2D lasers mounted in the scene: (name, type) pairs")
+        .def_property_readonly(
+            "surfaces",
+            [](const Scene& s) {
+                std::vector<std::string> v;
+                for (const Surface& x : s.surfaces) v.push_back(x.name);
+                return v;
+            },
+            "Surface names")
+        .def_property_readonly(
+            "cameras",
+            [](const Scene& s) {
+                std::vector<std::string> v;
+                for (const Camera& c : s.cameras) v.push_back(c.name);
+                return v;
+            },
+            "Camera names")
+        .def_property_readonly(
+            "volumes",
+            [](const Scene& s) {
+                std::vector<std::string> v;
+                for (const SmokeVolume& x : s.volumes) v.push_back(x.name);
+                return v;
+            },
+            "Smoke volume names")
+        .def("__repr__", [](const Scene& s) {
+            return "<smokescan.Scene " + s.source + ": " + std::to_string(s.surfaces.size()) + " surfaces, " +
+                std::to_string(s.sensors.size()) + " sensors, " + std::to_string(s.volumes.size()) + " smoke volumes>";
+        });
+
+    m.def(
+        "load_scene", [](const std::string& name_or_path) { return std::make_shared<Scene>(loadScene(name_or_path)); },
+        py::arg("name_or_path"), "Loads a built-in scene by name (builtin_scenes()) or a scene file (.toml)");
+    m.def("builtin_scenes", &builtinSceneNames, "The built-in scenes' names");
+
+    m.def(
+        "scan",
+        [](std::shared_ptr<Scene> scene, const std::string& sensor, std::optional<double> t0, std::optional<double> t1,
+           double rate_hz, uint64_t seed, std::optional<std::string> model, const std::string& sensor_file,
+           double penetration_power, py::object progress) {
+            ScanConfig cfg;
+            cfg.sensor = sensor;
+            if (t0) cfg.from_s = *t0;
+            if (t1) cfg.to_s = *t1;
+            cfg.rate_hz = rate_hz;
+            cfg.seed = seed;
+            cfg.sensor_file = sensor_file;
+            cfg.penetration_power = penetration_power;
+            cfg.keep_beams = false;
+            if (model) {
+                const std::optional<SensorModel> sm = parseSensorModel(*model);
+                if (!sm) throw Error("model", "must be paper or physical, got '" + *model + "'");
+                cfg.model = *sm;
+            }
+            PyControl pc{std::move(progress)};
+            std::unique_ptr<LaserRun> run;
+            const std::vector<Scan> scans = released(pc, [&](const RunControl& c) {
+                run = std::make_unique<LaserRun>(*scene, cfg);
+                return run->collect(c);
+            });
+            return scanArray(scans, run->spec());
+        },
+        py::arg("scene"), py::arg("sensor") = "", py::arg("t0") = py::none(), py::arg("t1") = py::none(),
+        py::arg("rate_hz") = 1.0, py::arg("seed") = 1, py::arg("model") = py::none(), py::arg("sensor_file") = "",
+        py::arg("penetration_power") = 0.0, py::arg("progress") = py::none(),
+        "A 2D laser's scans from t0 to t1 (default: the scene's span) at rate_hz: one row per beam and scan");
+
+    m.def(
+        "scan_lidar",
+        [](std::shared_ptr<Scene> scene, const std::string& sensor, std::optional<std::string> returns, double rate_hz,
+           int columns, std::optional<double> t0, std::optional<double> t1, uint64_t seed, py::object progress) {
+            LidarRunConfig cfg;
+            cfg.sensor = sensor;
+            if (returns) {
+                if (returns->empty()) throw Error("returns", "must be first, last, strongest or dual");
+                cfg.returns = *returns;
+            }
+            cfg.rate_hz = rate_hz;
+            cfg.columns = columns;
+            if (t0) cfg.from_s = *t0;
+            if (t1) cfg.to_s = *t1;
+            cfg.seed = seed;
+            PyControl pc{std::move(progress)};
+            std::vector<LidarFrame> frames = released(pc, [&](const RunControl& c) {
+                const LidarRun run(*scene, cfg);
+                return run.collect(c);
+            });
+            py::list out;
+            for (LidarFrame& f : frames) out.append(frameDict(std::move(f)));
+            return out;
+        },
+        py::arg("scene"), py::arg("sensor") = "vlp16", py::arg("returns") = py::none(), py::arg("rate_hz") = 0.0,
+        py::arg("columns") = 0, py::arg("t0") = py::none(), py::arg("t1") = py::none(), py::arg("seed") = 1,
+        py::arg("progress") = py::none(),
+        "A 3D lidar's frames (a preset or preset file) on the scene's default lidar mount, one dict a frame");
+}

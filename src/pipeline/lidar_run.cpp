@@ -1,0 +1,58 @@
+#include "smokescan/pipeline/lidar_run.hpp"
+
+#include "smokescan/core/limits.hpp"
+
+namespace smokescan {
+
+LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene), spec_(lidarSpec(cfg.sensor))
+{
+    configureLidar(spec_, cfg.rate_hz, cfg.columns, "--sensor " + cfg.sensor);
+    // Without a mode asked for, the sensor's own first (strongest where it offers it).
+    mode_ = !cfg.returns.empty()              ? parseReturnMode(cfg.returns, "--returns")
+        : spec_.offers(ReturnMode::Strongest) ? ReturnMode::Strongest
+                                              : spec_.return_modes.front();
+    mount_ = defaultLidarMount(scene, spec_.name);
+    from_s_ = std::isnan(cfg.from_s) ? scene.t_start_s : cfg.from_s;
+    const double to = std::isnan(cfg.to_s) ? from_s_ : cfg.to_s;
+    if (!(to >= from_s_)) throw Error("--to", "must not precede --from");
+    const double wanted = std::floor((to - from_s_) * spec_.rate_hz + 1e-9) + 1;
+    if (wanted > double(limits::kFrames))
+        throw Error(
+            "--to",
+            "would make " + limits::count(wanted) + " lidar frames (at most " + std::to_string(limits::kFrames) + ")");
+    frames_ = (long long)wanted;
+    surfaces_ = std::make_unique<SurfaceSet>(scene_);
+    scanner_ = std::make_unique<LidarScanner>(scene_, *surfaces_, mount_, spec_, mode_, cfg.seed);
+}
+
+LidarRun::~LidarRun() = default;
+
+long long LidarRun::maxPointsPerFrame() const
+{
+    return (long long)framePattern(spec_).size() * (mode_ == ReturnMode::Dual ? 2 : 1);
+}
+
+void LidarRun::run(const std::function<void(LidarFrame&&)>& sink, const RunControl& control) const
+{
+    for (long long k = 0; k < frames_; ++k) {
+        checkCancel(control);
+        sink(scanner_->frame(frameStart(k), uint64_t(k)));
+        reportProgress(control, k + 1, frames_);
+    }
+}
+
+std::vector<LidarFrame> LidarRun::collect(const RunControl& control) const
+{
+    const double points = double(frames_) * double(maxPointsPerFrame());
+    if (points > double(limits::kKeptReadings))
+        throw Error("--to",
+                    limits::count(double(frames_)) + " frames of the " + spec_.name + " could keep " +
+                        limits::count(points) + " points in memory (at most " + std::to_string(limits::kKeptReadings) +
+                        "; a shorter span)");
+    std::vector<LidarFrame> out;
+    out.reserve(size_t(frames_));
+    run([&](LidarFrame&& f) { out.push_back(std::move(f)); }, control);
+    return out;
+}
+
+}  // namespace smokescan
