@@ -6,12 +6,18 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/version.hpp"
+#include "smokescan/io/atomic_file.hpp"
+#include "smokescan/lidar/lidar_spec.hpp"
+#include "smokescan/pipeline/bag_run.hpp"
 #include "smokescan/pipeline/laser_run.hpp"
 #include "smokescan/pipeline/lidar_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -41,15 +47,58 @@ py::array_t<T> ownedArray(std::vector<T>&& v)
     return py::array_t<T>({py::ssize_t(held->size())}, {py::ssize_t(sizeof(T))}, held->data(), owner);
 }
 
+/// While the interpreter shuts down, a daemon thread still in a run must not take the GIL back
+/// (Python would end the thread inside a destructor, and C++ would abort): it waits here for the
+/// process to end instead.
+void parkIfFinalizing()
+{
+#if PY_VERSION_HEX >= 0x030D0000
+    while (Py_IsFinalizing()) std::this_thread::sleep_for(std::chrono::hours(1));
+#else
+    while (_Py_IsFinalizing()) std::this_thread::sleep_for(std::chrono::hours(1));
+#endif
+}
+
+/// A time given from Python: a finite number, else an Error naming the option.
+double finiteArg(double v, const char* option)
+{
+    if (!std::isfinite(v)) throw Error(option, "must be a finite number");
+    return v;
+}
+
+/// A seed given from Python: a whole number from 0 to 2^64 − 1, as the command line's --seed.
+uint64_t seedArg(const py::object& o)
+{
+    const char* what = "is not a seed (a whole number from 0 to 18446744073709551615)";
+    if (!py::isinstance<py::int_>(o) || py::isinstance<py::bool_>(o)) throw Error("--seed", what);
+    try {
+        return o.cast<uint64_t>();
+    } catch (const py::cast_error&) {
+        throw Error("--seed", what);
+    }
+}
+
+SensorModel modelArg(const std::string& name)
+{
+    if (const auto m = parseSensorModel(name)) return *m;
+    throw Error("--model", "unknown sensor model '" + name + "' (paper, physical)");
+}
+
 /// A run's control from Python: progress to `progress` (a callable or None), and a stop when
 /// Ctrl-C (or any signal whose handler raises) arrives. Called without the GIL; takes it.
 struct PyControl {
     py::object progress;
     bool interrupted = false;
+    explicit PyControl(py::object p) : progress(std::move(p))
+    {
+        if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+            throw py::type_error("progress must be a callable taking (done, total)");
+    }
     RunControl control()
     {
         RunControl c;
         c.cancel = [this] {
+            parkIfFinalizing();
             py::gil_scoped_acquire gil;
             if (PyErr_CheckSignals() != 0) {
                 interrupted = true;  // the signal's exception is raised again once the run is out
@@ -59,6 +108,7 @@ struct PyControl {
         };
         if (!progress.is_none())
             c.progress = [this](long long done, long long total) {
+                parkIfFinalizing();
                 py::gil_scoped_acquire gil;
                 progress(done, total);
             };
@@ -72,6 +122,9 @@ auto released(PyControl& pc, F&& f)
 {
     try {
         py::gil_scoped_release nogil;
+        struct Park {
+            ~Park() { parkIfFinalizing(); }  // before nogil takes the GIL back
+        } park;
         return f(pc.control());
     } catch (const Cancelled&) {
         if (pc.interrupted) throw py::error_already_set();
@@ -93,7 +146,8 @@ py::array scanArray(const std::vector<Scan>& scans, const LrfSpec& spec)
 {
     size_t n = 0;
     for (const Scan& s : scans) n += s.value.size();
-    std::vector<ScanRow> rows(n);  // value-initialised: the rows' padding is zero (equal runs, equal bytes)
+    std::vector<ScanRow> rows(n);
+    std::memset(static_cast<void*>(rows.data()), 0, n * sizeof(ScanRow));  // the padding too: equal runs, equal bytes
     size_t i = 0;
     for (const Scan& s : scans)
         for (size_t b = 0; b < s.value.size(); ++b, ++i) {
@@ -133,9 +187,11 @@ py::dict frameDict(LidarFrame&& f)
 PYBIND11_MODULE(_smokescan, m)
 {
     m.doc() = "smokescan: laser range finders, 3D lidars and cameras simulated in smoke (the compiled part)";
+    leaveSignalsToHost();  // Python's Ctrl-C is Python's: a KeyboardInterrupt, not the end of the process
     PYBIND11_NUMPY_DTYPE(ScanRow, time_s, angle_rad, range_m, value, beam, error);
     PYBIND11_NUMPY_DTYPE(LidarPoint, x, y, z, range_m, intensity, ring, return_index, source, time_s, beam);
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+    error.attr("__module__") = "smokescan";
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
@@ -183,6 +239,14 @@ PYBIND11_MODULE(_smokescan, m)
                 return v;
             },
             "Smoke volume names")
+        .def(
+            "with_smoke_scale",
+            [](const Scene& s, double k) {
+                auto out = std::make_shared<Scene>(s);
+                for (SmokeVolume& v : out->volumes) v.timeline = v.timeline.scaled(k);
+                return out;
+            },
+            py::arg("k"), "A copy of the scene whose smoke is k times as dense at every time (k >= 0)")
         .def("__repr__", [](const Scene& s) {
             return "<smokescan.Scene " + s.source + ": " + std::to_string(s.surfaces.size()) + " surfaces, " +
                 std::to_string(s.sensors.size()) + " sensors, " + std::to_string(s.volumes.size()) + " smoke volumes>";
@@ -196,23 +260,21 @@ PYBIND11_MODULE(_smokescan, m)
     m.def(
         "scan",
         [](std::shared_ptr<Scene> scene, const std::string& sensor, std::optional<double> t0, std::optional<double> t1,
-           double rate_hz, uint64_t seed, std::optional<std::string> model, const std::string& sensor_file,
+           double rate_hz, py::object seed, std::optional<std::string> model, const std::string& sensor_file,
            double penetration_power, py::object progress) {
             ScanConfig cfg;
             cfg.sensor = sensor;
-            if (t0) cfg.from_s = *t0;
-            if (t1) cfg.to_s = *t1;
+            if (t0) cfg.from_s = finiteArg(*t0, "--from");
+            if (t1) cfg.to_s = finiteArg(*t1, "--to");
             cfg.rate_hz = rate_hz;
-            cfg.seed = seed;
+            cfg.seed = seedArg(seed);
             cfg.sensor_file = sensor_file;
+            if (!(penetration_power >= 0) || !std::isfinite(penetration_power))
+                throw Error("--penetration-power", "must be a finite number > 0 (0: the mount's)");
             cfg.penetration_power = penetration_power;
             cfg.keep_beams = false;
-            if (model) {
-                const std::optional<SensorModel> sm = parseSensorModel(*model);
-                if (!sm) throw Error("model", "must be paper or physical, got '" + *model + "'");
-                cfg.model = *sm;
-            }
-            PyControl pc{std::move(progress)};
+            if (model) cfg.model = modelArg(*model);
+            PyControl pc(std::move(progress));
             std::unique_ptr<LaserRun> run;
             const std::vector<Scan> scans = released(pc, [&](const RunControl& c) {
                 run = std::make_unique<LaserRun>(*scene, cfg);
@@ -220,27 +282,73 @@ PYBIND11_MODULE(_smokescan, m)
             });
             return scanArray(scans, run->spec());
         },
-        py::arg("scene"), py::arg("sensor") = "", py::arg("t0") = py::none(), py::arg("t1") = py::none(),
+        py::arg("scene").none(false), py::arg("sensor") = "", py::arg("t0") = py::none(), py::arg("t1") = py::none(),
         py::arg("rate_hz") = 1.0, py::arg("seed") = 1, py::arg("model") = py::none(), py::arg("sensor_file") = "",
         py::arg("penetration_power") = 0.0, py::arg("progress") = py::none(),
         "A 2D laser's scans from t0 to t1 (default: the scene's span) at rate_hz: one row per beam and scan");
 
     m.def(
+        "record_bag",
+        [](std::shared_ptr<Scene> scene, const std::string& path, const std::string& sensor, std::optional<double> t0,
+           std::optional<double> t1, std::optional<double> rate_hz, py::object seed, std::optional<std::string> returns,
+           std::optional<std::string> model, py::object progress) {
+            PyControl pc(std::move(progress));
+            const bool lidar = !sensor.empty() && scene->findSensor(sensor) < 0 && isLidarName(sensor);
+            BagRunResult r;
+            if (lidar) {
+                if (model) throw Error("--model", "is for the 2D lasers; the " + sensor + " has its own receiver");
+                LidarRunConfig cfg;
+                cfg.sensor = sensor;
+                if (returns) {
+                    parseReturnMode(*returns, "--returns");
+                    cfg.returns = *returns;
+                }
+                cfg.rate_hz = rate_hz.value_or(0.0);
+                if (t0) cfg.from_s = finiteArg(*t0, "--from");
+                if (t1) cfg.to_s = finiteArg(*t1, "--to");
+                cfg.seed = seedArg(seed);
+                r = released(pc, [&](const RunControl& c) { return recordLidarBag(*scene, cfg, path, c); });
+            } else {
+                if (returns) throw Error("--returns", "is for a 3D lidar");
+                ScanConfig cfg;
+                cfg.sensor = sensor;
+                if (t0) cfg.from_s = finiteArg(*t0, "--from");
+                if (t1) cfg.to_s = finiteArg(*t1, "--to");
+                if (rate_hz) cfg.rate_hz = *rate_hz;
+                cfg.seed = seedArg(seed);
+                cfg.keep_beams = false;
+                if (model) cfg.model = modelArg(*model);
+                r = released(pc, [&](const RunControl& c) { return recordLaserBag(*scene, cfg, path, c); });
+            }
+            py::dict d;
+            d["messages"] = r.messages;
+            d["readings"] = r.readings;
+            return d;
+        },
+        py::arg("scene").none(false), py::arg("path"), py::arg("sensor") = "", py::arg("t0") = py::none(),
+        py::arg("t1") = py::none(), py::arg("rate_hz") = py::none(), py::arg("seed") = 1,
+        py::arg("returns") = py::none(), py::arg("model") = py::none(), py::arg("progress") = py::none(),
+        "Records a scan run as a ROS 2 bag in the new folder `path`: a scene's 2D laser (as scan()) or a 3D lidar "
+        "preset (as scan_lidar()); the folder appears whole or not at all");
+
+    m.def(
         "scan_lidar",
         [](std::shared_ptr<Scene> scene, const std::string& sensor, std::optional<std::string> returns, double rate_hz,
-           int columns, std::optional<double> t0, std::optional<double> t1, uint64_t seed, py::object progress) {
+           long long columns, std::optional<double> t0, std::optional<double> t1, py::object seed,
+           py::object progress) {
             LidarRunConfig cfg;
             cfg.sensor = sensor;
             if (returns) {
-                if (returns->empty()) throw Error("returns", "must be first, last, strongest or dual");
+                parseReturnMode(*returns, "--returns");
                 cfg.returns = *returns;
             }
             cfg.rate_hz = rate_hz;
-            cfg.columns = columns;
-            if (t0) cfg.from_s = *t0;
-            if (t1) cfg.to_s = *t1;
-            cfg.seed = seed;
-            PyControl pc{std::move(progress)};
+            if (columns < 0 || columns > 8192) throw Error("--columns", "must lie in 1…8192 (0: the preset's)");
+            cfg.columns = int(columns);
+            if (t0) cfg.from_s = finiteArg(*t0, "--from");
+            if (t1) cfg.to_s = finiteArg(*t1, "--to");
+            cfg.seed = seedArg(seed);
+            PyControl pc(std::move(progress));
             std::vector<LidarFrame> frames = released(pc, [&](const RunControl& c) {
                 const LidarRun run(*scene, cfg);
                 return run.collect(c);
@@ -249,8 +357,8 @@ PYBIND11_MODULE(_smokescan, m)
             for (LidarFrame& f : frames) out.append(frameDict(std::move(f)));
             return out;
         },
-        py::arg("scene"), py::arg("sensor") = "vlp16", py::arg("returns") = py::none(), py::arg("rate_hz") = 0.0,
-        py::arg("columns") = 0, py::arg("t0") = py::none(), py::arg("t1") = py::none(), py::arg("seed") = 1,
-        py::arg("progress") = py::none(),
+        py::arg("scene").none(false), py::arg("sensor") = "vlp16", py::arg("returns") = py::none(),
+        py::arg("rate_hz") = 0.0, py::arg("columns") = 0, py::arg("t0") = py::none(), py::arg("t1") = py::none(),
+        py::arg("seed") = 1, py::arg("progress") = py::none(),
         "A 3D lidar's frames (a preset or preset file) on the scene's default lidar mount, one dict a frame");
 }

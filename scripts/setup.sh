@@ -10,7 +10,7 @@ pkgs=(build-essential cmake ninja-build pkg-config
   nlohmann-json3-dev fonts-dejavu-core clang clang-format libclang-rt-14-dev llvm
   python3-open3d zlib1g-dev libzstd-dev liblz4-dev libyaml-cpp-dev libbz2-dev
   librosbag-storage-dev libsensor-msgs-dev librcpputils-dev libament-index-cpp-dev python3-rosbag python3-sensor-msgs
-  python3-tf2-msgs pybind11-dev python3-dev python3-numpy python3-pytest)
+  python3-tf2-msgs pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

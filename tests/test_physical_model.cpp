@@ -142,6 +142,61 @@ TEST(PhysicalModel, SmokeBackscatterMatchesClosedForm)
     EXPECT_NEAR(s.smoke_power, ref, 2e-3 * ref);  // 5 cm bins, 1/r² taken at the bin centre
 }
 
+namespace {
+
+/// ∫₀¹ f(x) dx by 40-point Gauss–Legendre in long double (nodes by Newton on P₄₀): exact to
+/// about 1e-18 for the smooth exponentials below, with no closed form's cancellation.
+template <class F>
+long double gaussLegendre01(F f)
+{
+    const int n = 40;
+    long double sum = 0;
+    for (int i = 1; i <= n; ++i) {
+        long double x = std::cos(3.14159265358979323846264L * (i - 0.25L) / (n + 0.5L)), dp = 0;
+        for (int it = 0; it < 100; ++it) {
+            long double p0 = 1, p1 = x;
+            for (int k = 2; k <= n; ++k) {
+                const long double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = n * (x * p1 - p0) / (x * x - 1);
+            const long double dx = p1 / dp;
+            x -= dx;
+            if (std::abs(dx) < 1e-19L) break;
+        }
+        const long double w = 2 / ((1 - x * x) * dp * dp);
+        sum += w / 2 * f((1 + x) / 2);
+    }
+    return sum;
+}
+
+}  // namespace
+
+TEST(PhysicalModel, ASmokePiecesStepIntegralAndCentreAreItsIntegralsInLongDouble)
+{
+    // Against the integrals themselves (Gauss–Legendre in long double) on both sides of the
+    // series' switch at h = 2σ·len = 0.03, σ = 0 included: ∫T² = len·∫₀¹ e^(−h·u) du and the
+    // centre len·∫u·e^(−h·u) du / ∫e^(−h·u) du. A wrong coefficient of any kept term of the
+    // series is seen at 0.0299 (the smallest, h⁶/5040, is 1.4e-13 of the value).
+    const double len = 0.08;
+    for (double h : {0.0, 1e-12, 1e-6, 1e-3, 0.01, 0.0299, 0.03, 0.0301, 0.1, 1.0, 5.0}) {
+        const SmokePiece q = smokePiece(h / (2 * len), len);
+        const long double H = h;
+        const long double i0 = gaussLegendre01([&](long double u) { return std::exp(-H * u); });
+        const long double i1 = gaussLegendre01([&](long double u) { return u * std::exp(-H * u); });
+        // The series' terms left out (h⁷/40320 at most) and, above the switch, the centre's
+        // closed form losing about 1/h ulps.
+        const double tol = h < 0.03 ? 1e-15 : 4e-16;
+        const double tol_centre = h < 0.03 ? 1e-15 : 1e-15 + 4e-16 / h;
+        // The step to an ulp of 1 above the switch (1 + expm1(−h)): T² is carried to 1e-16 of its
+        // value where it matters, and where the step is small T² soon is too.
+        EXPECT_NEAR(q.step, double(std::exp(-H)), h < 0.03 ? 1e-15 * q.step : 2.3e-16) << "h " << h;
+        EXPECT_NEAR(q.integral_m / len / double(i0), 1.0, tol) << "h " << h;
+        EXPECT_NEAR(q.centre_m / len / double(i1 / i0), 1.0, tol_centre) << "h " << h;
+    }
+}
+
 TEST(PhysicalModel, SmokeOnPointsKeepsTheBackscattersPowerAndCentre)
 {
     // The lidar's way: smoke on points 8 cm apart instead of echoes. A slab on [3.03, 4.97] m

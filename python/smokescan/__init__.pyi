@@ -11,9 +11,14 @@ class Error(RuntimeError):
 
 class Scene:
     """A scene: surfaces, sensors, cameras and smoke over time (docs/scene-format.md)."""
-    source: str
-    t_start_s: float
-    t_end_s: float
+    @property
+    def source(self) -> str: ...
+    @property
+    def t_start_s(self) -> float: ...
+    @property
+    def t_end_s(self) -> float: ...
+    def with_smoke_scale(self, k: float) -> "Scene":
+        """A copy whose smoke is k times as dense at every time (k >= 0)."""
     @property
     def sensors(self) -> List[Tuple[str, str]]: ...
     @property
@@ -41,9 +46,25 @@ def scan(
     progress: Optional[Callable[[int, int], Any]] = None,
 ) -> npt.NDArray[np.void]:
     """A 2D laser's scans (the scene's sensor by name or type; "" = the first) from t0 to t1 at
-    rate_hz. One row per beam and scan, fields: time_s (f8, s), angle_rad (f8), range_m (f8, m;
+    rate_hz; without t1 up to the scene's end. One row per beam and scan, fields: time_s (f8, s), angle_rad (f8), range_m (f8, m;
     NaN for an error value), value (i8, as the sensor reports it: a range in its unit or an error
     code), beam (i4), error (bool). The same rows as `smokescan scan --out` for the same seed."""
+
+def record_bag(
+    scene: Scene,
+    path: str,
+    sensor: str = "",
+    t0: Optional[float] = None,
+    t1: Optional[float] = None,
+    rate_hz: Optional[float] = None,
+    seed: int = 1,
+    returns: Optional[str] = None,
+    model: Optional[str] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Dict[str, int]:
+    """Records a scan run as a ROS 2 bag in the new folder `path` (docs/bags.md): a scene's 2D
+    laser as scan() makes it, or a 3D lidar preset as scan_lidar() does. The folder appears whole
+    or not at all. Returns {"messages": scans or frames, "readings": beams or points}."""
 
 def scan_lidar(
     scene: Scene,

@@ -52,8 +52,11 @@ extern "C" void removeTemporariesAndDie(int sig)
     ::raise(sig);
 }
 
+std::atomic<bool> g_host_signals{false};
+
 void installHandlers()
 {
+    if (g_host_signals.load()) return;
     static std::once_flag once;
     std::call_once(once, [] {
         struct sigaction sa {};
@@ -170,6 +173,8 @@ bool divertStdout()
     g_stdout_fd = kept;
     return true;
 }
+
+void leaveSignalsToHost() { g_host_signals.store(true); }
 
 void registerTemporary(const std::string& path)
 {

@@ -60,7 +60,17 @@ DensityTimeline DensityTimeline::machine(std::vector<std::pair<double, double>> 
     return t;
 }
 
-double DensityTimeline::at(double t) const
+double DensityTimeline::at(double t) const { return scale_ * base(t); }
+
+DensityTimeline DensityTimeline::scaled(double k) const
+{
+    if (!(k >= 0) || !std::isfinite(k)) throw Error("smoke scale", "must be finite and >= 0");
+    DensityTimeline out = *this;
+    out.scale_ *= k;
+    return out;
+}
+
+double DensityTimeline::base(double t) const
 {
     switch (kind_) {
     case Kind::Constant:

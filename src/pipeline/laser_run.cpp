@@ -31,7 +31,7 @@ std::vector<Scan> LaserRun::collect(const RunControl& control) const
 {
     const double readings = double(times_.size()) * double(spec().n_beams);
     if (readings > double(limits::kKeptReadings))
-        throw Error("scan",
+        throw Error("--to",
                     limits::count(double(times_.size())) + " scans of " + std::to_string(spec().n_beams) +
                         " beams would keep " + limits::count(readings) + " readings in memory (at most " +
                         std::to_string(limits::kKeptReadings) + "; a shorter span or a lower rate)");

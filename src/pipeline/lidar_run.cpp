@@ -6,6 +6,11 @@ namespace smokescan {
 
 LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene), spec_(lidarSpec(cfg.sensor))
 {
+    if (!(cfg.rate_hz >= 0) || !std::isfinite(cfg.rate_hz))
+        throw Error("--rate", "must be a finite number > 0 (0: the preset's)");
+    if (cfg.columns < 0) throw Error("--columns", "must be > 0 (0: the preset's)");
+    if (std::isinf(cfg.from_s)) throw Error("--from", "must be a finite number");
+    if (std::isinf(cfg.to_s)) throw Error("--to", "must be a finite number");
     configureLidar(spec_, cfg.rate_hz, cfg.columns, "--sensor " + cfg.sensor);
     // Without a mode asked for, the sensor's own first (strongest where it offers it).
     mode_ = !cfg.returns.empty()              ? parseReturnMode(cfg.returns, "--returns")

@@ -113,6 +113,26 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
     }
 }
 
+SmokePiece smokePiece(double sigma_t, double len_m)
+{
+    const double h = 2 * sigma_t * len_m, len = len_m;
+    if (h < 0.03) {
+        // Their series in h (the terms left out below 1e-15 of the value): no exp, no division.
+        const double step = 1 -
+            h *
+                (1 -
+                 h * (1.0 / 2 - h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
+        const double integral = len *
+            (1 - h * (1.0 / 2 - h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
+        const double centre = len * (0.5 - h * (1.0 / 12 - h * h * (1.0 / 720 - h * h * (1.0 / 30240))));
+        return {step, integral, centre};
+    }
+    // By expm1: 1 − exp(−h) without its cancellation; the centre len·(1/h − 1/(eʰ − 1)) still
+    // loses about 1/h ulps (a few 1e-15 at the switch).
+    const double e = std::expm1(-h);  // exp(−h) − 1
+    return {1 + e, -e / (2 * sigma_t), len * (1 / h + 1 / e + 1)};
+}
+
 void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
                        double s1, const std::vector<double>& blocked, BeamSignal& out)
 {
@@ -140,30 +160,11 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
             const bool inside = sig_at != sig_end && sig_at->t0_m <= sa;
             const double sb = std::min(b, sig_at == sig_end ? kInf : inside ? sig_at->t1_m : sig_at->t0_m);
             const double sig = inside ? sig_at->density : 0.0;
-            // Over a piece of length len: the step of T², ∫T² / T²(start), and the centre of T².
             auto piece = [sig](double len, double& step, double& integral, double& centre) {
-                const double h = 2 * sig * len;
-                if (h < 0.03) {
-                    // Their series in h (the next terms below 1e-16 of the value): no exp, no division.
-                    step = 1 -
-                        h *
-                            (1 -
-                             h *
-                                 (1.0 / 2 -
-                                  h *
-                                      (1.0 / 6 -
-                                       h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
-                    integral = len *
-                        (1 -
-                         h *
-                             (1.0 / 2 -
-                              h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
-                    centre = len * (0.5 - h * (1.0 / 12 - h * h * (1.0 / 720 - h * h * (1.0 / 30240))));
-                    return;
-                }
-                step = std::exp(-h);
-                integral = (1 - step) / (2 * sig);
-                centre = 1 / (2 * sig) - len * step / (1 - step);
+                const SmokePiece q = smokePiece(sig, len);
+                step = q.step;
+                integral = q.integral_m;
+                centre = q.centre_m;
             };
             double full_step, full_integral, full_centre;  // a whole piece between two points
             piece(c, full_step, full_integral, full_centre);

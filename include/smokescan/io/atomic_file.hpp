@@ -63,5 +63,10 @@ bool divertStdout();
 /// released; for temporaries. Installs the signal handlers on first use.
 void registerTemporary(const std::string& path);
 void releaseTemporary(const std::string& path);
+/// @brief For a host process that handles its own signals (the Python module, whose Ctrl-C is a
+/// KeyboardInterrupt): the library then never installs its handlers. Call before any output is
+/// written. Temporaries are still removed by their owners on an error or a cancel, not on a
+/// signal that ends the process.
+void leaveSignalsToHost();
 
 }  // namespace smokescan

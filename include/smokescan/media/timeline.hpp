@@ -28,8 +28,13 @@ public:
 
     /// Density scale at time t [s].
     double at(double t_s) const;
+    /// @brief The same time line with every value times k (k ≥ 0): the same smoke, k times as dense.
+    /// @throw Error for k negative or not finite.
+    DensityTimeline scaled(double k) const;
 
 private:
+    double base(double t_s) const;  ///< before scale_
+    double scale_ = 1.0;
     enum class Kind { Constant, Keyframes, Machine } kind_ = Kind::Constant;
     double value_ = 1.0;
     std::vector<std::pair<double, double>> pts_;

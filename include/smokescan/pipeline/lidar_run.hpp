@@ -10,7 +10,7 @@
 /// | returns | ""           | –    | first, last, strongest or dual; "" = strongest where offered, else the sensor's first mode |
 /// | rate_hz | 0            | Hz   | frames a second; 0 = the preset's                                 |
 /// | columns | 0            | –    | columns a turn (a spinning lidar); 0 = the preset's               |
-/// | from_s  | NaN          | s    | the first frame's start; NaN = the scene's start                 |
+/// | from_s  | NaN          | s    | the first frame's start; NaN = the scene's start (±inf refused)  |
 /// | to_s    | NaN          | s    | frames start up to this time; NaN = from_s (one frame)            |
 /// | seed    | 1            | –    | the receiver's noise; frames do not depend on the thread count    |
 ///
@@ -53,7 +53,7 @@ public:
     const SensorMount& mount() const { return mount_; }
     long long frames() const { return frames_; }
     /// The scene time frame k starts at [s].
-    double frameStart(long long k) const { return from_s_ + double(k) / spec_.rate_hz; }
+    double frameStart(long long k) const { return from_s_ + double(k) * (1 / spec_.rate_hz); }
     /// Points a frame holds at most: every beam with every echo the mode keeps.
     long long maxPointsPerFrame() const;
 

@@ -77,6 +77,17 @@ double monostaticBrdf(const Material& m, double wavelength_nm, double cos_theta)
 double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wavelength_nm, double cos_theta,
                         double range_m, double tau_to_surface);
 
+/// A piece of a beam's path in smoke of constant σ_t: what the smoke's points need of T² over it.
+struct SmokePiece {
+    double step;  ///< T² at its end over T² at its start: exp(−2σ·len)
+    double integral_m;  ///< ∫T² over the piece over T² at its start: (1 − exp(−2σ·len))/(2σ) [m]
+    double centre_m;  ///< the centre of T² over the piece, from its start [m]
+};
+
+/// @brief A piece of length len_m [m] in smoke of extinction sigma_t [1/m] (0 allowed): from
+/// the series in h = 2σ·len where h < 0.03 (the closed forms cancel there), else the closed forms.
+SmokePiece smokePiece(double sigma_t, double len_m);
+
 /// @brief Appends smoke echoes for the path s ∈ [s0, s1] of a beam whose σ_t and β profiles
 /// are given in path coordinates s.
 /// @param range_offset_m added to s to make the apparent range (the mirror path's R)
