@@ -19,22 +19,32 @@ GRID.toml (docs/python.md):
     smoke_scale = 1.0                       # optional (1)
     [[sensors]]
     name = "lms200"                         # a scene's 2D laser (name or type) or a lidar preset
+    label = "lms200_5hz"                    # optional: the cells' name for it (default: name)
     rate_hz = 5.0                           # optional: scans (frames) a second
     returns = "dual"                        # optional, a lidar's return mode
     model = "physical"                      # optional, a 2D laser's model
 
 OUT gets cells/CELL/ (one bag per cell: metadata.yaml and CELL_0.mcap, written whole or not at
-all) and index.csv (one row per cell: its settings, status ok or failed, messages, readings and
+all), cells/CELL.json (the cell's settings and counts, once its bag is whole) and index.csv (one
+row per cell: its settings, status ok, done before, failed or not run, messages, readings and
 the error). A cell's output depends only on its settings and seed: the same grid gives the same
-bytes, serial or on any number of workers. A cell whose bag is already there is not run again
-(a job can be resumed); a worker killed mid-cell leaves a temporary folder (CELL.tmpXXXXXX),
-which the cell's next attempt removes. The exit status is 1 when a cell failed, 2 for a bad grid.
+bytes, serial or on any number of workers. A cell whose bag and settings are already there is not
+run again (a job can be resumed; other settings under the same name are a failed cell); a worker
+killed mid-cell leaves a temporary folder (CELL.tmpXXXXXX), which the cell's next attempt
+removes. One job at a time in an OUT (a lock). The exit status is 1 when a cell failed or did
+not run, 2 for a bad grid, OUT or scheduler (one line; nothing written), 130 on Ctrl-C (the index
+then says which cells ran).
 """
 import argparse
+import contextlib
 import csv
+import fcntl
 import functools
 import glob
+import hashlib
 import io
+import json
+import math
 import os
 import re
 import shutil
@@ -45,15 +55,53 @@ import smokescan
 
 INDEX_FIELDS = ["cell", "scene", "timeline", "t0", "t1", "smoke_scale", "sensor", "rate_hz", "returns", "model",
                 "seed", "status", "messages", "readings", "error"]
+SETTINGS = ["scene", "timeline", "t0", "t1", "smoke_scale", "sensor", "rate_hz", "returns", "model", "seed"]
 MAX_CELLS = 100_000
+WORKERS_WAIT_S = 60
 
 
 class GridError(Exception):
-    """A grid file that cannot be run: its message names the file and the key."""
+    """A grid, OUT or scheduler the job cannot use: its message is one line naming it."""
 
 
 def _name_part(text):
-    return re.sub(r"[^A-Za-z0-9.+-]+", "_", text).strip("_") or "x"
+    return re.sub(r"[^A-Za-z0-9+-]+", "_", text).strip("_") or "x"
+
+
+def _table(path, item, where, keys):
+    """A [[timelines]] or [[sensors]] entry: a table of known keys."""
+    if not isinstance(item, dict):
+        raise GridError(f"{path}: {where}: must be a table")
+    for key in item:
+        if key not in keys:
+            raise GridError(f"{path}: {where}.{key}: unknown key ({', '.join(keys)})")
+    return item
+
+
+def _value(path, table, key, where, kind, default=None, required=False):
+    """table[key] checked: kind "name" (a non-empty string), "number" (finite), "text"."""
+    if key not in table:
+        if required:
+            raise GridError(f"{path}: {where}{key}: missing")
+        return default
+    v = table[key]
+    if kind == "number":
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise GridError(f"{path}: {where}{key}: must be a finite number")
+        return float(v)
+    if not isinstance(v, str) or (kind == "name" and not v.strip()):
+        raise GridError(f"{path}: {where}{key}: must be a " + ("non-empty name" if kind == "name" else "string"))
+    return v
+
+
+def _list(path, grid, key):
+    if key not in grid:
+        raise GridError(f"{path}: {key}: missing")
+    if not isinstance(grid[key], list):
+        raise GridError(f"{path}: {key}: must be a list")
+    if not grid[key]:
+        raise GridError(f"{path}: {key}: empty")
+    return grid[key]
 
 
 def read_grid(path):
@@ -64,28 +112,13 @@ def read_grid(path):
     except (OSError, tomllib.TOMLDecodeError) as e:
         raise GridError(f"{path}: {e}") from None
     here = os.path.dirname(os.path.abspath(path))
-
-    def need(table, key, kind, where):
-        if key not in table:
-            raise GridError(f"{path}: {where}{key}: missing")
-        value = table[key]
-        if not isinstance(value, kind) or isinstance(value, bool):
-            raise GridError(f"{path}: {where}{key}: must be {kind.__name__ if isinstance(kind, type) else 'a number'}")
-        return value
-
-    known = {"scenes", "seeds", "timelines", "sensors"}
     for key in grid:
-        if key not in known:
+        if key not in ("scenes", "seeds", "timelines", "sensors"):
             raise GridError(f"{path}: {key}: unknown key (scenes, seeds, timelines, sensors)")
-    scenes = need(grid, "scenes", list, "")
-    seeds = need(grid, "seeds", list, "")
-    timelines = need(grid, "timelines", list, "")
-    sensors = need(grid, "sensors", list, "")
-    for key, items in (("scenes", scenes), ("seeds", seeds), ("timelines", timelines), ("sensors", sensors)):
-        if not items:
-            raise GridError(f"{path}: {key}: empty")
+    scenes, seeds = _list(path, grid, "scenes"), _list(path, grid, "seeds")
+    timelines, sensors = _list(path, grid, "timelines"), _list(path, grid, "sensors")
     for s in scenes:
-        if not isinstance(s, str) or not s:
+        if not isinstance(s, str) or not s.strip():
             raise GridError(f"{path}: scenes: each must be a scene name or file")
     for s in seeds:
         if not isinstance(s, int) or isinstance(s, bool) or not 0 <= s < 2 ** 64:
@@ -93,44 +126,51 @@ def read_grid(path):
     cells_wanted = len(scenes) * len(seeds) * len(timelines) * len(sensors)
     if cells_wanted > MAX_CELLS:
         raise GridError(f"{path}: the grid has {cells_wanted} cells (at most {MAX_CELLS})")
-    names = set()
     spans = []
     for i, t in enumerate(timelines):
-        where = f"timelines[{i}]."
-        if not isinstance(t, dict):
-            raise GridError(f"{path}: timelines[{i}]: must be a table")
-        for key in t:
-            if key not in ("name", "t0", "t1", "smoke_scale"):
-                raise GridError(f"{path}: {where}{key}: unknown key (name, t0, t1, smoke_scale)")
-        name = need(t, "name", str, where)
-        if name in names:
-            raise GridError(f"{path}: {where}name: '{name}' twice")
-        names.add(name)
-        spans.append((name, float(need(t, "t0", (int, float), where)), float(need(t, "t1", (int, float), where)),
-                      float(t.get("smoke_scale", 1.0))))
+        where = f"timelines[{i}]"
+        t = _table(path, t, where, ("name", "t0", "t1", "smoke_scale"))
+        where += "."
+        span = dict(timeline=_value(path, t, "name", where, "name", required=True),
+                    t0=_value(path, t, "t0", where, "number", required=True),
+                    t1=_value(path, t, "t1", where, "number", required=True),
+                    smoke_scale=_value(path, t, "smoke_scale", where, "number", 1.0))
+        if span["t0"] < 0:
+            raise GridError(f"{path}: {where}t0: must be >= 0 (a bag's stamps start at 0)")
+        if span["t1"] < span["t0"]:
+            raise GridError(f"{path}: {where}t1: must not precede t0")
+        if span["smoke_scale"] < 0:
+            raise GridError(f"{path}: {where}smoke_scale: must be >= 0")
+        spans.append(span)
     kinds = []
     for i, s in enumerate(sensors):
-        where = f"sensors[{i}]."
-        if not isinstance(s, dict):
-            raise GridError(f"{path}: sensors[{i}]: must be a table")
-        for key in s:
-            if key not in ("name", "rate_hz", "returns", "model"):
-                raise GridError(f"{path}: {where}{key}: unknown key (name, rate_hz, returns, model)")
-        kinds.append({"sensor": need(s, "name", str, where), "rate_hz": s.get("rate_hz"),
-                      "returns": s.get("returns"), "model": s.get("model")})
-    cells, ids = [], set()
+        where = f"sensors[{i}]"
+        s = _table(path, s, where, ("name", "label", "rate_hz", "returns", "model"))
+        where += "."
+        kind = dict(sensor=_value(path, s, "name", where, "name", required=True),
+                    rate_hz=_value(path, s, "rate_hz", where, "number"),
+                    returns=_value(path, s, "returns", where, "text"), model=_value(path, s, "model", where, "text"))
+        if kind["rate_hz"] is not None and not kind["rate_hz"] > 0:
+            raise GridError(f"{path}: {where}rate_hz: must be > 0")
+        kind["label"] = _value(path, s, "label", where, "name", kind["sensor"])
+        kinds.append(kind)
+    cells, ids = [], {}
     for scene in scenes:
         scene_path = scene if scene in smokescan.builtin_scenes() else os.path.join(here, scene)
         stem = os.path.splitext(os.path.basename(scene))[0]
-        for name, t0, t1, k in spans:
+        for span in spans:
             for kind in kinds:
                 for seed in seeds:
-                    cell = "__".join(_name_part(x) for x in (stem, name, kind["sensor"], f"seed{seed}"))
+                    cell = "__".join(_name_part(x) for x in (stem, span["timeline"], kind["label"], f"seed{seed}"))
+                    if len(cell) > 200:
+                        raise GridError(f"{path}: the cell name {cell[:40]}... is over 200 bytes (shorter names)")
                     if cell in ids:
-                        raise GridError(f"{path}: two cells would be named {cell} (scenes with the same file name?)")
-                    ids.add(cell)
-                    cells.append(dict(cell=cell, scene=scene_path, timeline=name, t0=t0, t1=t1, smoke_scale=k,
-                                      seed=seed, **kind))
+                        raise GridError(f"{path}: two cells would be named {cell}: give scenes different file names, "
+                                        "and timelines, sensors (label) and seeds different values")
+                    ids[cell] = True
+                    c = dict(cell=cell, scene=scene, seed=seed, **span, **kind)
+                    c["scene_path"] = scene_path
+                    cells.append(c)
     return cells
 
 
@@ -140,25 +180,46 @@ def _scene(path, smoke_scale):
     return scene if smoke_scale == 1.0 else scene.with_smoke_scale(smoke_scale)
 
 
+def _write_whole(path, text):
+    """A small file written whole: a temporary beside it renamed into place."""
+    tmp = path + ".part"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
 def run_cell(cell, out):
-    """One cell: its bag in OUT/cells/CELL, whole or not at all. Returns the cell's index row."""
+    """One cell: its bag in OUT/cells/CELL, whole or not at all, then CELL.json (its settings and
+    counts). Returns the cell's index row."""
     row = dict(cell, status="ok", messages=0, readings=0, error="")
     folder = os.path.join(out, "cells", cell["cell"])
-    if os.path.exists(os.path.join(folder, "metadata.yaml")):  # done by an earlier attempt or run
-        row["status"] = "done before"
+    record = folder + ".json"
+    settings = {k: cell[k] for k in SETTINGS}
+    if os.path.exists(record) and os.path.exists(os.path.join(folder, "metadata.yaml")):
+        with open(record) as f:
+            before = json.load(f)
+        if before.get("settings") != settings:
+            changed = [k for k in SETTINGS if before.get("settings", {}).get(k) != settings[k]]
+            row.update(status="failed", error=f"{folder} holds this cell with other settings ({', '.join(changed)}); "
+                                              "remove it or write to another OUT")
+            return row
+        row.update(status="done before", messages=before["messages"], readings=before["readings"])
         return row
     for stale in glob.glob(glob.escape(folder) + ".tmp*"):  # a killed attempt's temporary
         shutil.rmtree(stale, ignore_errors=True)
-    if os.path.isdir(folder) and not os.listdir(folder):
-        os.rmdir(folder)
+    if os.path.isdir(folder):  # a bag whose settings were never recorded (killed in between): again
+        shutil.rmtree(folder)
     try:
-        scene = _scene(cell["scene"], cell["smoke_scale"])
+        scene = _scene(cell["scene_path"], cell["smoke_scale"])
         done = smokescan.record_bag(scene, folder, sensor=cell["sensor"], t0=cell["t0"], t1=cell["t1"],
                                     rate_hz=cell["rate_hz"], seed=cell["seed"], returns=cell["returns"],
                                     model=cell["model"])
-        row.update(done)
-    except smokescan.Error as e:
-        row.update(status="failed", error=str(e))
+    except Exception as e:  # a cell's failure is its row's, never the job's
+        row.update(status="failed", error=str(e).replace("\n", " ") if isinstance(e, smokescan.Error)
+                   else f"{type(e).__name__}: {e}".replace("\n", " "))
+        return row
+    row.update(done)
+    _write_whole(record, json.dumps(dict(settings=settings, **done), sort_keys=True) + "\n")
     return row
 
 
@@ -169,47 +230,94 @@ def write_index(out, rows):
     w.writeheader()
     for r in rows:
         w.writerow({k: ("" if r.get(k) is None else r.get(k)) for k in INDEX_FIELDS})
-    tmp = os.path.join(out, ".index.csv.tmp")
-    with open(tmp, "w") as f:
-        f.write(text.getvalue())
-    os.replace(tmp, os.path.join(out, "index.csv"))
+    _write_whole(os.path.join(out, "index.csv"), text.getvalue())
+
+
+def _task_key(cell, out):
+    """Unique to this OUT and these settings: two jobs on one scheduler never share a result."""
+    digest = hashlib.sha1(json.dumps([os.path.abspath(out), cell], sort_keys=True).encode()).hexdigest()[:16]
+    return f"cell-{cell['cell']}-{digest}"
+
+
+def _connect(scheduler, workers):
+    """A Dask client: to the scheduler's address, or to a new LocalCluster. One-line errors."""
+    from dask.distributed import Client, LocalCluster
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, ValueError, TypeError) as e:
+            raise GridError(f"--scheduler {scheduler}: cannot connect ({e})".replace("\n", " ")) from None
+        try:
+            client.wait_for_workers(1, timeout=WORKERS_WAIT_S)
+        except Exception:
+            client.close()
+            raise GridError(f"--scheduler {scheduler}: no worker joined within {WORKERS_WAIT_S} s") from None
+        return client, None
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    return Client(cluster), cluster
+
+
+@contextlib.contextmanager
+def _locked(out):
+    """OUT made (or taken) for this job alone."""
+    if not out:
+        raise GridError("OUT: must name a folder")
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise GridError(f"{out}: exists and is not a folder")
+    try:
+        os.makedirs(os.path.join(out, "cells"), exist_ok=True)
+        lock = open(os.path.join(out, ".lock"), "w")
+    except OSError as e:
+        raise GridError(f"{out}: cannot write ({e.strerror})") from None
+    try:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        lock.close()
+        raise GridError(f"{out}: another job is writing there") from None
+    try:
+        yield
+    finally:
+        lock.close()
 
 
 def run_dataset(grid_path, out, scheduler=None, workers=2, serial=False, report=None):
-    """Runs every cell of the grid into OUT; returns the index rows (in the grid's order)."""
+    """Runs every cell of the grid into OUT; returns the index rows (in the grid's order). The
+    index is written however the job ends (a cell not run says so)."""
+    from smokescan.dataset import run_cell as task  # by its module's name, also under `python3 -m`: workers import it
     cells = read_grid(grid_path)
-    os.makedirs(os.path.join(out, "cells"), exist_ok=True)
+    if serial and scheduler:
+        raise GridError("--serial: runs without Dask; it takes no --scheduler")
     report = report or (lambda row, done, total: None)
     rows = [None] * len(cells)
-    if serial:
-        for i, c in enumerate(cells):
-            rows[i] = run_cell(c, out)
-            report(rows[i], i + 1, len(cells))
-    else:
-        from dask.distributed import Client, LocalCluster, as_completed
-        cluster = None
-        if scheduler:
-            client = Client(scheduler)
-        else:
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
-            client = Client(cluster)
-        try:
-            futures = client.map(run_cell, cells, out=os.path.abspath(out), key=["cell-" + c["cell"] for c in cells],
-                                 pure=False)
-            where = {f.key: i for i, f in enumerate(futures)}
-            for n, f in enumerate(as_completed(futures), 1):
-                i = where[f.key]
-                try:
-                    rows[i] = f.result()
-                except Exception as e:  # the task itself failed (e.g. its workers kept dying)
-                    rows[i] = dict(cells[i], status="failed", messages=0, readings=0,
-                                   error=f"{type(e).__name__}: {e}".replace("\n", " "))
-                report(rows[i], n, len(cells))
-        finally:
+    client, cluster = (None, None) if serial else _connect(scheduler, workers)
+    try:
+        with _locked(out):
+            try:
+                if serial:
+                    for i, c in enumerate(cells):
+                        rows[i] = task(c, out)
+                        report(rows[i], i + 1, len(cells))
+                else:
+                    from dask.distributed import as_completed
+                    futures = client.map(task, cells, out=os.path.abspath(out), key=[_task_key(c, out) for c in cells],
+                                         pure=False)
+                    where = {f.key: i for i, f in enumerate(futures)}
+                    for n, f in enumerate(as_completed(futures), 1):
+                        i = where[f.key]
+                        try:
+                            rows[i] = f.result()
+                        except Exception as e:  # the task itself failed (e.g. its workers kept dying)
+                            rows[i] = dict(cells[i], status="failed", messages=0, readings=0,
+                                           error=f"{type(e).__name__}: {e}".replace("\n", " "))
+                        report(rows[i], n, len(cells))
+            finally:
+                write_index(out, [r or dict(c, status="not run", messages="", readings="", error="")
+                                  for r, c in zip(rows, cells)])
+    finally:
+        if client is not None:
             client.close()
-            if cluster is not None:
-                cluster.close()
-    write_index(out, rows)
+        if cluster is not None:
+            cluster.close()
     return rows
 
 
@@ -234,9 +342,12 @@ def main(argv=None):
     except GridError as e:
         print(str(e), file=sys.stderr)
         return 2
-    failed = sum(r["status"] == "failed" for r in rows)
-    print(f"wrote {a.out}: {len(rows) - failed} of {len(rows)} cells, index.csv")
-    return 1 if failed else 0
+    except KeyboardInterrupt:
+        print(f"interrupted: {a.out}/index.csv says which cells ran", file=sys.stderr)
+        return 130
+    bad = sum(r["status"] == "failed" for r in rows)
+    print(f"wrote {a.out}: {len(rows) - bad} of {len(rows)} cells, index.csv")
+    return 1 if bad else 0
 
 
 if __name__ == "__main__":
