@@ -84,6 +84,45 @@ SensorModel modelArg(const std::string& name)
     throw Error("--model", "unknown sensor model '" + name + "' (paper, physical)");
 }
 
+/// A 2D laser's run from Python's arguments (scan, record_bag).
+ScanConfig laserConfig(const std::string& sensor, std::optional<double> t0, std::optional<double> t1,
+                       const py::object& seed, const std::optional<std::string>& model)
+{
+    ScanConfig cfg;
+    cfg.sensor = sensor;
+    if (t0) cfg.from_s = finiteArg(*t0, "--from");
+    if (t1) cfg.to_s = finiteArg(*t1, "--to");
+    cfg.seed = seedArg(seed);
+    cfg.keep_beams = false;
+    if (model) cfg.model = modelArg(*model);
+    return cfg;
+}
+
+/// A 3D lidar's run from Python's arguments (scan_lidar, record_bag).
+LidarRunConfig lidarConfig(const std::string& sensor, const std::optional<std::string>& returns,
+                           std::optional<double> t0, std::optional<double> t1, const py::object& seed)
+{
+    LidarRunConfig cfg;
+    cfg.sensor = sensor;
+    if (returns) {
+        parseReturnMode(*returns, "--returns");
+        cfg.returns = *returns;
+    }
+    if (t0) cfg.from_s = finiteArg(*t0, "--from");
+    if (t1) cfg.to_s = finiteArg(*t1, "--to");
+    cfg.seed = seedArg(seed);
+    return cfg;
+}
+
+/// The names of a scene's surfaces, cameras or volumes.
+template <class T>
+std::vector<std::string> namesOf(const std::vector<T>& items)
+{
+    std::vector<std::string> v;
+    for (const T& x : items) v.push_back(x.name);
+    return v;
+}
+
 /// A run's control from Python: progress to `progress` (a callable or None), and a stop when
 /// Ctrl-C (or any signal whose handler raises) arrives. Called without the GIL; takes it.
 struct PyControl {
@@ -195,9 +234,7 @@ PYBIND11_MODULE(_smokescan, m)
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
-        } catch (const Cancelled& e) {
-            error(e.what());
-        } catch (const Error& e) {
+        } catch (const Error& e) {  // Cancelled too
             error(e.what());
         }
     });
@@ -216,29 +253,11 @@ PYBIND11_MODULE(_smokescan, m)
             },
             "The 2D lasers mounted in the scene: (name, type) pairs")
         .def_property_readonly(
-            "surfaces",
-            [](const Scene& s) {
-                std::vector<std::string> v;
-                for (const Surface& x : s.surfaces) v.push_back(x.name);
-                return v;
-            },
-            "Surface names")
+            "surfaces", [](const Scene& s) { return namesOf(s.surfaces); }, "Surface names")
         .def_property_readonly(
-            "cameras",
-            [](const Scene& s) {
-                std::vector<std::string> v;
-                for (const Camera& c : s.cameras) v.push_back(c.name);
-                return v;
-            },
-            "Camera names")
+            "cameras", [](const Scene& s) { return namesOf(s.cameras); }, "Camera names")
         .def_property_readonly(
-            "volumes",
-            [](const Scene& s) {
-                std::vector<std::string> v;
-                for (const SmokeVolume& x : s.volumes) v.push_back(x.name);
-                return v;
-            },
-            "Smoke volume names")
+            "volumes", [](const Scene& s) { return namesOf(s.volumes); }, "Smoke volume names")
         .def(
             "with_smoke_scale",
             [](const Scene& s, double k) {
@@ -262,18 +281,12 @@ PYBIND11_MODULE(_smokescan, m)
         [](std::shared_ptr<Scene> scene, const std::string& sensor, std::optional<double> t0, std::optional<double> t1,
            double rate_hz, py::object seed, std::optional<std::string> model, const std::string& sensor_file,
            double penetration_power, py::object progress) {
-            ScanConfig cfg;
-            cfg.sensor = sensor;
-            if (t0) cfg.from_s = finiteArg(*t0, "--from");
-            if (t1) cfg.to_s = finiteArg(*t1, "--to");
+            ScanConfig cfg = laserConfig(sensor, t0, t1, seed, model);
             cfg.rate_hz = rate_hz;
-            cfg.seed = seedArg(seed);
             cfg.sensor_file = sensor_file;
             if (!(penetration_power >= 0) || !std::isfinite(penetration_power))
                 throw Error("--penetration-power", "must be a finite number > 0 (0: the mount's)");
             cfg.penetration_power = penetration_power;
-            cfg.keep_beams = false;
-            if (model) cfg.model = modelArg(*model);
             PyControl pc(std::move(progress));
             std::unique_ptr<LaserRun> run;
             const std::vector<Scan> scans = released(pc, [&](const RunControl& c) {
@@ -293,31 +306,16 @@ PYBIND11_MODULE(_smokescan, m)
            std::optional<double> t1, std::optional<double> rate_hz, py::object seed, std::optional<std::string> returns,
            std::optional<std::string> model, py::object progress) {
             PyControl pc(std::move(progress));
-            const bool lidar = !sensor.empty() && scene->findSensor(sensor) < 0 && isLidarName(sensor);
             BagRunResult r;
-            if (lidar) {
+            if (isLidarRun(*scene, sensor)) {
                 if (model) throw Error("--model", "is for the 2D lasers; the " + sensor + " has its own receiver");
-                LidarRunConfig cfg;
-                cfg.sensor = sensor;
-                if (returns) {
-                    parseReturnMode(*returns, "--returns");
-                    cfg.returns = *returns;
-                }
+                LidarRunConfig cfg = lidarConfig(sensor, returns, t0, t1, seed);
                 cfg.rate_hz = rate_hz.value_or(0.0);
-                if (t0) cfg.from_s = finiteArg(*t0, "--from");
-                if (t1) cfg.to_s = finiteArg(*t1, "--to");
-                cfg.seed = seedArg(seed);
                 r = released(pc, [&](const RunControl& c) { return recordLidarBag(*scene, cfg, path, c); });
             } else {
                 if (returns) throw Error("--returns", "is for a 3D lidar");
-                ScanConfig cfg;
-                cfg.sensor = sensor;
-                if (t0) cfg.from_s = finiteArg(*t0, "--from");
-                if (t1) cfg.to_s = finiteArg(*t1, "--to");
+                ScanConfig cfg = laserConfig(sensor, t0, t1, seed, model);
                 if (rate_hz) cfg.rate_hz = *rate_hz;
-                cfg.seed = seedArg(seed);
-                cfg.keep_beams = false;
-                if (model) cfg.model = modelArg(*model);
                 r = released(pc, [&](const RunControl& c) { return recordLaserBag(*scene, cfg, path, c); });
             }
             py::dict d;
@@ -336,18 +334,10 @@ PYBIND11_MODULE(_smokescan, m)
         [](std::shared_ptr<Scene> scene, const std::string& sensor, std::optional<std::string> returns, double rate_hz,
            long long columns, std::optional<double> t0, std::optional<double> t1, py::object seed,
            py::object progress) {
-            LidarRunConfig cfg;
-            cfg.sensor = sensor;
-            if (returns) {
-                parseReturnMode(*returns, "--returns");
-                cfg.returns = *returns;
-            }
+            LidarRunConfig cfg = lidarConfig(sensor, returns, t0, t1, seed);
             cfg.rate_hz = rate_hz;
             if (columns < 0 || columns > 8192) throw Error("--columns", "must lie in 1…8192 (0: the preset's)");
             cfg.columns = int(columns);
-            if (t0) cfg.from_s = finiteArg(*t0, "--from");
-            if (t1) cfg.to_s = finiteArg(*t1, "--to");
-            cfg.seed = seedArg(seed);
             PyControl pc(std::move(progress));
             std::vector<LidarFrame> frames = released(pc, [&](const RunControl& c) {
                 const LidarRun run(*scene, cfg);

@@ -25,6 +25,7 @@
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/pipeline/laser_run.hpp"
+#include "smokescan/pipeline/lidar_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/laser_log.hpp"
 #include "smokescan/sensors/scan_summary.hpp"
@@ -177,8 +178,7 @@ int runScan(const ScanArgs& a0)
 {
     ScanArgs a = a0;
     const Scene scene = loadScene(a.scene);
-    if (!a.cfg.sensor.empty() && scene.findSensor(a.cfg.sensor) < 0 && isLidarName(a.cfg.sensor))
-        return scanLidar(scene, a);
+    if (isLidarRun(scene, a.cfg.sensor)) return scanLidar(scene, a);
     RunFiles files;
     recordSceneInputs(files, a.scene, scene);
     recordFiles(files, a);

@@ -1,6 +1,5 @@
 #include "scan_lidar.hpp"
 
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -9,7 +8,6 @@
 #include "smokescan/bag/scan_bag.hpp"
 #include "smokescan/bag/scan_messages.hpp"
 #include "smokescan/core/error.hpp"
-#include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/image.hpp"

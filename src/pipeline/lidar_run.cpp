@@ -4,6 +4,11 @@
 
 namespace smokescan {
 
+bool isLidarRun(const Scene& scene, const std::string& sensor)
+{
+    return !sensor.empty() && scene.findSensor(sensor) < 0 && isLidarName(sensor);
+}
+
 LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene), spec_(lidarSpec(cfg.sensor))
 {
     if (!(cfg.rate_hz >= 0) || !std::isfinite(cfg.rate_hz))

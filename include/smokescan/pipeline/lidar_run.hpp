@@ -37,6 +37,10 @@ struct LidarRunConfig {
     uint64_t seed = 1;
 };
 
+/// @brief Whether a scan run with `sensor` is a 3D lidar's: a lidar preset's name or file that
+/// is not the name or type of a sensor of the scene (`smokescan scan --sensor`, record bags).
+bool isLidarRun(const Scene& scene, const std::string& sensor);
+
 class LidarRun {
 public:
     /// @brief Sets the run up: the preset, its rate, columns and return mode, the frame count
