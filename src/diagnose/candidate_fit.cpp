@@ -59,6 +59,31 @@ private:
     const std::vector<Obs>& obs_;
 };
 
+/// The start of least cost. A long grid of starts (the clock offset's 97) is searched coarse to
+/// fine: every kStride-th start, then the starts between the best one's neighbours; a basin
+/// narrower than kStride steps could be passed over, which a smooth likelihood on that scale
+/// (the clock offset's: smoke ramps of seconds, steps of a camera frame) does not have.
+double bestStart(const ceres::GradientProblem& problem, const std::vector<double>& from)
+{
+    constexpr size_t kStride = 4, kLong = 24;
+    const size_t stride = from.size() > kLong ? kStride : 1;
+    size_t best_i = 0;
+    double best = kInf;
+    auto tryStart = [&](size_t i) {
+        double t = from[i], cost = kInf;
+        if (problem.Evaluate(&t, &cost, nullptr) && cost < best) best = cost, best_i = i;
+    };
+    for (size_t i = 0; i < from.size(); i += stride) tryStart(i);
+    if (stride > 1) {
+        if ((from.size() - 1) % stride != 0) tryStart(from.size() - 1);
+        const size_t coarse = best_i, lo = coarse >= stride ? coarse - stride + 1 : 0,
+                     hi = std::min(from.size() - 1, coarse + stride - 1);
+        for (size_t i = lo; i <= hi; ++i)
+            if (i != coarse) tryStart(i);
+    }
+    return from[best_i];
+}
+
 }  // namespace
 
 ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs,
@@ -68,14 +93,7 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
     if (obs.empty()) return f;
     ceres::GradientProblem problem(new CandidateNll(r, m, c, obs));
     const std::vector<double>& from = starts && !starts->empty() ? *starts : c.starts();
-    double theta = from.front(), best = kInf;
-    for (double t : from) {
-        double cost = kInf;
-        if (problem.Evaluate(&t, &cost, nullptr) && cost < best) {
-            best = cost;
-            theta = t;
-        }
-    }
+    double theta = bestStart(problem, from);
     ceres::GradientProblemSolver::Options opt;
     opt.line_search_direction_type = ceres::LBFGS;
     opt.max_num_iterations = 100;

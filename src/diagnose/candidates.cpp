@@ -19,8 +19,7 @@ BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& m, const Obs& o)
     x.column = T(r.columnWith(size_t(o.k), size_t(o.b), m.density[size_t(o.k)]));
     const SurfaceExtension* own = beam.surface >= 0 ? &m.surface[size_t(beam.surface)] : nullptr;
     // The paper model's threshold is ln P; the physical model's is its own, shifted by 0.
-    x.lnP =
-        T(r.isPhysical() ? 0.0 : std::log(r.config.paper.penetration_power)) + T(e.thresholdShift(own, scan.rising));
+    x.lnP = T(m.ln_p) + T(e.thresholdShift(own, scan.rising));
     x.width = T(m.width[size_t(o.k)]);
     x.beta = T(own ? own->range_bias : 0.0);
     x.gamma = T(e.range_noise_growth_m);

@@ -18,6 +18,7 @@ ReplayModel::ReplayModel(const Replay& r, ModelExtensions e) : ext(std::move(e))
         surface[size_t(it - r.surface_names.begin())] = x;
     }
     for (const ReplayBeam& b : r.beams) dropout.push_back(ext.dropoutAt(b.angle_rad * 180 / M_PI));
+    ln_p = r.isPhysical() ? 0.0 : std::log(r.config.paper.penetration_power);
     offset_change_s = ext.clock_offset_s - r.offset_s;
     const bool shifted = r.from_saturation && offset_change_s != 0;
     for (const ReplayScan& s : r.scans) {

@@ -22,6 +22,9 @@ struct ReplayModel {
     /// unchanged) and its threshold's width, hypot(threshold_width, ln_density_sd): read once
     /// per scan, not per beam.
     std::vector<double> density, width;
+    /// The threshold's ln P before the shifts: ln of the paper model's penetration power, 0 for
+    /// the physical model (whose threshold is its own).
+    double ln_p = 0;
 
     /// @brief Resolves `e` on the replay. @throw Error naming the sensor file for a surface the
     /// scene lacks.
