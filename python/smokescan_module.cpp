@@ -2,6 +2,7 @@
 // scans and a 3D lidar's frames as numpy arrays, through the library's runs (pipeline/). Long
 // calls release the GIL, report progress to a Python callable and stop on Ctrl-C; the library's
 // errors are smokescan.Error carrying their one-line message.
+#include <glog/logging.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <thread>
 
+#include "module_support.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/version.hpp"
 #include "smokescan/io/atomic_file.hpp"
@@ -25,6 +27,7 @@
 
 namespace py = pybind11;
 using namespace smokescan;
+using namespace smokescan::python;
 
 namespace {
 
@@ -37,52 +40,6 @@ struct ScanRow {
     int32_t beam;
     bool error;
 };
-
-/// A vector handed to numpy without a copy: the array owns it through a capsule.
-template <class T>
-py::array_t<T> ownedArray(std::vector<T>&& v)
-{
-    auto* held = new std::vector<T>(std::move(v));
-    py::capsule owner(held, [](void* p) { delete static_cast<std::vector<T>*>(p); });
-    return py::array_t<T>({py::ssize_t(held->size())}, {py::ssize_t(sizeof(T))}, held->data(), owner);
-}
-
-/// While the interpreter shuts down, a daemon thread still in a run must not take the GIL back
-/// (Python would end the thread inside a destructor, and C++ would abort): it waits here for the
-/// process to end instead.
-void parkIfFinalizing()
-{
-#if PY_VERSION_HEX >= 0x030D0000
-    while (Py_IsFinalizing()) std::this_thread::sleep_for(std::chrono::hours(1));
-#else
-    while (_Py_IsFinalizing()) std::this_thread::sleep_for(std::chrono::hours(1));
-#endif
-}
-
-/// A time given from Python: a finite number, else an Error naming the option.
-double finiteArg(double v, const char* option)
-{
-    if (!std::isfinite(v)) throw Error(option, "must be a finite number");
-    return v;
-}
-
-/// A seed given from Python: a whole number from 0 to 2^64 − 1, as the command line's --seed.
-uint64_t seedArg(const py::object& o)
-{
-    const char* what = "is not a seed (a whole number from 0 to 18446744073709551615)";
-    if (!py::isinstance<py::int_>(o) || py::isinstance<py::bool_>(o)) throw Error("--seed", what);
-    try {
-        return o.cast<uint64_t>();
-    } catch (const py::cast_error&) {
-        throw Error("--seed", what);
-    }
-}
-
-SensorModel modelArg(const std::string& name)
-{
-    if (const auto m = parseSensorModel(name)) return *m;
-    throw Error("--model", "unknown sensor model '" + name + "' (paper, physical)");
-}
 
 /// A 2D laser's run from Python's arguments (scan, record_bag).
 ScanConfig laserConfig(const std::string& sensor, std::optional<double> t0, std::optional<double> t1,
@@ -121,54 +78,6 @@ std::vector<std::string> namesOf(const std::vector<T>& items)
     std::vector<std::string> v;
     for (const T& x : items) v.push_back(x.name);
     return v;
-}
-
-/// A run's control from Python: progress to `progress` (a callable or None), and a stop when
-/// Ctrl-C (or any signal whose handler raises) arrives. Called without the GIL; takes it.
-struct PyControl {
-    py::object progress;
-    bool interrupted = false;
-    explicit PyControl(py::object p) : progress(std::move(p))
-    {
-        if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
-            throw py::type_error("progress must be a callable taking (done, total)");
-    }
-    RunControl control()
-    {
-        RunControl c;
-        c.cancel = [this] {
-            parkIfFinalizing();
-            py::gil_scoped_acquire gil;
-            if (PyErr_CheckSignals() != 0) {
-                interrupted = true;  // the signal's exception is raised again once the run is out
-                return true;
-            }
-            return false;
-        };
-        if (!progress.is_none())
-            c.progress = [this](long long done, long long total) {
-                parkIfFinalizing();
-                py::gil_scoped_acquire gil;
-                progress(done, total);
-            };
-        return c;
-    }
-};
-
-/// Runs f without the GIL; a Ctrl-C that cancelled it comes back as Python's own exception.
-template <class F>
-auto released(PyControl& pc, F&& f)
-{
-    try {
-        py::gil_scoped_release nogil;
-        struct Park {
-            ~Park() { parkIfFinalizing(); }  // before nogil takes the GIL back
-        } park;
-        return f(pc.control());
-    } catch (const Cancelled&) {
-        if (pc.interrupted) throw py::error_already_set();
-        throw;
-    }
 }
 
 /// A pose as a 4×4 homogeneous matrix [m].
@@ -227,10 +136,18 @@ PYBIND11_MODULE(_smokescan, m)
 {
     m.doc() = "smokescan: laser range finders, 3D lidars and cameras simulated in smoke (the compiled part)";
     leaveSignalsToHost();  // Python's Ctrl-C is Python's: a KeyboardInterrupt, not the end of the process
+    // Ceres logs through glog; the fits report what matters in their results (as the program does).
+    if (!google::IsGoogleLoggingInitialized()) google::InitGoogleLogging("smokescan");
+    FLAGS_minloglevel = google::GLOG_FATAL;
+    FLAGS_stderrthreshold = google::GLOG_FATAL;
+    FLAGS_logtostderr = false;
     PYBIND11_NUMPY_DTYPE(ScanRow, time_s, angle_rad, range_m, value, beam, error);
     PYBIND11_NUMPY_DTYPE(LidarPoint, x, y, z, range_m, intensity, ring, return_index, source, time_s, beam);
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
     error.attr("__module__") = "smokescan";
+    error.attr("__doc__") =
+        "A bad input or setting, with the library's one-line message (the file or option, then "
+        "the problem)";
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
@@ -239,6 +156,9 @@ PYBIND11_MODULE(_smokescan, m)
         }
     });
     m.attr("__version__") = version();
+    bindRender(m);
+    bindAnalysis(m);
+    bindVolume(m);
 
     py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene", "A scene: surfaces, sensors, cameras and smoke over time")
         .def_readonly("source", &Scene::source, "The file it came from, or builtin:NAME")

@@ -8,6 +8,11 @@
 Long calls release the GIL, report progress to `progress(done, total)` and stop on Ctrl-C
 (KeyboardInterrupt). Errors are smokescan.Error with the library's one-line message.
 """
-from ._smokescan import Error, Scene, __version__, builtin_scenes, load_scene, record_bag, scan, scan_lidar
+from ._report import Report
+from ._smokescan import (Error, Scene, __version__, builtin_scenes, calibrate, diagnose, load_scene, read_volume,
+                         record_bag, render, scan, scan_lidar, write_volume)
 
-__all__ = ["Error", "Scene", "__version__", "builtin_scenes", "load_scene", "record_bag", "scan", "scan_lidar"]
+__all__ = [
+    "Error", "Report", "Scene", "__version__", "builtin_scenes", "calibrate", "diagnose", "load_scene",
+    "read_volume", "record_bag", "render", "scan", "scan_lidar", "write_volume"
+]

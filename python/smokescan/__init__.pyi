@@ -1,5 +1,6 @@
 """Type stubs of the smokescan module (its compiled part is smokescan._smokescan)."""
-from typing import Callable, Dict, List, Optional, Tuple, Any
+import os
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -84,3 +85,90 @@ def scan_lidar(
     structured array without a copy: x, y, z, range_m, intensity (f4; m, calibrated reflectivity
     %), ring (u2), return_index (u1), source (u1: 0 surface, 1 smoke, 2 mirror), time_s (f4, from
     the frame's start), beam (u4)."""
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+class Report:
+    """A JSON report's object (diagnose, calibrate): its keys as attributes and items; nested
+    objects are Reports. to_dict() gives the parsed JSON (NaN as None)."""
+    def __getattr__(self, name: str) -> Any: ...
+    def __getitem__(self, name: str) -> Any: ...
+    def keys(self) -> Any: ...
+    def to_dict(self) -> Dict[str, Any]: ...
+
+def render(
+    scene: Scene,
+    time_s: float = 0.0,
+    camera: str = "",
+    width: int = 0,
+    height: int = 0,
+    spp: int = 16,
+    seed: int = 1,
+    max_depth: int = 256,
+    exposure: Optional[float] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Dict[str, Any]:
+    """One frame of a scene camera (default: the first; width/height 0 = the camera's) at time_s
+    through the smoke, as `smokescan render` makes it. A dict: radiance and variance (H×W×3
+    float32, linear [W/(m²·sr)]), display (H×W×3 float32, sRGB-encoded in [0, 1] at the exposure
+    used; exposure None = auto metering), object_id and material_id (H×W int32, −1 = none),
+    depth_m (H×W float32, inf = none), exposure, camera, time_s, samples, seconds.
+    progress(done, total) counts 16×16-pixel tiles."""
+
+def calibrate(
+    scene: Scene,
+    *,
+    densities: Optional[List[float]] = None,
+    spp: int = 8,
+    rel_error: float = 0.03,
+    max_batches: int = 16,
+    width: int = 320,
+    height: int = 240,
+    seed: int = 1,
+    camera: str = "",
+    target_prefix: str = "target_",
+    loss: str = "huber",
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Report:
+    """`smokescan calibrate`: the density-saturation curve (the smoke paper's Fig. 7) from the
+    scene's own frames, fitted with Ceres; a Report with the calibration JSON's fields
+    (docs/calibration.md). json.dump(report.to_dict(), f) writes a calibration fit and diagnose read."""
+
+def diagnose(
+    scene: PathLike,
+    *,
+    laser: Optional[PathLike] = None,
+    bag: Optional[PathLike] = None,
+    topic: str = "",
+    saturation: Optional[PathLike] = None,
+    calibration: PathLike = "bocas",
+    patch: str = "",
+    sensor: str = "",
+    sensor_type: str = "urg04lx",
+    sensor_file: Optional[PathLike] = None,
+    model: Optional[str] = None,
+    unit: str = "mm",
+    lenient: bool = False,
+    offset_s: Optional[float] = None,
+    block_s: float = 3.0,
+    smoke_shape: str = "reference",
+    camera: str = "",
+    target_prefix: str = "target_",
+    alpha: float = 0.05,
+    max_findings: int = 4,
+    seed: int = 1,
+    out: Optional[PathLike] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Report:
+    """`smokescan diagnose`: a recorded run replayed in the scene (file or built-in name), what
+    the simulation gets wrong, the cause and the extended model's held-out gain; a Report with
+    diagnosis.json's fields (docs/diagnosis.md). out= also writes the command's folder
+    (diagnosis.json, report.md, sensor.toml), whole or not at all."""
+
+def read_volume(path: PathLike, grid: str = "density", scale: float = 1.0) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float64]]:
+    """A scalar grid of a .vdb file as (density, index_to_world): float32 over the box of its
+    non-zero voxels; density[a, b, c] is the voxel whose centre is index_to_world @ (a, b, c, 1) [m]."""
+
+def write_volume(path: PathLike, density: npt.ArrayLike, index_to_world: npt.ArrayLike, grid: str = "density") -> None:
+    """Writes a 3-D array of densities (finite, >= 0) as an OpenVDB grid in a new .vdb file
+    (atomically); index_to_world is a 4×4 affine map whose voxels are cubes."""

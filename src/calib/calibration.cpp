@@ -307,8 +307,7 @@ nlohmann::json mixJson(const CalibrationResult& r)
 
 }  // namespace
 
-void writeCalibrationJson(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg,
-                          const std::string& scene_source)
+std::string calibrationJson(const CalibrationResult& r, const CalibrateConfig& cfg, const std::string& scene_source)
 {
     nlohmann::json j;
     j["model"] = "S(rho) = sqrt((1 - (1 - S0 / (1 + a*(exp(b*rho) - 1)))^gamma)^2 + floor^2)";
@@ -365,8 +364,14 @@ void writeCalibrationJson(const std::string& path, const CalibrationResult& r, c
                    {"target_prefix", cfg.target_prefix},
                    {"exposure", "the scene camera's sensor (auto: average metering)"},
                    {"seconds", r.seconds}};
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void writeCalibrationJson(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg,
+                          const std::string& scene_source)
+{
     AtomicFile f(path);
-    f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+    f.stream() << calibrationJson(r, cfg, scene_source) << '\n';
     f.commit();
 }
 

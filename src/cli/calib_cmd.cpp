@@ -24,6 +24,7 @@
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/pipeline/calibrate_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
@@ -42,20 +43,6 @@ int runCalibrate(const CalibArgs& a)
 {
     CalibrateConfig cfg = a.cfg;
     if (!a.densities.empty()) cfg.densities = parseNumberList(a.densities, "--densities");
-    if (cfg.densities.size() > size_t(limits::kCalibrationDensities))
-        throw Error("--densities", "at most " + std::to_string(limits::kCalibrationDensities) + " densities");
-    for (double d : cfg.densities)
-        if (d < 0 || d > limits::kCalibrationDensityMax)
-            throw Error("--densities",
-                        "density " + std::to_string(d) + " is outside [0, " +
-                            std::to_string(limits::kCalibrationDensityMax) +
-                            "] (the calibration's range; 0.0028 is the paper's threshold)");
-    const double per_frame =
-        double(cfg.width) * cfg.height * (cfg.field.meter_spp + double(cfg.field.max_batches) * cfg.field.batch_spp);
-    if (per_frame * double(cfg.densities.size()) > double(limits::kFrameSamples))
-        throw Error("--spp",
-                    "width × height × spp × --max-batches × densities is over " +
-                        std::to_string(limits::kFrameSamples) + " samples");
     const Scene scene = loadScene(a.scene);
     RunFiles files;
     recordSceneInputs(files, a.scene, scene);
@@ -63,11 +50,9 @@ int runCalibrate(const CalibArgs& a)
     files.output(a.plot, "--plot");
     if (!a.plot.empty() && !isImageExtension(a.plot)) throw Error(a.plot, "unknown image format (png, exr, jpg, tif)");
     const Progress progress("calibrate", "frames");
-    const CalibrationResult r = calibrate(scene, cfg, [&](int done, int total) { progress.update(done, total); });
-    if (!r.fit.converged)
-        throw Error("calibrate",
-                    "the curve could not be fitted to these " + std::to_string(cfg.densities.size()) +
-                        " points: " + r.fit.message + " (the default sweep: 14 densities from 0 to 0.012)");
+    RunControl control;
+    control.progress = [&](long long done, long long total) { progress.update(int(done), int(total)); };
+    const CalibrationResult r = runCalibration(scene, cfg, control);
     writeCalibrationJson(files.stage(a.out), r, cfg, scene.source);
     if (!a.plot.empty()) writeCalibrationPlot(files.stage(a.plot), r, cfg);
     files.commit();

@@ -54,9 +54,6 @@ CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::str
 void bagInputs(RunFiles& files, const std::string& bag, const std::string& option);
 /// @brief The --saturation input's files (a bag's metadata.yaml and the files it lists, or the CSV).
 void saturationInputs(RunFiles& files, const std::string& saturation);
-/// @brief Exactly one of --laser and --bag (and --topic only with --bag): the source's name for
-/// messages. @throw Error naming the option otherwise.
-std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic);
 
 /// @brief An option whose value is one of a few names, stored as the enum it names; any other
 /// value is a parse error listing the names ("--link: 'x' is not one of probit, logistic").

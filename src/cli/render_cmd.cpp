@@ -10,6 +10,7 @@
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/omni/birdseye.hpp"
+#include "smokescan/pipeline/render_run.hpp"
 #include "smokescan/render/omni_camera.hpp"
 #include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene_io.hpp"
@@ -97,18 +98,16 @@ int runRender(const RenderArgs& a)
     std::unique_ptr<ScanBag> bag;
     if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene);
     for (size_t k = 0; k < times.size(); ++k) {
-        RenderConfig cfg = a.cfg;
-        cfg.time_s = times[k];
-        cfg.width = std::max(0, a.width);
-        cfg.height = std::max(0, a.height);
-        const RenderResult r = render(scene, surfaces, cfg);
-        // An omni camera meters over its mirror disc (the frame around it is black).
-        Camera c = scene_cam ? scene.cameraAt(*scene_cam, times[k]) : Camera{};
-        if (a.width > 0) c.width = a.width;
-        if (a.height > 0) c.height = a.height;
-        const auto omni = scene_cam && scene_cam->kind == CameraKind::Omni ? makeCamera(c) : nullptr;
-        double used = 0;
-        const Image frame = toDisplay(r.radiance, exposure, &used, omni.get());
+        RenderRunConfig rc;
+        rc.render = a.cfg;
+        rc.render.time_s = times[k];
+        rc.render.width = std::max(0, a.width);
+        rc.render.height = std::max(0, a.height);
+        rc.exposure = exposure;
+        const RenderedFrame f = renderFrame(scene, surfaces, rc);
+        const RenderResult& r = f.result;
+        const Image& frame = f.display;
+        const Camera& c = f.camera;
         const std::string out = a.out.empty() ? a.bag : expand(a.out, int(k), times[k]);
         if (!a.out.empty()) writeImage(files.stage(out), frame);
         if (bag) bag->addImage(frame, times[k], times[k], *scene_cam);  // render found the camera
@@ -118,12 +117,13 @@ int runRender(const RenderArgs& a)
             BirdseyeConfig bc = a.bird;
             bc.height_m = c.pose.t.z() - a.floor_z;
             if (!(bc.height_m > 0)) throw Error("--floor-z", "the camera is not above the floor");
+            const auto omni = makeCamera(c);  // an omni camera (checked above)
             writeImage(files.stage(expand(a.birdseye, int(k), times[k])),
                        birdseye(frame, dynamic_cast<const OmniCamera&>(*omni), bc));
         }
         say("t = %.2f s: %s (%dx%d, %d spp, %.2f s, %.2f M samples/s, exposure %.4g)\n", times[k],
-            printable(out).c_str(), r.radiance.width, r.radiance.height, cfg.spp, r.seconds,
-            r.samples / r.seconds / 1e6, used);
+            printable(out).c_str(), r.radiance.width, r.radiance.height, rc.render.spp, r.seconds,
+            r.samples / r.seconds / 1e6, f.exposure);
     }
     if (bag) bag->finish();
     files.commit([&] {

@@ -198,12 +198,4 @@ void saturationInputs(RunFiles& files, const std::string& saturation)
     bagInputs(files, saturation, "--saturation");
 }
 
-std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic)
-{
-    if (laser.empty() && bag.empty()) throw Error("--laser", "give the recorded scans: --laser LOG or --bag PATH");
-    if (!laser.empty() && !bag.empty()) throw Error("--bag", "is in place of --laser; give one of them");
-    if (!topic.empty() && bag.empty()) throw Error("--topic", "names a bag's topic; give --bag");
-    return laser.empty() ? bag : laser;
-}
-
 }  // namespace smokescan::cli

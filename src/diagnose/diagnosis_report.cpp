@@ -229,7 +229,7 @@ std::vector<ResidualRow> residualsBy(const Replay& r, const ModelExtensions& mod
     return out;
 }
 
-void writeDiagnosisJson(const std::string& path, const DiagnosisResult& r, const DiagnosisSources& src)
+std::string diagnosisJson(const DiagnosisResult& r, const DiagnosisSources& src)
 {
     nlohmann::json j;
     j["inputs"] = {{"laser", src.laser},
@@ -271,8 +271,13 @@ void writeDiagnosisJson(const std::string& path, const DiagnosisResult& r, const
                               {"level", num(t.level)},
                               {"floor", num(t.floor)}});
     j["verdict"] = r.verdict;
+    return j.dump(2);
+}
+
+void writeDiagnosisJson(const std::string& path, const DiagnosisResult& r, const DiagnosisSources& src)
+{
     AtomicFile f(path);
-    f.stream() << j.dump(2) << '\n';
+    f.stream() << diagnosisJson(r, src) << '\n';
     f.commit();
 }
 

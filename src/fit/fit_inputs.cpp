@@ -72,6 +72,14 @@ SaturationSeries readSaturation(const FitInputsConfig& cfg)
     return measureBagSaturation(cfg.saturation, cfg.image_topic, frameRegions(cfg.rects, cfg.polygons));
 }
 
+std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic)
+{
+    if (laser.empty() && bag.empty()) throw Error("--laser", "give the recorded scans: --laser LOG or --bag PATH");
+    if (!laser.empty() && !bag.empty()) throw Error("--bag", "is in place of --laser; give one of them");
+    if (!topic.empty() && bag.empty()) throw Error("--topic", "names a bag's topic; give --bag");
+    return laser.empty() ? bag : laser;
+}
+
 SaturationSeries patchSeries(const SaturationSeries& s0, const std::string& patch)
 {
     size_t p = 0;

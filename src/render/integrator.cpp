@@ -397,8 +397,14 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
     constexpr int kTile = 16;
     const int tx = (W + kTile - 1) / kTile, ty = (H + kTile - 1) / kTile;
     Progress progress(cfg.progress, (long long)tx * ty);
+    if (cfg.watch) cfg.watch->tiles_total = (long long)tx * ty;
+    std::atomic<bool> skipped{false};
     tbb::parallel_for(tbb::blocked_range<int>(0, tx * ty), [&](const tbb::blocked_range<int>& r) {
         for (int tile = r.begin(); tile != r.end(); ++tile) {
+            if (cfg.watch && cfg.watch->stop) {
+                skipped = true;
+                return;
+            }
             const int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
             for (int y = y0; y < std::min(H, y0 + kTile); ++y)
                 for (int x = x0; x < std::min(W, x0 + kTile); ++x) {
@@ -433,8 +439,10 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                     }
                 }
             progress.add(1);
+            if (cfg.watch) ++cfg.watch->tiles_done;
         }
     });
+    res.stopped = skipped;
     const long long rendered = cfg.mask
         ? (long long)std::count_if(cfg.mask->begin(), cfg.mask->end(), [](uint8_t m) { return m != 0; })
         : (long long)W * H;

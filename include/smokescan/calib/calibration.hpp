@@ -85,6 +85,9 @@ Scene uniformSmokeScene(const Scene& scene, double density);
 CalibrationResult calibrate(const Scene& scene, const CalibrateConfig& cfg,
                             const std::function<void(int, int)>& progress = {});
 
+/// @brief The calibration as JSON text (curve model, parameters, covariance, points, settings),
+/// without a final newline.
+std::string calibrationJson(const CalibrationResult& r, const CalibrateConfig& cfg, const std::string& scene_source);
 /// @brief The calibration as JSON (curve model, parameters, covariance, points, settings), written
 /// atomically.
 void writeCalibrationJson(const std::string& path, const CalibrationResult& r, const CalibrateConfig& cfg,

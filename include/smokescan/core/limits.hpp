@@ -46,6 +46,8 @@ inline constexpr int64_t kFrames = 100'000;
 inline constexpr int kPathDepth = 1'000'000;
 /// Voxels of one grid made from a scene (box, mesh or plume), as estimated from its bounding box.
 inline constexpr int64_t kGridVoxels = int64_t(1) << 30;
+/// Voxels of a dense block a grid is read into or made from (media/dense_voxels.hpp): 1 GiB of floats.
+inline constexpr int64_t kDenseVoxels = int64_t(1) << 28;
 /// Densities in one calibration sweep; engine densities accepted there (the sweep's smoke).
 inline constexpr int kCalibrationDensities = 1000;
 inline constexpr double kCalibrationDensityMax = 1.0;

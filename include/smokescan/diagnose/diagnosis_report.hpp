@@ -15,6 +15,9 @@ struct DiagnosisSources {
     double offset_s = 0, block_s = 0;
 };
 
+/// @brief diagnosis.json's text (docs/diagnosis.md), without its final newline.
+std::string diagnosisJson(const DiagnosisResult& r, const DiagnosisSources& src);
+
 /// @brief diagnosis.json, written atomically. Format: docs/diagnosis.md.
 void writeDiagnosisJson(const std::string& path, const DiagnosisResult& r, const DiagnosisSources& src);
 

@@ -70,6 +70,10 @@ struct FitInputs {
     FitInputs& operator=(FitInputs&&) = default;
 };
 
+/// @brief Exactly one of --laser and --bag (and --topic only with --bag): the source's name for
+/// messages. @throw Error naming the option otherwise.
+std::string scansSource(const std::string& laser, const std::string& bag, const std::string& topic);
+
 /// @brief The series with one patch's column as its saturation (rows where the patch has no value
 /// left out). @throw Error naming the file when there is no such patch or it has no values.
 SaturationSeries patchSeries(const SaturationSeries& s, const std::string& patch);

@@ -17,6 +17,8 @@
 /// | segment_lighting | true  | –    | the lights' in-scattered light along each path segment (equiangular + forced collision, MIS) instead of at collisions |
 /// | mask           | null    | –    | pixels to render (width × height, row-major, non-zero = render); the rest stay 0. Ids are made for every pixel |
 /// | split_primary  | false   | –    | camera rays: the surface through the smoke's transmittance plus a forced collision in the smoke |
+/// | watch          | null    | –    | counts finished tiles and lets another thread stop the render (RenderWatch) |
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -28,6 +30,14 @@
 #include "smokescan/scene/surfaces.hpp"
 
 namespace smokescan {
+
+/// What another thread may watch and ask of a render in progress: the frame is rendered in
+/// tiles of 16 × 16 px; tiles not yet begun when `stop` turns true are skipped.
+struct RenderWatch {
+    std::atomic<long long> tiles_total{0};  ///< set when the render starts
+    std::atomic<long long> tiles_done{0};
+    std::atomic<bool> stop{false};
+};
 
 struct RenderConfig {
     double time_s = 0;
@@ -42,6 +52,7 @@ struct RenderConfig {
     bool segment_lighting = true;
     const std::vector<uint8_t>* mask = nullptr;
     bool split_primary = false;  // measured: no gain on top of segment_lighting (docs/performance.md)
+    RenderWatch* watch = nullptr;
 };
 
 struct RenderResult {
@@ -50,6 +61,7 @@ struct RenderResult {
     Image ids;  ///< channels object, material (−1: none), depth [m] of the first surface
     double seconds = 0;
     long long samples = 0;
+    bool stopped = false;  ///< the watch stopped it: some tiles were skipped (their pixels are 0)
 };
 
 /// @brief Renders the scene's camera at config.time_s. @throw Error for a scene without a
