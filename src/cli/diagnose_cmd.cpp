@@ -69,8 +69,8 @@ int runDiagnose(const DiagnoseArgs& a0)
         }
         bar->update(done, total);
     };
+    a.run.on_scene = [&](const Scene& scene) { recordSceneInputs(files, in.scene, scene); };
     const DiagnoseRunResult r = runDiagnosis(a.run);
-    if (r.scene) recordSceneInputs(files, in.scene, *r.scene);
     writeDiagnosisFolder(out, r);
     sayDiagnosis(a, r.diagnosis);
     return 0;

@@ -26,8 +26,8 @@ nlohmann::json est(const Estimate& e)
 
 }  // namespace
 
-void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg,
-                        const FitSources& src, const UrgNoiseFloorResult* physical)
+std::string fitReportJson(const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src,
+                          const UrgNoiseFloorResult* physical)
 {
     nlohmann::json j;
     j["model"] = {{"threshold",
@@ -133,8 +133,14 @@ void writeFitReportJson(const std::string& path, const SensorFitResult& r, const
                    {"smooth_s", cfg.smooth_s},
                    {"clear_quantile", cfg.clear_quantile},
                    {"sigma_t_per_density", cfg.sigma_t_per_density}};
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg,
+                        const FitSources& src, const UrgNoiseFloorResult* physical)
+{
     AtomicFile f(path);
-    f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+    f.stream() << fitReportJson(r, cfg, src, physical) << '\n';
     f.commit();
 }
 
@@ -262,8 +268,8 @@ void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, c
     writeImage(path, c.image());
 }
 
-void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg,
-                       const std::string& laser, const std::string& scene)
+std::string plumeFitJson(const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
+                         const std::string& scene)
 {
     nlohmann::json j;
     j["model"] = {{"depth", "ln d = ln D - k ln(rho / rho_ref), d = range - plume entry [m]"},
@@ -293,8 +299,14 @@ void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const P
              {"mean_depth_m", std::isfinite(b.mean_depth_m) ? nlohmann::json(b.mean_depth_m) : nlohmann::json(nullptr)},
              {"se_depth_m", std::isfinite(b.se_depth_m) ? nlohmann::json(b.se_depth_m) : nlohmann::json(nullptr)}});
     j["bins"] = bins;
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg,
+                       const std::string& laser, const std::string& scene)
+{
     AtomicFile f(path);
-    f.stream() << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+    f.stream() << plumeFitJson(r, cfg, laser, scene) << '\n';
     f.commit();
 }
 

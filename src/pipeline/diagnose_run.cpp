@@ -59,6 +59,7 @@ void diagnoseOmni(DiagnoseRunConfig& a, DiagnoseRunResult& out, const RunControl
     omni.camera = a.in.sensor.empty() ? file.camera : a.in.sensor;
     omni.groups = false;
     OmniFitInputs o = loadOmniFitInputs(a.in, omni);
+    if (a.on_scene && o.in.scene) a.on_scene(*o.in.scene);
     if (std::isnan(a.replay.offset_s)) a.replay.offset_s = file.extensions.clock_offset_s;
     checkCancel(control);
     out.replay = std::make_unique<Replay>(replayOmniRun(o, file, a.replay));
@@ -88,6 +89,7 @@ DiagnoseRunResult runDiagnosis(DiagnoseRunConfig a, const RunControl& control)
         if (!a.omni_given.empty())
             throw Error("diagnose", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
         FitInputs in = loadFitInputs(a.in);
+        if (a.on_scene && in.scene) a.on_scene(*in.scene);
         out.sources.laser = in.sources.laser;  // a bag's with the topic read
         SensorConfig config = in.mount.config;
         if (!a.sensor_file.empty()) applySensorFile(a.sensor_file, config);

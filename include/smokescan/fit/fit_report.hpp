@@ -22,6 +22,9 @@ struct FitSources {
 
 /// @brief The report as JSON, written atomically.
 /// @param physical the physical model's noise floor derived from the fit (null: paper model only)
+/// @brief The report's JSON text, without a final newline.
+std::string fitReportJson(const SensorFitResult& r, const SensorFitConfig& cfg, const FitSources& src,
+                          const UrgNoiseFloorResult* physical = nullptr);
 void writeFitReportJson(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg,
                         const FitSources& src, const UrgNoiseFloorResult* physical = nullptr);
 
@@ -41,6 +44,9 @@ void writeFitTimePlot(const std::string& path, const SensorFitResult& r, int gro
 void writeFitSaturationPlot(const std::string& path, const SensorFitResult& r, const SensorFitConfig& cfg);
 
 /// @brief The Sick plume fit as JSON (every value with its error, the bins), written atomically.
+/// @brief The plume fit's JSON text, without a final newline.
+std::string plumeFitJson(const PlumeFitResult& r, const PlumeFitConfig& cfg, const std::string& laser,
+                         const std::string& scene);
 void writePlumeFitJson(const std::string& path, const PlumeFitResult& r, const PlumeFitConfig& cfg,
                        const std::string& laser, const std::string& scene);
 

@@ -12,7 +12,9 @@
 /// | replay      | ReplayConfig's, offset_s NaN | the replay (diagnose/replay.hpp); offset_s NaN: the sensor file's clock_offset_s |
 /// | diag        | DiagnosisConfig's    | level, rounds, seed (diagnose/diagnosis.hpp); its progress is called too |
 /// | omni        | OmniFitConfig's      | the omnicam's classes; those named in omni_given must match its sensor file's |
+/// | on_scene    | none                 | called with the scene once it is read, before any work (a caller protecting its files) |
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -42,6 +44,7 @@ struct DiagnoseRunConfig {
     DiagnosisConfig diag;
     OmniFitConfig omni;
     std::set<std::string> omni_given;  ///< "--tolerance", "--max-range", "--floor-z" when given
+    std::function<void(const Scene&)> on_scene;
 };
 
 struct DiagnoseRunResult {
