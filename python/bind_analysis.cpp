@@ -2,15 +2,21 @@
 // (pipeline/), their results as Report objects with the JSON reports' fields.
 #include <pybind11/stl.h>
 
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "module_support.hpp"
 #include "smokescan/core/limits.hpp"
+#include "smokescan/fit/fit_report.hpp"
 #include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/pipeline/calibrate_run.hpp"
 #include "smokescan/pipeline/diagnose_run.hpp"
+#include "smokescan/pipeline/fit_run.hpp"
+#include "smokescan/pipeline/saturation_run.hpp"
+#include "smokescan/sensor_config/sensor_file.hpp"
 
 namespace smokescan::python {
 namespace {
@@ -26,15 +32,15 @@ py::object reportOf(const std::string& json)
 FitInputsConfig inputsConfig(const py::object& scene, const py::object& laser, const py::object& bag,
                              const std::string& topic, const py::object& saturation, const py::object& calibration,
                              const std::string& patch, const std::string& sensor, const std::string& sensor_type,
-                             const std::string& unit, bool lenient)
+                             const std::string& unit, bool lenient, bool scene_required = true)
 {
     FitInputsConfig in;
-    in.scene = pathArg(scene, "--scene");
+    in.scene = pathArg(scene, "--scene", !scene_required);
     in.laser = pathArg(laser, "--laser");
     in.bag = pathArg(bag, "--bag");
     in.topic = topic;
     in.saturation = pathArg(saturation, "--saturation");
-    in.calibration = pathArg(calibration, "--calibration");
+    in.calibration = pathArg(calibration, "--calibration", false);
     in.patch = patch;
     in.sensor = sensor;
     in.sensor_type = sensor_type;
@@ -57,10 +63,187 @@ RobustLoss lossArg(const std::string& name)
     throw Error("--loss", "'" + name + "' is not one of none, huber, cauchy");
 }
 
+ErrorLink linkArg(const std::string& name)
+{
+    if (name == "probit") return ErrorLink::Probit;
+    if (name == "logistic") return ErrorLink::Logistic;
+    throw Error("--link", "'" + name + "' is not one of probit, logistic");
+}
+
+/// A new file's path: an existing one is refused (a run never replaces a file it did not make).
+std::string newFileArg(const py::object& o, const char* option)
+{
+    const std::string p = pathArg(o, option);
+    std::error_code ec;
+    if (!p.empty() && std::filesystem::symlink_status(p, ec).type() != std::filesystem::file_type::not_found)
+        throw Error(p, "exists; " + std::string(option) + " names a new file");
+    return p;
+}
+
+void bindFits(py::module_& m)
+{
+    m.def(
+        "fit",
+        [](const py::object& scene, const py::object& laser, const py::object& bag, const std::string& topic,
+           const py::object& saturation, const py::object& calibration, const std::string& patch,
+           const std::string& sensor, const std::string& sensor_type, const std::string& target_prefix,
+           const std::vector<std::string>& surfaces, const py::object& surfaces_file, const std::string& model,
+           const std::string& unit, bool lenient, double offset_s, bool fixed_offset, double offset_window_s,
+           const std::string& link, double smooth_s, long long bootstrap, const std::string& reference,
+           const std::string& image_topic, const std::vector<std::string>& rects,
+           const std::vector<std::string>& polygons, const py::object& out, py::object progress) {
+            FitRunConfig cfg;
+            cfg.in = inputsConfig(scene, laser, bag, topic, saturation, calibration, patch, sensor, sensor_type, unit,
+                                  lenient, false);
+            cfg.in.prefix = target_prefix;
+            cfg.in.surfaces = surfaces;
+            cfg.in.surfaces_file = pathArg(surfaces_file, "--surfaces");
+            cfg.in.image_topic = image_topic;
+            cfg.in.rects = rects;
+            cfg.in.polygons = polygons;
+            cfg.model = modelArg(model);
+            cfg.fit.offset_s = finiteArg(offset_s, "--offset");
+            cfg.fit.estimate_offset = !fixed_offset;
+            cfg.fit.offset_window_s = offset_window_s;
+            cfg.fit.link = linkArg(link);
+            cfg.fit.smooth_s = smooth_s;
+            cfg.fit.bootstrap = int(std::clamp<long long>(bootstrap, -1, 1001));
+            cfg.fit.reference = reference;
+            const std::string file = newFileArg(out, "--out");
+            PyControl pc(std::move(progress));
+            const std::string json = released(pc, [&](const RunControl& c) {
+                const FitRunResult r = runFit(cfg, c);
+                if (!r.ok()) throw Error(r.scans, r.failure);
+                if (!file.empty() && r.laser) writeSensorFile(file, *r.laser, r.sensor_comment);
+                if (!file.empty() && r.omni) writeOmniSensorFile(file, *r.omni, r.sensor_comment);
+                return fitRunJson(r);
+            });
+            return reportOf(json);
+        },
+        py::arg("scene") = py::none(), py::kw_only(), py::arg("laser") = py::none(), py::arg("bag") = py::none(),
+        py::arg("topic") = "", py::arg("saturation") = py::none(), py::arg("calibration") = "bocas",
+        py::arg("patch") = "", py::arg("sensor") = "", py::arg("sensor_type") = "urg04lx",
+        py::arg("target_prefix") = "target_", py::arg("surfaces") = std::vector<std::string>{},
+        py::arg("surfaces_file") = py::none(), py::arg("model") = "paper", py::arg("unit") = "mm",
+        py::arg("lenient") = false, py::arg("offset_s") = 0.0, py::arg("fixed_offset") = false,
+        py::arg("offset_window_s") = 60.0, py::arg("link") = "probit", py::arg("smooth_s") = 2.0,
+        py::arg("bootstrap") = 30, py::arg("reference") = "", py::arg("image_topic") = "",
+        py::arg("rects") = std::vector<std::string>{}, py::arg("polygons") = std::vector<std::string>{},
+        py::arg("out") = py::none(), py::arg("progress") = py::none(),
+        "`smokescan fit`: a recorded run (laser= log or bag=) and the camera's saturation → the sensor's smoke "
+        "thresholds, penetration power and clock offset, by beam groups from the scene (a file or built-in name) or "
+        "surfaces=/surfaces_file=. Returns a Report with the fit report's fields (docs/fitting.md); out= also "
+        "writes the fitted sensor file (a new TOML file scan(sensor_file=...) reads). A fit that finds no "
+        "threshold raises smokescan.Error with the reason");
+
+    m.def(
+        "fit_plume",
+        [](const py::object& scene, const py::object& laser, const py::object& bag, const std::string& topic,
+           const std::string& sensor, const std::string& unit, bool lenient, double time_offset_s, long long bins,
+           py::object progress) {
+            PlumeRunConfig cfg;
+            cfg.scene = pathArg(scene, "--scene", false);
+            cfg.laser = pathArg(laser, "--laser");
+            cfg.bag = pathArg(bag, "--bag");
+            cfg.topic = topic;
+            cfg.sensor = sensor;
+            cfg.read = {parseRangeUnit(unit), lenient};
+            cfg.fit.time_offset_s = time_offset_s;
+            cfg.fit.bins = int(std::clamp<long long>(bins, -1, 1 << 30));
+            PyControl pc(std::move(progress));
+            const std::string json = released(pc, [&](const RunControl& c) {
+                const PlumeRunResult r = runPlumeFit(cfg, c);
+                if (!r.fit.ok)
+                    throw Error(r.source,
+                                "no plume penetration could be fitted: " +
+                                    (r.fit.diagnoses.empty() ? std::string("no beam crossed a plume")
+                                                             : r.fit.diagnoses.front()));
+                return plumeFitJson(r.fit, cfg.fit, r.source, cfg.scene);
+            });
+            return reportOf(json);
+        },
+        py::arg("scene"), py::kw_only(), py::arg("laser") = py::none(), py::arg("bag") = py::none(),
+        py::arg("topic") = "", py::arg("sensor") = "", py::arg("unit") = "mm", py::arg("lenient") = false,
+        py::arg("time_offset_s") = 0.0, py::arg("bins") = 8, py::arg("progress") = py::none(),
+        "`smokescan fit-plume`: a Sick LMS200's log in a scene with plumes → its penetration depth against the "
+        "plumes' density; a Report with the command's JSON fields (docs/fitting.md)");
+}
+
+py::array_t<double> doubles(std::vector<double> v) { return ownedArray(std::move(v)); }
+
+/// A saturation series as numpy arrays: the target's and each patch's.
+py::dict seriesDict(SaturationSeries&& s)
+{
+    py::dict d, patches, medians, sds;
+    d["time_s"] = doubles(std::move(s.time_s));
+    d["saturation"] = doubles(std::move(s.saturation));
+    d["median"] = doubles(std::move(s.median));
+    d["sd"] = doubles(std::move(s.sd));
+    d["pixels"] = doubles(std::move(s.pixels));
+    for (size_t p = 0; p < s.patch_names.size(); ++p) {
+        const py::str name(s.patch_names[p]);
+        patches[name] = doubles(std::move(s.patch[p]));
+        if (p < s.patch_median.size()) medians[name] = doubles(std::move(s.patch_median[p]));
+        if (p < s.patch_sd.size()) sds[name] = doubles(std::move(s.patch_sd[p]));
+    }
+    d["patches"] = patches;
+    d["patch_median"] = medians;
+    d["patch_sd"] = sds;
+    return d;
+}
+
+/// One path or a list of them (frames: files or folders).
+std::vector<std::string> pathsArg(const py::object& o, const char* option)
+{
+    std::vector<std::string> v;
+    if (o.is_none()) return v;
+    if (py::isinstance<py::str>(o) || py::isinstance<py::bytes>(o) || py::hasattr(o, "__fspath__"))
+        return {pathArg(o, option, false)};
+    if (!py::isinstance<py::sequence>(o)) throw Error(option, "must be a path or a list of paths");
+    for (const py::handle h : o) v.push_back(pathArg(py::reinterpret_borrow<py::object>(h), option, false));
+    return v;
+}
+
+void bindSaturation(py::module_& m)
+{
+    m.def(
+        "saturation",
+        [](const py::object& frames, const py::object& bag, const std::string& topic,
+           const std::vector<std::string>& rects, const std::vector<std::string>& polygons, const py::object& ids,
+           const py::object& scene, const std::string& target_prefix, const py::object& timestamps, double fps,
+           py::object progress) {
+            SaturationRunConfig cfg;
+            cfg.inputs = pathsArg(frames, "frames");
+            cfg.bag = pathArg(bag, "--bag");
+            cfg.topic = topic;
+            cfg.rects = rects;
+            cfg.polygons = polygons;
+            cfg.ids = pathArg(ids, "--ids");
+            cfg.scene = pathArg(scene, "--scene");
+            cfg.target_prefix = target_prefix;
+            cfg.timestamps = pathArg(timestamps, "--timestamps");
+            cfg.fps = fps;
+            PyControl pc(std::move(progress));
+            SaturationSeries s = released(pc, [&](const RunControl& c) { return runSaturation(cfg, c); });
+            return seriesDict(std::move(s));
+        },
+        py::arg("frames") = py::none(), py::kw_only(), py::arg("bag") = py::none(), py::arg("topic") = "",
+        py::arg("rects") = std::vector<std::string>{}, py::arg("polygons") = std::vector<std::string>{},
+        py::arg("ids") = py::none(), py::arg("scene") = py::none(), py::arg("target_prefix") = "target_",
+        py::arg("timestamps") = py::none(), py::arg("fps") = 0.0, py::arg("progress") = py::none(),
+        "`smokescan saturation`: the target's HSV saturation on camera frames (files or folders, or bag=), in "
+        "rects/polygons (\"NAME=x,y,w,h\", \"NAME=x1,y1,...\" px) or found by ids= (render's id images) with "
+        "scene=. A dict of float64 arrays: time_s, saturation, median, sd, pixels (the whole target; the last "
+        "three empty when the source gives none), patches, patch_median, patch_sd (dicts by patch name); the "
+        "values `smokescan saturation --out` writes");
+}
+
 }  // namespace
 
 void bindAnalysis(py::module_& m)
 {
+    bindFits(m);
+    bindSaturation(m);
     m.def(
         "calibrate",
         [](std::shared_ptr<Scene> scene, std::optional<std::vector<double>> densities, long long spp, double rel_error,
@@ -101,10 +284,23 @@ void bindAnalysis(py::module_& m)
            const std::string& sensor, const std::string& sensor_type, const py::object& sensor_file,
            std::optional<std::string> model, const std::string& unit, bool lenient, std::optional<double> offset_s,
            double block_s, const std::string& smoke_shape, const std::string& camera, const std::string& target_prefix,
-           double alpha, int max_findings, py::object seed, const py::object& out, py::object progress) {
+           double alpha, int max_findings, py::object seed, const py::object& out, const std::string& image_topic,
+           const std::vector<std::string>& rects, const std::vector<std::string>& polygons,
+           std::optional<double> tolerance_m, std::optional<double> max_range_m, std::optional<double> floor_z_m,
+           py::object progress) {
             DiagnoseRunConfig cfg;
             cfg.in = inputsConfig(scene, laser, bag, topic, saturation, calibration, patch, sensor, sensor_type, unit,
                                   lenient);
+            cfg.in.image_topic = image_topic;
+            cfg.in.rects = rects;
+            cfg.in.polygons = polygons;
+            for (const auto& [value, name, target] : {std::tuple{tolerance_m, "--tolerance", &cfg.omni.tolerance_m},
+                                                      std::tuple{max_range_m, "--max-range", &cfg.omni.max_range_m},
+                                                      std::tuple{floor_z_m, "--floor-z", &cfg.omni.floor_z_m}})
+                if (value) {
+                    *target = finiteArg(*value, name);
+                    cfg.omni_given.insert(name);
+                }
             cfg.sensor_file = pathArg(sensor_file, "--sensor-file");
             if (model) cfg.model = modelArg(*model);
             if (offset_s) cfg.replay.offset_s = finiteArg(*offset_s, "--offset");
@@ -135,12 +331,16 @@ void bindAnalysis(py::module_& m)
         py::arg("lenient") = false, py::arg("offset_s") = py::none(), py::arg("block_s") = 3.0,
         py::arg("smoke_shape") = "reference", py::arg("camera") = "", py::arg("target_prefix") = "target_",
         py::arg("alpha") = 0.05, py::arg("max_findings") = 4, py::arg("seed") = 1, py::arg("out") = py::none(),
-        py::arg("progress") = py::none(),
+        py::arg("image_topic") = "", py::arg("rects") = std::vector<std::string>{},
+        py::arg("polygons") = std::vector<std::string>{}, py::arg("tolerance_m") = py::none(),
+        py::arg("max_range_m") = py::none(), py::arg("floor_z_m") = py::none(), py::arg("progress") = py::none(),
         "`smokescan diagnose`: a recorded run (laser= log or bag=) replayed in the scene (a file or built-in "
         "name), what the simulation gets wrong, the cause and the extended model's held-out gain. Returns a "
         "Report with diagnosis.json's fields (docs/diagnosis.md); out= also writes the command's folder "
-        "(diagnosis.json, report.md, sensor.toml), whole or not at all. progress(done, total) counts each "
-        "round's candidates");
+        "(diagnosis.json, report.md, sensor.toml), whole or not at all. A saturation bag's frames are measured "
+        "in rects/polygons (\"NAME=x,y,w,h\", \"NAME=x1,y1,...\" px) on image_topic; tolerance_m, max_range_m and "
+        "floor_z_m are the omnicam's classes (sensor_type=\"omnicam\"). progress(done, total) counts each round's "
+        "candidates");
 }
 
 }  // namespace smokescan::python

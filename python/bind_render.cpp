@@ -44,19 +44,22 @@ void bindRender(py::module_& m)
 {
     m.def(
         "render",
-        [](std::shared_ptr<Scene> scene, double time_s, const std::string& camera, int width, int height, int spp,
-           py::object seed, int max_depth, std::optional<double> exposure, py::object progress) {
+        [](std::shared_ptr<Scene> scene, double time_s, const std::string& camera, long long width, long long height,
+           long long spp, py::object seed, long long max_depth, std::optional<double> exposure, py::object progress) {
             RenderRunConfig cfg;
             cfg.render.time_s = finiteArg(time_s, "--time");
             cfg.render.camera = camera;
             if (width < 0 || width > limits::kFrameSide || height < 0 || height > limits::kFrameSide)
                 throw Error(width < 0 || width > limits::kFrameSide ? "--width" : "--height",
                             "must lie in 1…" + std::to_string(limits::kFrameSide) + " px (0: the camera's)");
-            cfg.render.width = width;
-            cfg.render.height = height;
-            cfg.render.spp = spp;
+            cfg.render.width = int(width);
+            cfg.render.height = int(height);
+            if (spp < 1 || spp > limits::kSpp) throw Error("--spp", "must lie in 1…" + std::to_string(limits::kSpp));
+            cfg.render.spp = int(spp);
             cfg.render.seed = seedArg(seed);
-            cfg.render.max_depth = max_depth;
+            if (max_depth < 0 || max_depth > limits::kPathDepth)
+                throw Error("--max-depth", "must lie in 0…" + std::to_string(limits::kPathDepth));
+            cfg.render.max_depth = int(max_depth);
             cfg.render.progress = false;
             if (exposure && !(*exposure > 0 && *exposure <= 1e6))
                 throw Error("--exposure", "must be a number in (0, 1e6], or None for auto");

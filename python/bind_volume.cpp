@@ -2,13 +2,18 @@
 // its index-to-world transform (media/dense_voxels.hpp).
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "module_support.hpp"
+#include "smokescan/core/limits.hpp"
 #include "smokescan/media/dense_voxels.hpp"
 
 namespace smokescan::python {
 namespace {
+namespace fs = std::filesystem;
 
 py::array_t<double> matrixArray(const std::array<double, 16>& m)
 {
@@ -41,8 +46,8 @@ void bindVolume(py::module_& m)
     m.def(
         "read_volume",
         [](const py::object& path, const std::string& grid, double scale) {
-            const std::string file = pathArg(path, "path");
-            if (!(scale > 0) || !std::isfinite(scale)) throw Error("scale", "must be a finite number > 0");
+            const std::string file = pathArg(path, "path", false);
+            if (!(scale > 0 && scale <= limits::kDensity)) throw Error("scale", "must lie in (0, 1e6]");
             DenseVoxels d;
             {
                 py::gil_scoped_release nogil;
@@ -63,17 +68,32 @@ void bindVolume(py::module_& m)
         "write_volume",
         [](const py::object& path, const py::object& density, const py::object& index_to_world,
            const std::string& grid) {
-            const std::string file = pathArg(path, "path");
+            const std::string file = pathArg(path, "path", false);
             if (grid.empty()) throw Error("grid", "must not be empty");
-            py::array_t<float, py::array::c_style | py::array::forcecast> a;
-            try {
-                a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(density);
-            } catch (const py::error_already_set&) {
-            }
-            if (!a || a.ndim() != 3) throw Error("density", "must be a 3-D array of numbers");
+            std::error_code ec;
+            if (fs::symlink_status(file, ec).type() != fs::file_type::not_found)
+                throw Error(file, "exists; write_volume writes a new file");
+            // The array's shape and kind before any copy: a view of a huge array is refused as it is.
+            const py::array any = py::array::ensure(density);
+            if (!any || any.ndim() != 3) throw Error("density", "must be a 3-D array of numbers");
+            const char kind = any.dtype().kind();
+            if (kind != 'f' && kind != 'i' && kind != 'u')
+                throw Error("density",
+                            std::string("must hold real numbers (its dtype is ") +
+                                py::str(any.dtype()).cast<std::string>() + ")");
             DenseVoxels d;
-            for (size_t i = 0; i < 3; ++i) d.size[i] = a.shape(py::ssize_t(i));
+            long long n = 1;
+            for (size_t i = 0; i < 3; ++i) {
+                d.size[i] = any.shape(py::ssize_t(i));
+                n *= std::max<long long>(1, d.size[i]);
+                if (n > limits::kDenseVoxels)
+                    throw Error("density",
+                                "holds more than the " + std::to_string(limits::kDenseVoxels) +
+                                    " voxels a dense block may hold");
+            }
             d.index_to_world = matrixArg(index_to_world, "index_to_world");
+            const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(any);
+            if (!a) throw py::error_already_set();  // numpy's own error (memory)
             d.values.assign(a.data(), a.data() + a.size());
             py::gil_scoped_release nogil;
             DensityGrid::writeVdb(file, {{grid, fromDense(d, "density")}});
@@ -82,7 +102,7 @@ void bindVolume(py::module_& m)
         "Writes a 3-D array of densities (finite, >= 0) as an OpenVDB grid named `grid` in a new .vdb file "
         "(atomically): density[a, b, c] is the voxel whose centre is at index_to_world @ (a, b, c, 1) [m], "
         "a 4×4 affine map whose voxels are cubes (e.g. np.diag([h, h, h, 1]) with the origin in its last column); "
-        "zeros stay inactive");
+        "zeros stay inactive. An existing path is refused");
 }
 
 }  // namespace smokescan::python

@@ -52,9 +52,11 @@ inline double finiteArg(double v, const char* option)
 inline uint64_t seedArg(const py::object& o)
 {
     const char* what = "is not a seed (a whole number from 0 to 18446744073709551615)";
-    if (!py::isinstance<py::int_>(o) || py::isinstance<py::bool_>(o)) throw Error("--seed", what);
+    if (py::isinstance<py::bool_>(o) || !py::hasattr(o, "__index__")) throw Error("--seed", what);
     try {
-        return o.cast<uint64_t>();
+        return py::int_(o.attr("__index__")()).cast<uint64_t>();  // numpy's integers too
+    } catch (const py::error_already_set&) {
+        throw Error("--seed", what);
     } catch (const py::cast_error&) {
         throw Error("--seed", what);
     }
@@ -115,15 +117,27 @@ auto released(PyControl& pc, F&& f)
     }
 }
 
-/// A path given from Python: a str or an os.PathLike ("" for None), else an Error naming the option.
-inline std::string pathArg(const py::object& o, const char* option)
+/// A path given from Python: a str, bytes or os.PathLike, in the file system's encoding (names
+/// that are not UTF-8 too); None is "" when `optional`, else an Error naming the option, as are
+/// other types and a NUL inside.
+inline std::string pathArg(const py::object& o, const char* option, bool optional = true)
 {
-    if (o.is_none()) return "";
-    if (!py::isinstance<py::str>(o) && !py::hasattr(o, "__fspath__"))
-        throw Error(option, "must be a path (str or os.PathLike)");
-    const py::object p = py::module_::import("os").attr("fspath")(o);
-    if (!py::isinstance<py::str>(p)) throw Error(option, "must be a path (str or os.PathLike)");
-    return p.cast<std::string>();
+    if (o.is_none()) {
+        if (optional) return "";
+        throw Error(option, "must be a path, not None");
+    }
+    if (!py::isinstance<py::str>(o) && !py::isinstance<py::bytes>(o) && !py::hasattr(o, "__fspath__"))
+        throw Error(option, "must be a path (str, bytes or os.PathLike)");
+    py::object b;
+    try {
+        b = py::module_::import("os").attr("fsencode")(o);
+    } catch (const py::error_already_set&) {
+        throw Error(option, "must be a path (str, bytes or os.PathLike)");
+    }
+    const std::string p = b.cast<std::string>();
+    if (p.find('\0') != std::string::npos) throw Error(option, "holds a NUL character");
+    if (p.empty()) throw Error(option, "names no file");
+    return p;
 }
 
 /// An image as an H × W × channels float32 array over its own memory (no copy).
@@ -134,9 +148,11 @@ inline py::array imageArray(Image&& img)
 }
 
 /// The module's parts, each in its own file: render (bind_render.cpp), the analyses of recorded
-/// data (bind_analysis.cpp), volumes to and from numpy (bind_volume.cpp).
+/// data (bind_analysis.cpp), volumes to and from numpy (bind_volume.cpp), the omnicam as a
+/// rangefinder (bind_omni.cpp).
 void bindRender(py::module_& m);
 void bindAnalysis(py::module_& m);
 void bindVolume(py::module_& m);
+void bindOmni(py::module_& m);
 
 }  // namespace smokescan::python

@@ -159,6 +159,7 @@ PYBIND11_MODULE(_smokescan, m)
     bindRender(m);
     bindAnalysis(m);
     bindVolume(m);
+    bindOmni(m);
 
     py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene", "A scene: surfaces, sensors, cameras and smoke over time")
         .def_readonly("source", &Scene::source, "The file it came from, or builtin:NAME")

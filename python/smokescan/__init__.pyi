@@ -172,3 +172,99 @@ def read_volume(path: PathLike, grid: str = "density", scale: float = 1.0) -> Tu
 def write_volume(path: PathLike, density: npt.ArrayLike, index_to_world: npt.ArrayLike, grid: str = "density") -> None:
     """Writes a 3-D array of densities (finite, >= 0) as an OpenVDB grid in a new .vdb file
     (atomically); index_to_world is a 4×4 affine map whose voxels are cubes."""
+
+def fit(
+    scene: Optional[PathLike] = None,
+    *,
+    laser: Optional[PathLike] = None,
+    bag: Optional[PathLike] = None,
+    topic: str = "",
+    saturation: Optional[PathLike] = None,
+    calibration: PathLike = "bocas",
+    patch: str = "",
+    sensor: str = "",
+    sensor_type: str = "urg04lx",
+    target_prefix: str = "target_",
+    surfaces: List[str] = ...,
+    surfaces_file: Optional[PathLike] = None,
+    model: str = "paper",
+    unit: str = "mm",
+    lenient: bool = False,
+    offset_s: float = 0.0,
+    fixed_offset: bool = False,
+    offset_window_s: float = 60.0,
+    link: str = "probit",
+    smooth_s: float = 2.0,
+    bootstrap: int = 30,
+    reference: str = "",
+    image_topic: str = "",
+    rects: List[str] = ...,
+    polygons: List[str] = ...,
+    out: Optional[PathLike] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Report:
+    """`smokescan fit`: the sensor's smoke thresholds, penetration power and clock offset from a
+    recorded run and the camera's saturation; a Report with the fit report's fields
+    (docs/fitting.md). out= writes the fitted sensor file (a new file). No threshold fitted:
+    smokescan.Error with the reason."""
+
+def fit_plume(
+    scene: PathLike,
+    *,
+    laser: Optional[PathLike] = None,
+    bag: Optional[PathLike] = None,
+    topic: str = "",
+    sensor: str = "",
+    unit: str = "mm",
+    lenient: bool = False,
+    time_offset_s: float = 0.0,
+    bins: int = 8,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Report:
+    """`smokescan fit-plume`: a Sick LMS200's penetration into the scene's plumes; a Report with
+    the command's JSON fields."""
+
+def saturation(
+    frames: Union[PathLike, List[PathLike], None] = None,
+    *,
+    bag: Optional[PathLike] = None,
+    topic: str = "",
+    rects: List[str] = ...,
+    polygons: List[str] = ...,
+    ids: Optional[PathLike] = None,
+    scene: Optional[PathLike] = None,
+    target_prefix: str = "target_",
+    timestamps: Optional[PathLike] = None,
+    fps: float = 0.0,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Dict[str, Any]:
+    """`smokescan saturation`: the target's HSV saturation on camera frames (files or folders,
+    or bag=): time_s, saturation, median, sd, pixels (float64 arrays) and patches, patch_median,
+    patch_sd (dicts of arrays by patch name)."""
+
+def omnirange(
+    scene: Scene,
+    *,
+    train: Optional[List[float]] = None,
+    histogram: Optional[PathLike] = None,
+    t0: Optional[float] = None,
+    t1: Optional[float] = None,
+    rate_hz: float = 1.0,
+    seed: int = 1,
+    spp: int = 8,
+    camera: str = "",
+    laser: str = "",
+    threshold: float = 0.05,
+    n_behind: int = 20,
+    k_free: int = 2,
+    scanlines: int = 360,
+    min_range_m: float = 0.3,
+    max_range_m: float = 3.8,
+    outlier_m: float = 1.25,
+    floor_z_m: float = 0.0,
+    exposure: float = 0.0,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Dict[str, Any]:
+    """`smokescan omnirange`: the omni camera as a colour-based rangefinder beside the scene's
+    laser. time_s (F), angle_rad (S), range_m and status (F×S), laser_angle_rad (B),
+    laser_range_m and laser_value (F×B), comparison, exposure, trained_pixels."""

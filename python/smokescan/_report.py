@@ -6,12 +6,29 @@ their JSON reports: `report.verdict`, `report.findings[0].parameters`, or `repor
 class Report:
     """A JSON report's object: its keys as attributes (and items); nested objects are Reports."""
 
+    __slots__ = ("_fields",)
+
     def __init__(self, fields):
-        self._fields = {k: _wrap(v) for k, v in fields.items()}
+        object.__setattr__(self, "_fields", {k: _wrap(v) for k, v in fields.items()})
+
+    def __setattr__(self, name, value):
+        raise AttributeError("a Report is read-only; to_dict() gives a copy to change")
+
+    def __reduce__(self):  # pickle and copy: rebuilt from the parsed JSON
+        return (Report, (self.to_dict(),))
+
+    def __len__(self):
+        return len(self._fields)
+
+    def get(self, name, default=None):
+        return self._fields.get(name, default)
+
+    def items(self):
+        return self._fields.items()
 
     def __getattr__(self, name):
         try:
-            return self.__dict__["_fields"][name]
+            return object.__getattribute__(self, "_fields")[name]
         except KeyError:
             raise AttributeError(name) from None
 
@@ -28,11 +45,13 @@ class Report:
         return self._fields.keys()
 
     def __dir__(self):
-        return list(self._fields) + ["to_dict", "keys"]
+        return list(self._fields) + ["to_dict", "keys", "items", "get"]
 
     def to_dict(self):
         """The report as parsed JSON: dicts, lists, numbers, strings, None (JSON's null, for NaN)."""
         return {k: _unwrap(v) for k, v in self._fields.items()}
+
+    __hash__ = None
 
     def __eq__(self, other):
         return isinstance(other, Report) and self.to_dict() == other.to_dict()

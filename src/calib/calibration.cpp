@@ -121,7 +121,9 @@ static CalibrationResult calibrateSorted(const Scene& scene0, const CalibrateCon
         rc.seed = cfg.seed + uint64_t(k);
         rc.camera = cfg.camera;
         rc.progress = false;
+        rc.watch = cfg.watch;
         const TargetSaturation m = measureConvergedSaturation(scene, surfaces, rc, cfg.target_prefix, cfg.field);
+        if (cfg.watch && cfg.watch->stop) throw Error("calibrate", "stopped");
         res.points.push_back(toPoint(rho, m.all, m.se));
         for (const auto& [name, s] : m.patches) res.patches[name].push_back(toPoint(rho, s, m.patch_se.at(name)));
         res.spp.push_back(m.spp);

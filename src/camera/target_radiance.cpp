@@ -88,6 +88,7 @@ TargetRadiance measureTargetRadiance(const Scene& scene, const SurfaceSet& surfa
     RenderConfig rc = rc0;
     rc.spp = cfg.meter_spp;
     const RenderResult meter = render(scene, surfaces, rc);
+    if (meter.stopped) throw Error("render", "stopped");  // its watch said so (renderer.hpp)
     TargetRadiance out;
     const int W = meter.radiance.width, H = meter.radiance.height;
     out.ids = meter.ids;
@@ -111,7 +112,9 @@ TargetRadiance measureTargetRadiance(const Scene& scene, const SurfaceSet& surfa
     rc.mask = &mask;
     for (int b = 0; b < cfg.max_batches; ++b) {
         rc.seed = rc0.seed ^ (uint64_t(b + 1) << 40);
-        raw.push_back(render(scene, surfaces, rc).radiance);
+        RenderResult batch = render(scene, surfaces, rc);
+        if (batch.stopped) throw Error("render", "stopped");
+        raw.push_back(std::move(batch.radiance));
         coef.emplace_back(fits.size());
         for (size_t p = 0; p < fits.size(); ++p) {
             if (fits[p].pixels.empty()) continue;

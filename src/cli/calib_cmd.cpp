@@ -25,6 +25,7 @@
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/pipeline/calibrate_run.hpp"
+#include "smokescan/pipeline/saturation_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
@@ -123,62 +124,31 @@ struct SatArgs {
     double fps = 0;
 };
 
-/// The frames of a bag's Image topic, on their stamps.
-int runBagSaturation(const SatArgs& a, const FrameRegions& regions)
-{
-    if (!a.inputs.empty()) throw Error("--bag", "is in place of the frame files; give one of them");
-    for (const auto& [given, option] :
-         {std::pair{!a.ids.empty(), "--ids"}, std::pair{!a.scene.empty(), "--scene"},
-          std::pair{!a.timestamps.empty(), "--timestamps"}, std::pair{a.fps > 0, "--fps"}})
-        if (given) throw Error(option, "goes with frame files; a bag's frames carry their stamps");
-    RunFiles files;
-    bagInputs(files, a.bag, "--bag");
-    files.output(a.out, "--out");
-    const SaturationSeries s = measureBagSaturation(a.bag, a.topic, regions);
-    writeSaturationCsv(files.stage(a.out), s);
-    files.commit();
-    say("wrote %s (%zu frames of %s, patches: %zu)\n", printable(a.out).c_str(), s.time_s.size(),
-        printable(s.path).c_str(), s.patch_names.size());
-    return 0;
-}
-
 int runSaturation(const SatArgs& a)
 {
-    FrameRegions regions = frameRegions(a.rects, a.polygons);
-    if (!a.bag.empty()) return runBagSaturation(a, regions);
-    if (!a.topic.empty()) throw Error("--topic", "names a bag's topic; give --bag");
-    if (a.inputs.empty()) throw Error("saturation", "give the frames: image files, a folder, or --bag PATH");
-    if (regions.patches.empty() && a.ids.empty())
-        throw Error("saturation", "give the target region: --rect/--polygon, or --ids with --scene");
-    if (!a.ids.empty() && a.scene.empty()) throw Error("--ids", "needs --scene to name the objects");
-    const auto frames = listFrames(a.inputs);
-    const auto id_frames = a.ids.empty() ? std::vector<std::string>{} : listFrames({a.ids});
+    SaturationRunConfig cfg{a.inputs, a.bag,    a.topic,      a.rects, a.polygons, a.ids,
+                            a.scene,  a.prefix, a.timestamps, a.fps,   {}};
+    frameRegions(a.rects, a.polygons);  // the patches' errors first, as they were
     RunFiles files;
-    for (const auto& f : frames) files.input(f, "the frames");
-    for (const auto& f : id_frames) files.input(f, "--ids");
-    std::optional<Scene> scene;
-    if (!a.scene.empty()) {
-        scene = loadScene(a.scene);
-        recordSceneInputs(files, a.scene, *scene);
+    if (a.bag.empty()) {
+        if (!a.inputs.empty())
+            for (const auto& f : listFrames(a.inputs)) files.input(f, "the frames");
+        if (!a.ids.empty())
+            for (const auto& f : listFrames({a.ids})) files.input(f, "--ids");
+        files.input(a.timestamps, "--timestamps");
+    } else {
+        bagInputs(files, a.bag, "--bag");
     }
-    files.input(a.timestamps, "--timestamps");
     files.output(a.out, "--out");
-    if (!a.ids.empty()) {
-        if (id_frames.size() != frames.size())
-            throw Error(a.ids,
-                        "holds " + std::to_string(id_frames.size()) + " id images for " +
-                            std::to_string(frames.size()) + " frames");
-        regions.target = targetPatches(*scene, a.prefix);
-        regions.by_id = true;
-    }
-    const std::vector<double> stamps =
-        a.timestamps.empty() ? std::vector<double>{} : readFrameTimestamps(a.timestamps, frames);
-    const SaturationSeries s = measureFrames(
-        frames, id_frames, [&](size_t k) { return stamps.empty() ? frameTimeFromName(frames[k], a.fps) : stamps[k]; },
-        regions);
+    cfg.on_scene = [&](const Scene& scene) { recordSceneInputs(files, a.scene, scene); };
+    const SaturationSeries s = runSaturation(cfg);
     writeSaturationCsv(files.stage(a.out), s);
     files.commit();
-    say("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), frames.size(), s.patch_names.size());
+    if (a.bag.empty())
+        say("wrote %s (%zu frames, patches: %zu)\n", a.out.c_str(), s.time_s.size(), s.patch_names.size());
+    else
+        say("wrote %s (%zu frames of %s, patches: %zu)\n", printable(a.out).c_str(), s.time_s.size(),
+            printable(s.path).c_str(), s.patch_names.size());
     return 0;
 }
 

@@ -18,6 +18,7 @@
 #include "smokescan/omni/omni_run.hpp"
 #include "smokescan/omni/omni_scan_message.hpp"
 #include "smokescan/omni/sensors_versus_smoke.hpp"
+#include "smokescan/pipeline/omnirange_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensors/laser_log.hpp"
 
@@ -60,22 +61,6 @@ void addToBag(ScanBag& bag, const OmniFrame& f, const OmniRun& run, const Scene&
     bag.add(s, run.laser().spec(), run.laser().mount());
 }
 
-std::vector<double> scanTimes(const OmniArgs& a, const Scene& scene)
-{
-    const double from = std::isnan(a.from) ? scene.t_start_s : a.from, to = std::isnan(a.to) ? scene.t_end_s : a.to;
-    if (!(to >= from)) throw Error("--to", "must not precede --from");
-    if (from < scene.t_start_s || to > scene.t_end_s)
-        throw Error("--from",
-                    "and --to must lie within the scene's " + std::to_string(scene.t_start_s) + "…" +
-                        std::to_string(scene.t_end_s) + " s");
-    const double n = std::floor((to - from) * a.rate_hz + 1e-9) + 1;
-    if (n > double(limits::kFrames))
-        throw Error("--rate", "would render over " + std::to_string(limits::kFrames) + " frames");
-    std::vector<double> t;
-    for (long long k = 0; k < (long long)n; ++k) t.push_back(from + double(k) / a.rate_hz);
-    return t;
-}
-
 int runOmnirange(const OmniArgs& a)
 {
     const Scene scene = loadScene(a.scene);
@@ -93,24 +78,19 @@ int runOmnirange(const OmniArgs& a)
     files.output(a.truth, "--truth");
     for (const std::string* p : {&a.plot, &a.map, &a.fig8, &a.truth})
         if (!p->empty() && !isImageExtension(*p)) throw Error(*p, "unknown image format (png, jpg, tif)");
-    if (a.train.empty() == a.histogram.empty()) throw Error("--train", "give either --train TIMES or --histogram FILE");
-    const std::vector<double> train = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
-    if ((long long)train.size() > limits::kFrames) throw Error("--train", "too many training times");
-    const SurfaceSet surfaces(scene);
-    const std::vector<double> times = scanTimes(a, scene);
-    for (double t : train)
-        if (!(t >= scene.t_start_s && t <= scene.t_end_s))
-            throw Error("--train",
-                        "time " + std::to_string(t) + " s lies outside the scene's " + std::to_string(scene.t_start_s) +
-                            "…" + std::to_string(scene.t_end_s) + " s");
-    ColourHistogram hist = a.histogram.empty() ? ColourHistogram(13) : ColourHistogram::load(a.histogram);
-    // A saved histogram's colours hold at the exposure it learned them at.
-    OmniRunConfig rc = a.cfg;
-    if (!(rc.exposure > 0) && hist.exposure() > 0) rc.exposure = hist.exposure();
-    OmniRun run(scene, surfaces, rc);
-    long long trained = 0;
-    for (size_t k = 0; k < train.size(); ++k) trained += run.train(hist, train[k], uint64_t(k));
-    if (hist.total() == 0) throw Error("--train", "no free floor pixels to train on (the laser saw no free floor)");
+    OmnirangeRunConfig rc;
+    rc.run = a.cfg;
+    rc.train_s = a.train.empty() ? std::vector<double>{} : parseNumberList(a.train, "--train");
+    rc.histogram = a.histogram;
+    rc.from_s = a.from;
+    rc.to_s = a.to;
+    rc.rate_hz = a.rate_hz;
+    OmnirangeRun omni(scene, rc);
+    omni.train();
+    OmniRun& run = omni.omni();
+    const SurfaceSet& surfaces = omni.surfaces();
+    const std::vector<double>& times = omni.times();
+    const long long trained = omni.trainedPixels();
     std::unique_ptr<AtomicFile> log_file;
     if (!a.out.empty()) log_file = std::make_unique<AtomicFile>(files.stage(a.out));
     if (log_file)
@@ -140,22 +120,24 @@ int runOmnirange(const OmniArgs& a)
     OmniComparison cmp;
     cmp.outlier_m = a.cfg.outlier_m;
     std::vector<OmniFrame> kept;  // for --map
-    for (size_t k = 0; k < times.size(); ++k) {
-        // Keys apart from the training frames': a run with the histogram saved from this one
-        // reads the same frames.
-        const OmniFrame f = run.read(hist, times[k], (uint64_t(1) << 32) + k);
-        if (log_file) writeOmniScan(log_file->stream(), f);
-        if (laser) writeLaserScan(laser->stream(), f, run.laser().spec());
-        if (bag) addToBag(*bag, f, run, scene, a);
-        cmp.add(f);
-        if (versus) versus->add(f, run.rangeAt(times[k]).height_m, (uint64_t(1) << 32) + k);
-        if (!a.map.empty()) kept.push_back(f);
-        progress.update((long long)k + 1, (long long)times.size());
-    }
+    RunControl control;
+    control.progress = [&](long long done, long long total) { progress.update(done, total); };
+    size_t k = 0;
+    omni.run(
+        [&](OmniFrame&& f) {
+            if (log_file) writeOmniScan(log_file->stream(), f);
+            if (laser) writeLaserScan(laser->stream(), f, run.laser().spec());
+            if (bag) addToBag(*bag, f, run, scene, a);
+            cmp.add(f);
+            if (versus) versus->add(f, run.rangeAt(f.time_s).height_m, (uint64_t(1) << 32) + k);
+            if (!a.map.empty()) kept.push_back(std::move(f));
+            ++k;
+        },
+        control);
     if (log_file) log_file->commit();
     if (bag) bag->finish();
     if (laser) laser->commit();
-    if (!a.save_histogram.empty()) hist.save(files.stage(a.save_histogram));
+    if (!a.save_histogram.empty()) omni.histogram().save(files.stage(a.save_histogram));
     if (!a.plot.empty())
         writeDifferenceHistogram(files.stage(a.plot), cmp.differences_m, cmp.outlier_m,
                                  "laser - omnicam per scanline, " + scene.source);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include "ceres_fit.hpp"
@@ -59,31 +60,6 @@ private:
     const std::vector<Obs>& obs_;
 };
 
-/// The start of least cost. A long grid of starts (the clock offset's 97) is searched coarse to
-/// fine: every kStride-th start, then the starts between the best one's neighbours; a basin
-/// narrower than kStride steps could be passed over, which a smooth likelihood on that scale
-/// (the clock offset's: smoke ramps of seconds, steps of a camera frame) does not have.
-double bestStart(const ceres::GradientProblem& problem, const std::vector<double>& from)
-{
-    constexpr size_t kStride = 4, kLong = 24;
-    const size_t stride = from.size() > kLong ? kStride : 1;
-    size_t best_i = 0;
-    double best = kInf;
-    auto tryStart = [&](size_t i) {
-        double t = from[i], cost = kInf;
-        if (problem.Evaluate(&t, &cost, nullptr) && cost < best) best = cost, best_i = i;
-    };
-    for (size_t i = 0; i < from.size(); i += stride) tryStart(i);
-    if (stride > 1) {
-        if ((from.size() - 1) % stride != 0) tryStart(from.size() - 1);
-        const size_t coarse = best_i, lo = coarse >= stride ? coarse - stride + 1 : 0,
-                     hi = std::min(from.size() - 1, coarse + stride - 1);
-        for (size_t i = lo; i <= hi; ++i)
-            if (i != coarse) tryStart(i);
-    }
-    return from[best_i];
-}
-
 }  // namespace
 
 ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs,
@@ -93,7 +69,10 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
     if (obs.empty()) return f;
     ceres::GradientProblem problem(new CandidateNll(r, m, c, obs));
     const std::vector<double>& from = starts && !starts->empty() ? *starts : c.starts();
-    double theta = bestStart(problem, from);
+    double theta = from[bestStart(from, [&](double t) {
+        double cost = kInf;
+        return problem.Evaluate(&t, &cost, nullptr) ? cost : kInf;
+    })];
     ceres::GradientProblemSolver::Options opt;
     opt.line_search_direction_type = ceres::LBFGS;
     opt.max_num_iterations = 100;
@@ -120,6 +99,44 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
     f.theta = theta;
     f.ok = true;
     return f;
+}
+
+size_t bestStart(const std::vector<double>& starts, const std::function<double(double)>& cost)
+{
+    constexpr size_t kStride = 2, kLong = 24, kBasins = 3;
+    const size_t n = starts.size();
+    std::vector<double> c(n, NAN);  // NaN: not evaluated
+    auto at = [&](size_t i) {
+        if (std::isnan(c[i])) {
+            const double v = cost(starts[i]);
+            c[i] = std::isfinite(v) ? v : kInf;
+        }
+        return c[i];
+    };
+    auto best = [&] {
+        size_t b = 0;
+        for (size_t i = 0; i < n; ++i)
+            if (!std::isnan(c[i]) && (std::isnan(c[b]) || c[i] < c[b])) b = i;
+        return b;
+    };
+    if (n <= kLong) {
+        for (size_t i = 0; i < n; ++i) at(i);
+        return best();
+    }
+    std::vector<size_t> coarse;
+    for (size_t i = 0; i < n; i += kStride) coarse.push_back(i);
+    if (coarse.back() != n - 1) coarse.push_back(n - 1);
+    for (size_t i : coarse) at(i);
+    // The starts between the neighbours of the kBasins best coarse ones (all of them when no
+    // coarse start has a finite cost).
+    std::vector<size_t> order = coarse;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return c[a] < c[b]; });
+    const bool none = !std::isfinite(c[order.front()]);
+    for (size_t k = 0; k < (none ? order.size() : std::min(kBasins, order.size())); ++k) {
+        const size_t i = order[k], lo = i >= kStride ? i - kStride + 1 : 0, hi = std::min(n - 1, i + kStride - 1);
+        for (size_t j = lo; j <= hi; ++j) at(j);
+    }
+    return best();
 }
 
 std::vector<Obs> touched(const Replay& r, const Candidate& c, int fold)

@@ -1,5 +1,6 @@
 #pragma once
 // Internal: a candidate extension's maximum-likelihood fit (Ceres) on a set of observations.
+#include <functional>
 #include <vector>
 
 #include "candidates.hpp"
@@ -22,6 +23,14 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
 /// into `groups` groups (block mod groups), θ refitted without each. For a likelihood too rugged
 /// for its curvature to mean anything (the clock offset's, stepped at each camera frame).
 double jackknifeSe(const Replay& r, const ReplayModel& m, const Candidate& c, double theta, int groups = 8);
+
+/// @brief The index of the start of least cost (a non-finite cost counts as +inf; ties: the first).
+/// Up to 24 starts are all evaluated. A longer grid (the clock offset's 97, 0.25 s apart) is
+/// searched coarse to fine: every other start and the last, then the starts beside the three best
+/// coarse ones (all of them when none has a finite cost): 58 evaluations, not 97. A basin whose
+/// coarse starts all cost more than three others' (narrower than about two steps, 0.5 s of clock
+/// offset, and shallower there) is passed over.
+size_t bestStart(const std::vector<double>& starts, const std::function<double(double)>& cost);
 
 /// @brief The observations candidate c touches in fold `fold` (−1: all).
 std::vector<Obs> touched(const Replay& r, const Candidate& c, int fold);

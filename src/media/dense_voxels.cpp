@@ -20,8 +20,9 @@ DenseVoxels toDense(const DensityGrid& grid, const std::string& where)
 {
     const DensityGrid::Impl& g = grid.impl();
     DenseVoxels d;
-    if (g.support.empty()) return d;
-    const openvdb::Coord lo = g.support.min(), dim = g.support.dim();
+    const bool empty = g.support.empty();
+    const openvdb::Coord lo = empty ? openvdb::Coord(0, 0, 0) : g.support.min(),
+                         dim = empty ? openvdb::Coord(0, 0, 0) : g.support.dim();
     long long n = 1;
     for (int i = 0; i < 3; ++i) {
         d.size[size_t(i)] = dim[i];
@@ -87,10 +88,10 @@ DensityGrid fromDense(const DenseVoxels& d, const std::string& where)
         for (long long b = 0; b < d.size[1]; ++b)
             for (long long c = 0; c < d.size[2]; ++c, ++i) {
                 const float v = d.values[i];
-                if (!std::isfinite(v) || v < 0)
+                if (!std::isfinite(v) || v < 0 || v > limits::kDensity)
                     throw Error(where,
                                 "voxel " + voxelName(a, b, c) + " holds " + std::to_string(v) +
-                                    " (densities are finite and >= 0)");
+                                    " (densities are finite, >= 0 and at most 1e6)");
                 if (v != 0) acc.setValue(openvdb::Coord(int(a), int(b), int(c)), v);
             }
     grid->pruneGrid(0.0f);

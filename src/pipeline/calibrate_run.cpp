@@ -1,8 +1,11 @@
 #include "smokescan/pipeline/calibrate_run.hpp"
 
+#include <atomic>
 #include <string>
+#include <utility>
 
 #include "smokescan/core/limits.hpp"
+#include "watched.hpp"
 
 namespace smokescan {
 
@@ -23,10 +26,19 @@ CalibrationResult runCalibration(const Scene& scene, const CalibrateConfig& cfg,
                     "width × height × spp × --max-batches × densities is over " +
                         std::to_string(limits::kFrameSamples) + " samples");
     checkCancel(control);
-    CalibrationResult r = calibrate(scene, cfg, [&](int done, int total) {
-        reportProgress(control, done, total);
-        checkCancel(control);
-    });
+    CalibrationResult r;
+    if (control.cancel || control.progress) {
+        // The sweep on a thread of its own, stopped within a tile of any frame when asked.
+        RenderWatch watch;
+        CalibrateConfig watched = cfg;
+        watched.watch = &watch;
+        std::atomic<long long> frames{0};
+        r = detail::runWatched<CalibrationResult>(
+            [&] { return calibrate(scene, watched, [&](int done, int) { frames = done; }); }, watch,
+            [&] { return std::pair<long long, long long>(frames, (long long)cfg.densities.size()); }, control);
+    } else {
+        r = calibrate(scene, cfg);
+    }
     if (!r.fit.converged)
         throw Error("calibrate",
                     "the curve could not be fitted to these " + std::to_string(cfg.densities.size()) +

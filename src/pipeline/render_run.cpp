@@ -1,11 +1,10 @@
 #include "smokescan/pipeline/render_run.hpp"
 
-#include <chrono>
-#include <exception>
 #include <memory>
-#include <thread>
+#include <utility>
 
 #include "smokescan/render/camera.hpp"
+#include "watched.hpp"
 
 namespace smokescan {
 namespace {
@@ -16,34 +15,9 @@ RenderResult watchedRender(const Scene& scene, const SurfaceSet& surfaces, Rende
     RenderWatch watch;
     cfg.watch = &watch;
     cfg.progress = false;
-    RenderResult r;
-    std::exception_ptr failed;
-    std::atomic<bool> finished{false};
-    std::thread worker([&] {
-        try {
-            r = render(scene, surfaces, cfg);
-        } catch (...) {
-            failed = std::current_exception();
-        }
-        finished = true;
-    });
-    try {
-        while (!finished) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(50));
-            if (control.cancel && control.cancel()) watch.stop = true;
-            if (watch.stop) break;
-            reportProgress(control, watch.tiles_done, watch.tiles_total);
-        }
-    } catch (...) {  // the control itself threw: the render stops, and its error goes on
-        watch.stop = true;
-        worker.join();
-        throw;
-    }
-    worker.join();
-    if (failed) std::rethrow_exception(failed);
-    if (watch.stop || r.stopped) throw Cancelled();
-    reportProgress(control, watch.tiles_done, watch.tiles_total);
-    return r;
+    return detail::runWatched<RenderResult>(
+        [&] { return render(scene, surfaces, cfg); }, watch,
+        [&] { return std::pair<long long, long long>(watch.tiles_done, watch.tiles_total); }, control);
 }
 
 }  // namespace

@@ -420,6 +420,11 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                         res.ids.at(x, y, 2) = INFINITY;
                     }
                     if (cfg.mask && !(*cfg.mask)[size_t(pix)]) continue;
+                    // A stop ends the frame within a pixel (a tile of many samples may take seconds).
+                    if (cfg.watch && cfg.watch->stop) {
+                        skipped = true;
+                        continue;
+                    }
                     Rgb sum = Rgb::Zero(), sum2 = Rgb::Zero();
                     for (int s = 0; s < cfg.spp; ++s) {
                         KeyedRng rng(cfg.seed, pix, uint64_t(s));

@@ -48,14 +48,21 @@ def test_a_rendered_frame_is_the_command_lines(bocas, tmp_path):
     # Smoke at 60 s: the radiance is positive and finite, the display clipped to [0, 1].
     assert np.all(np.isfinite(f["radiance"])) and f["radiance"].mean() > 0
     assert f["display"].min() >= 0 and f["display"].max() <= 1
-    # The ids name surfaces the scene has; depth is where a surface was hit.
-    ids = f["object_id"]
-    assert ids.max() < len(bocas.surfaces) and np.all(np.isfinite(f["depth_m"][ids >= 0]))
+    # The ids name surfaces the scene has, each one material; depth is a distance in the room [m].
+    ids, mats, depth = f["object_id"], f["material_id"], f["depth_m"]
+    assert ids.min() >= 0 and ids.max() < len(bocas.surfaces)
+    assert all(len(np.unique(mats[ids == i])) == 1 for i in np.unique(ids))
+    assert len(np.unique(ids)) > 3 and len(np.unique(mats)) < len(np.unique(ids))  # walls share materials
+    assert 0.5 < depth.min() and depth.max() < 20 and np.any(depth != np.round(depth))
+    assert f["samples"] == 80 * 60 * 4
     # Same seed, same frame; another seed, another noise.
     again = smokescan.render(bocas, time_s=60, spp=4, width=80, height=60, seed=5)
     assert np.array_equal(again["radiance"], f["radiance"])
     other = smokescan.render(bocas, time_s=60, spp=4, width=80, height=60, seed=6)
     assert not np.array_equal(other["radiance"], f["radiance"])
+    # The variance is that of the pixel's mean: two independent frames differ by twice it.
+    spread = np.mean((other["radiance"].astype(float) - f["radiance"]) ** 2) / 2
+    assert 0.5 < spread / np.mean(f["variance"]) < 2
 
 
 def test_a_fixed_exposure_scales_the_display(bocas):
@@ -69,17 +76,27 @@ def test_a_fixed_exposure_scales_the_display(bocas):
 
 def test_render_reports_its_tiles_and_stops_on_ctrl_c(bocas):
     seen = []
-    smokescan.render(bocas, spp=2, width=96, height=64, progress=lambda d, t: seen.append((d, t)))
-    assert seen and seen[-1] == (24, 24) and all(a[0] <= b[0] for a, b in zip(seen, seen[1:]))
-    # SIGINT while a long frame renders: KeyboardInterrupt soon, not the frame's end.
+    smokescan.render(bocas, spp=48, width=100, height=70, progress=lambda d, t: seen.append((d, t)))
+    # 100 × 70 px in 16 × 16 tiles: 7 × 5 = 35, counted as they finish.
+    assert len(seen) >= 3 and all(t == 35 for _, t in seen) and seen[-1] == (35, 35)
+    assert any(0 < d < 35 for d, _ in seen) and all(a[0] <= b[0] for a, b in zip(seen, seen[1:]))
+    # SIGINT while a long frame renders: KeyboardInterrupt soon, not the frame's end, and the
+    # render's threads stopped with it (no CPU spent afterwards); the next frame is unharmed.
     import time
 
+    reference = smokescan.render(bocas, spp=1, width=32, height=24)
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     start = time.monotonic()
     timer.start()
     with pytest.raises(KeyboardInterrupt):
         smokescan.render(bocas, spp=4096, width=640, height=480)
     assert time.monotonic() - start < 10
+    before = os.times()
+    time.sleep(1.0)
+    after = os.times()
+    assert (after.user - before.user) + (after.system - before.system) < 0.2
+    again = smokescan.render(bocas, spp=1, width=32, height=24)
+    assert np.array_equal(again["radiance"], reference["radiance"])
 
 
 def test_render_refuses_bad_settings_in_one_line(bocas):
@@ -101,7 +118,6 @@ def test_calibration_is_the_command_lines(bocas, tmp_path):
     mine["render"].pop("seconds"), theirs["render"].pop("seconds")  # the time it took
     assert mine == theirs
     assert r.threshold.density == theirs["threshold"]["density"] > 0
-    # The report written as JSON is a calibration diagnose and fit read.
     with pytest.raises(smokescan.Error, match=r"^--densities: "):
         smokescan.calibrate(bocas, densities=[0, 0.5])
     with pytest.raises(smokescan.Error, match=r"^--loss: "):
@@ -121,6 +137,32 @@ def planted_run(tmp_path_factory):
     return d
 
 
+def test_a_calibration_stops_on_ctrl_c_within_a_frame(bocas):
+    import time
+
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        smokescan.calibrate(bocas, width=640, height=480, spp=64)  # a frame takes far longer than 5 s
+    assert time.monotonic() - start < 5
+
+
+def test_a_calibration_from_python_is_one_diagnose_reads(bocas, planted_run, tmp_path):
+    sweep = {"densities": [0, 0.002, 0.004, 0.008], "width": 64, "height": 48, "max_batches": 4}
+    r = smokescan.calibrate(bocas, **sweep)
+    mine = tmp_path / "mine.json"
+    json.dump(r.to_dict(), open(mine, "w"))
+    cli("calibrate", "bocas", "--densities", ",".join(str(d) for d in sweep["densities"]), "--width", "64",
+        "--height", "48", "--max-batches", "4", "--out", str(tmp_path / "theirs.json"))
+    log, sat = planted_run / "run.log", planted_run / "sat.csv"
+    a = smokescan.diagnose("bocas", laser=log, saturation=sat, calibration=mine, max_findings=1)
+    b = smokescan.diagnose("bocas", laser=log, saturation=sat, calibration=tmp_path / "theirs.json", max_findings=1)
+    a, b = a.to_dict(), b.to_dict()
+    a["inputs"].pop("calibration"), b["inputs"].pop("calibration")
+    assert a == b
+
+
 def test_a_diagnosis_is_the_command_lines_and_finds_the_planted_sector(planted_run, tmp_path):
     log, sat = planted_run / "run.log", planted_run / "sat.csv"
     cli("diagnose", "--laser", str(log), "--saturation", str(sat), "--scene", "bocas", "--out",
@@ -132,10 +174,25 @@ def test_a_diagnosis_is_the_command_lines_and_finds_the_planted_sector(planted_r
     for name in ("diagnosis.json", "report.md", "sensor.toml"):
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
     assert rounds and rounds[-1][0] == rounds[-1][1]
+    assert r == smokescan.Report(json.load(open(tmp_path / "cli" / "diagnosis.json")))
+    changed = r.to_dict()
+    changed["findings"][0]["parameters"]["dropout"]["value"] += 1e-9
+    assert r != smokescan.Report(changed)
+    with pytest.raises(AttributeError):
+        r.verdict = "none"
     assert r.verdict != "none"
     assert [f.cause for f in r.findings] == ["sector_dropout"]
     d = r.findings[0].parameters["dropout"]
     assert abs(d.value - 0.5) < 4 * d.std_error
+    # The sector as planted (20°–35°, to the beams' 0.35° spacing), in the report and in the
+    # extended sensor file diagnose wrote.
+    lo, hi = (float(x) for x in r.findings[0].target.split()[1].split(".."))
+    assert abs(lo - 20) < 0.75 and abs(hi - 35) < 0.75
+    import tomllib
+
+    sector = tomllib.load(open(tmp_path / "py" / "sensor.toml", "rb"))["extensions"]["sector"][0]
+    assert abs(sector["from_deg"] - 20) < 0.75 and abs(sector["to_deg"] - 35) < 0.75
+    assert abs(sector["dropout"] - 0.5) < 4 * d.std_error
 
 
 def test_diagnose_refuses_bad_input_in_one_line_and_writes_nothing(planted_run, tmp_path):
@@ -152,6 +209,12 @@ def test_diagnose_refuses_bad_input_in_one_line_and_writes_nothing(planted_run, 
         smokescan.diagnose("bocas")
     with pytest.raises(smokescan.Error, match=r"^--laser: must be a path"):
         smokescan.diagnose("bocas", laser=3)
+    with pytest.raises(smokescan.Error, match=r"^--laser: holds a NUL"):
+        smokescan.diagnose("bocas", laser=str(log) + "\0.bag")
+    with pytest.raises(smokescan.Error, match=r"^--out: names no file"):
+        smokescan.diagnose("bocas", laser=log, out="")
+    with pytest.raises(smokescan.Error, match=r"^--calibration: must be a path, not None"):
+        smokescan.diagnose("bocas", laser=log, calibration=None)
     (tmp_path / "taken").mkdir()
     (tmp_path / "taken" / "mine.txt").write_text("keep")
     with pytest.raises(smokescan.Error, match=r"not an empty folder"):
@@ -186,23 +249,34 @@ def test_a_vdb_grid_reads_as_its_formula():
 
 
 def test_an_array_becomes_a_grid_that_the_library_reads(tmp_path):
-    # A tilted block: voxels of 0.02 m turned 30° about z, its first voxel's centre at (1, 2, 0.5).
+    # A block of smoke at [3:7, 2:5, 1:4] in a (20, 10, 6) array of voxels of 0.02 m turned 30°
+    # about z, voxel [0, 0, 0]'s centre at (1, 2, 0.5) m.
     rng = np.random.default_rng(4)
-    density = rng.uniform(0, 0.01, size=(20, 10, 6)).astype(np.float32)
-    density[density < 0.002] = 0
+    density = np.zeros((20, 10, 6), np.float32)
+    density[3:7, 2:5, 1:4] = rng.uniform(0.001, 0.01, size=(4, 3, 3))
     c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
     m = np.array([[0.02 * c, -0.02 * s, 0, 1], [0.02 * s, 0.02 * c, 0, 2], [0, 0, 0.02, 0.5], [0, 0, 0, 1]])
     path = tmp_path / "tilted.vdb"
     smokescan.write_volume(path, density, m)
+    # OpenVDB's own view of the file (the command line's volume info): the voxels' index box and
+    # the world box of their cubes, computed here from the corners through m.
     info = volume_info(path)
-    assert "voxel 0.02 m" in info and f"{int((density > 0).sum())} active voxels" in info
+    assert "voxel 0.02 m" in info and "36 active voxels" in info and "index support [3,2,1] -> [6,4,3]" in info
+    corners = np.array([[a, b, cc, 1] for a in (2.5, 6.5) for b in (1.5, 4.5) for cc in (0.5, 3.5)]) @ m.T
+    lo, hi = corners[:, :3].min(axis=0), corners[:, :3].max(axis=0)
+    bounds = info.split("world bounds [")[1].split("]")
+    assert np.allclose([float(x) for x in bounds[0].split(",")], lo, atol=1e-3)
+    assert np.allclose([float(x) for x in bounds[1].split("[")[1].split(",")], hi, atol=1e-3)
+    # Read back: the block alone, its map moved to its first voxel.
     back, m_back = smokescan.read_volume(path)
-    # The box of the non-zero voxels: trimmed where a face held only zeros, the map moved with it.
-    nz = np.argwhere(density > 0)
-    lo, hi = nz.min(axis=0), nz.max(axis=0) + 1
-    assert np.array_equal(back, density[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]])
+    assert back.shape == (4, 3, 3) and np.array_equal(back, density[3:7, 2:5, 1:4])
     assert np.allclose(m_back[:3, :3], m[:3, :3], atol=1e-12)
-    assert np.allclose(m_back[:3, 3], m[:3, :3] @ lo + m[:3, 3], atol=1e-12)
+    assert np.allclose(m_back[:3, 3], m[:3, :3] @ [3, 2, 1] + m[:3, 3], atol=1e-12)
+    # An empty grid reads as an empty block with the map of its index origin.
+    empty = tmp_path / "empty.vdb"
+    smokescan.write_volume(empty, np.zeros((2, 2, 2)), m)
+    d0, m0 = smokescan.read_volume(empty)
+    assert d0.shape == (0, 0, 0) and np.allclose(m0, m)
 
 
 def test_write_volume_refuses_what_is_not_smoke_and_writes_nothing(tmp_path):
@@ -220,8 +294,24 @@ def test_write_volume_refuses_what_is_not_smoke_and_writes_nothing(tmp_path):
         with pytest.raises(smokescan.Error, match=pattern):
             smokescan.write_volume(path, density, m)
         assert not path.exists()
+    with pytest.raises(smokescan.Error, match=r"^density: must hold real numbers"):
+        smokescan.write_volume(path, np.ones((2, 2, 2), bool), eye)
+    # A huge array is refused by its shape, before any copy.
+    with pytest.raises(smokescan.Error, match=r"^density: holds more than"):
+        smokescan.write_volume(path, np.broadcast_to(np.float32(0), (1 << 29, 1, 1)), eye)
+    assert not path.exists()
+    # An existing file is never replaced.
+    mine = tmp_path / "mine.log"
+    mine.write_text("keep")
+    with pytest.raises(smokescan.Error, match=r"exists"):
+        smokescan.write_volume(mine, ok, eye)
+    assert mine.read_text() == "keep"
     with pytest.raises(smokescan.Error, match=r"missing\.vdb"):
         smokescan.read_volume(tmp_path / "missing.vdb")
+    with pytest.raises(smokescan.Error, match=r"^path: must be a path, not None"):
+        smokescan.read_volume(None)
+    with pytest.raises(smokescan.Error, match=r"^scale: "):
+        smokescan.read_volume(tmp_path / "missing.vdb", scale=2e6)
 
 
 def test_every_public_name_has_a_stub_and_a_docstring():
@@ -234,3 +324,126 @@ def test_every_public_name_has_a_stub_and_a_docstring():
             continue
         assert name in stubbed, name
         assert getattr(smokescan, name).__doc__, name
+
+
+def test_a_fit_is_the_command_lines_and_recovers_the_scenes_penetration_power(planted_run, tmp_path):
+    # bocas's URG-04LX runs the paper model at penetration power 0.007 density·m (its sensor's
+    # default; the run's sector only drops beams off the targets).
+    log, sat = planted_run / "run.log", planted_run / "sat.csv"
+    cli("fit", "--laser", str(log), "--saturation", str(sat), "--scene", "bocas", "--out", str(tmp_path / "c.toml"))
+    r = smokescan.fit("bocas", laser=log, saturation=sat, out=tmp_path / "p.toml")
+    assert r.to_dict() == json.load(open(tmp_path / "c_report.json"))
+    theirs = (tmp_path / "c.toml").read_text().replace(f" (report: {tmp_path / 'c_report.json'})", "")
+    assert (tmp_path / "p.toml").read_text() == theirs
+    ref = [g for g in r.groups if g.name == r.reference_group][0].threshold
+    p = ref.penetration_power_density_m
+    assert abs(p.value - 0.007) < 4 * p.std_error
+    import tomllib
+
+    assert tomllib.load(open(tmp_path / "p.toml", "rb"))["paper"]["penetration_power"] == pytest.approx(p.value, rel=1e-12)
+    # The sensor file is a new file: an existing one is refused and left alone.
+    with pytest.raises(smokescan.Error, match=r"exists"):
+        smokescan.fit("bocas", laser=log, saturation=sat, out=tmp_path / "p.toml")
+    # No groups, no fit; a bad setting is one line.
+    with pytest.raises(smokescan.Error, match=r"^fit: say which beams"):
+        smokescan.fit(laser=log, saturation=sat)
+    with pytest.raises(smokescan.Error, match=r"^--link: "):
+        smokescan.fit("bocas", laser=log, saturation=sat, link="cloglog")
+    with pytest.raises(smokescan.Error, match=r"^--bootstrap: "):
+        smokescan.fit("bocas", laser=log, saturation=sat, bootstrap=5000)
+
+
+def test_a_plume_fit_is_the_command_lines(tmp_path):
+    log = tmp_path / "sick.log"
+    cli("scan", "plume", "--sensor", "lms200", "--from", "10", "--to", "40", "--quiet", "--out", str(log))
+    cli("fit-plume", "--laser", str(log), "--scene", "plume", "--out", str(tmp_path / "p.json"))
+    r = smokescan.fit_plume("plume", laser=log)
+    assert r.to_dict() == json.load(open(tmp_path / "p.json"))
+    with pytest.raises(smokescan.Error, match=r"^--bins: "):
+        smokescan.fit_plume("plume", laser=log, bins=0)
+    with pytest.raises(smokescan.Error, match=r"no sensor 'urg'"):
+        smokescan.fit_plume("plume", laser=log, sensor="urg")
+
+
+def write_png(path, pixels):
+    """An 8-bit RGB PNG written by Open3D (an independent writer)."""
+    code = ("import sys, numpy as np, open3d as o3d\n"
+            "o3d.io.write_image(sys.argv[1], o3d.geometry.Image(np.load(sys.argv[2])))\n")
+    np.save(str(path) + ".npy", pixels)
+    subprocess.run([sys.executable, "-c", code, str(path), str(path) + ".npy"], check=True)
+    os.remove(str(path) + ".npy")
+
+
+def test_saturation_of_frames_is_hsvs_formula(tmp_path):
+    # A grey frame with a 6 × 4 px patch of (255, g, g): its HSV saturation is (255 − g)/255.
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    greens = [128, 148, 168]
+    for k, g in enumerate(greens):
+        img = np.full((10, 12, 3), 40, np.uint8)
+        img[2:6, 3:9] = (255, g, g)
+        write_png(frames / f"frame_{k:03d}.png", img)
+    seen = []
+    d = smokescan.saturation(frames, rects=["red=3,2,6,4"], fps=10, progress=lambda a, b: seen.append((a, b)))
+    assert np.allclose(d["time_s"], [0, 0.1, 0.2])
+    assert np.allclose(d["saturation"], [(255 - g) / 255 for g in greens], atol=1e-7)
+    assert np.array_equal(d["pixels"], [24, 24, 24]) and list(d["patches"]) == ["red"]
+    assert seen[-1] == (3, 3)
+    with pytest.raises(smokescan.Error, match=r"^saturation: give the target region"):
+        smokescan.saturation(frames, fps=10)
+    with pytest.raises(smokescan.Error, match=r"^--ids: needs --scene"):
+        smokescan.saturation(frames, ids=frames)
+    with pytest.raises(smokescan.Error, match=r"^--rect"):
+        smokescan.saturation(frames, rects=["red=3,2"])
+
+
+def test_saturation_of_rendered_frames_is_the_command_lines(tmp_path):
+    fr, ids = tmp_path / "fr", tmp_path / "ids"
+    fr.mkdir(), ids.mkdir()
+    cli("render", "bocas", "--from", "40", "--to", "42", "--every", "1", "--out", str(fr / "f_{i}.png"), "--ids",
+        str(ids / "i_{i}.exr"), "--spp", "2", "--width", "160", "--height", "120")
+    cli("saturation", str(fr), "--ids", str(ids), "--scene", "bocas", "--fps", "1", "--out", str(tmp_path / "s.csv"))
+    theirs = np.genfromtxt(tmp_path / "s.csv", delimiter=",", names=True)
+    d = smokescan.saturation(fr, ids=ids, scene="bocas", fps=1)
+    assert np.allclose(d["time_s"], theirs["time_s"], atol=1e-9)
+    assert np.allclose(d["saturation"], theirs["saturation"], atol=1e-8)
+    assert np.allclose(d["median"], theirs["saturation_median"], atol=1e-8)
+    for name in ("blue", "yellow", "gold"):
+        assert np.allclose(d["patches"][name], theirs[name], atol=1e-8)
+        assert np.allclose(d["patch_sd"][name], theirs[name + "_sd"], atol=1e-8)
+
+
+def read_ranges(path):
+    """A range log's scans (omnirange --out, --laser-out): (time_s, angles, values in mm)."""
+    rows = [line.split() for line in open(path) if not line.startswith("#")]
+    return [(float(f[0]), np.array(f[1::2], float), np.array(f[2::2], np.int64)) for f in rows]
+
+
+def test_the_omnicam_rangefinder_is_the_command_lines(tmp_path):
+    out, laser = tmp_path / "omni.log", tmp_path / "laser.log"
+    printed = subprocess.run([CLI, "omnirange", "factory", "--train", "0", "--from", "0", "--to", "2", "--spp", "4",
+                              "--out", str(out), "--laser-out", str(laser)], check=True, capture_output=True,
+                             text=True).stdout
+    seen = []
+    d = smokescan.omnirange(smokescan.load_scene("factory"), train=[0], t0=0, t1=2, spp=4,
+                            progress=lambda a, b: seen.append((a, b)))
+    assert seen[-1] == (4, 4)  # one training frame, three frames read
+    omni, las = read_ranges(out), read_ranges(laser)
+    assert np.allclose(d["time_s"], [t for t, _, _ in omni])
+    for k, (t, angles, mm) in enumerate(omni):
+        assert np.allclose(d["angle_rad"], angles, atol=1e-6)
+        assert np.array_equal(np.round(d["range_m"][k] * 1000).astype(np.int64), mm)
+    for k, (t, angles, values) in enumerate(las):
+        assert np.allclose(d["laser_angle_rad"], angles, atol=1e-6)
+        assert np.array_equal(d["laser_value"][k], values)
+    c = d["comparison"]
+    assert f"{c['pairs']} scanline pairs" in printed and f"{c['outliers']} outliers" in printed
+    # The factory's floor is seen to within centimetres where both read it (the paper's Fig. 9).
+    assert c["pairs"] > 300 and c["mean_abs_m"] < 0.15
+    assert d["status"].dtype == np.uint8 and set(np.unique(d["status"])) <= {0, 1, 2}
+    with pytest.raises(smokescan.Error, match=r"^--train: give either"):
+        smokescan.omnirange(smokescan.load_scene("factory"))
+    with pytest.raises(smokescan.Error, match=r"^--to: must not precede"):
+        smokescan.omnirange(smokescan.load_scene("factory"), train=[0], t0=2, t1=1)
+    with pytest.raises(smokescan.Error, match=r"^--rate: would keep"):
+        smokescan.omnirange(smokescan.load_scene("factory"), train=[0], rate_hz=2000)

@@ -14,6 +14,7 @@
 /// | threshold_saturation | 0.14                         | –       | the paper's Hokuyo threshold              |
 /// | path_m         | 2.5                                | m       | laser–target distance for the penetration power |
 /// | paper_density  | 0.0028                             | engine density | the paper's density at the threshold |
+/// | watch          | null                               | –       | a RenderWatch another thread may stop the sweep with |
 #include <functional>
 #include <map>
 #include <string>
@@ -24,6 +25,7 @@
 #include "smokescan/calib/saturation_curve.hpp"
 #include "smokescan/camera/saturation.hpp"
 #include "smokescan/camera/target_radiance.hpp"
+#include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/scene.hpp"
 
 namespace smokescan {
@@ -40,6 +42,9 @@ struct CalibrateConfig {
     double path_m = 2.5;
     double paper_density = 0.0028;
     CurveFitConfig fit;
+    /// When set, each frame's render counts its tiles there, and a stop ends the sweep (Error) within
+    /// a tile of the frame being rendered.
+    RenderWatch* watch = nullptr;
 };
 
 struct CalibrationResult {

@@ -25,14 +25,15 @@ struct DenseVoxels {
     std::array<double, 16> index_to_world{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 };
 
-/// @brief The grid's voxels over the index box of its non-zero values (an empty block for an
-/// empty grid), with the map from the block's indices to world metres.
+/// @brief The grid's voxels over the index box of its non-zero values, with the map from the
+/// block's indices to world metres (an empty grid: an empty block, the map of its index origin).
 /// @throw Error naming `where` when the box holds more than limits::kDenseVoxels voxels.
 DenseVoxels toDense(const DensityGrid& grid, const std::string& where);
 
 /// @brief A grid from a dense block: its non-zero voxels active, zeros the background.
 /// @throw Error naming `where` for a size that does not match the values or is over
-/// limits::kDenseVoxels, a value that is negative or not finite (naming the voxel), or a map that is
+/// limits::kDenseVoxels, a value that is negative, not finite or over limits::kDensity (naming the
+/// voxel), or a map that is
 /// not affine, not finite, singular or not uniform (voxels must be cubes).
 DensityGrid fromDense(const DenseVoxels& dense, const std::string& where);
 

@@ -32,7 +32,8 @@
 namespace smokescan {
 
 /// What another thread may watch and ask of a render in progress: the frame is rendered in
-/// tiles of 16 × 16 px; tiles not yet begun when `stop` turns true are skipped.
+/// tiles of 16 × 16 px; once `stop` turns true, no pixel begins its samples (the ids are still
+/// made) and tiles not yet begun are skipped.
 struct RenderWatch {
     std::atomic<long long> tiles_total{0};  ///< set when the render starts
     std::atomic<long long> tiles_done{0};

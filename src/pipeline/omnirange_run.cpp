@@ -1,0 +1,74 @@
+#include "smokescan/pipeline/omnirange_run.hpp"
+
+#include <string>
+
+#include "smokescan/core/limits.hpp"
+
+namespace smokescan {
+namespace {
+
+std::string span(const Scene& scene)
+{
+    return std::to_string(scene.t_start_s) + "…" + std::to_string(scene.t_end_s) + " s";
+}
+
+std::vector<double> frameTimes(const OmnirangeRunConfig& a, const Scene& scene)
+{
+    if (!(a.rate_hz > 0) || !std::isfinite(a.rate_hz)) throw Error("--rate", "must be a finite number > 0 [Hz]");
+    const double from = std::isnan(a.from_s) ? scene.t_start_s : a.from_s,
+                 to = std::isnan(a.to_s) ? scene.t_end_s : a.to_s;
+    if (!std::isfinite(from) || !std::isfinite(to)) throw Error("--from", "and --to must be finite numbers [s]");
+    if (!(to >= from)) throw Error("--to", "must not precede --from");
+    if (from < scene.t_start_s || to > scene.t_end_s)
+        throw Error("--from", "and --to must lie within the scene's " + span(scene));
+    const double n = std::floor((to - from) * a.rate_hz + 1e-9) + 1;
+    if (n > double(limits::kFrames))
+        throw Error("--rate", "would render over " + std::to_string(limits::kFrames) + " frames");
+    std::vector<double> t;
+    for (long long k = 0; k < (long long)n; ++k) t.push_back(from + double(k) / a.rate_hz);
+    return t;
+}
+
+}  // namespace
+
+OmnirangeRun::OmnirangeRun(const Scene& scene, const OmnirangeRunConfig& cfg) : scene_(scene), cfg_(cfg)
+{
+    if (cfg.train_s.empty() == cfg.histogram.empty())
+        throw Error("--train", "give either --train TIMES or --histogram FILE");
+    if ((long long)cfg.train_s.size() > limits::kFrames) throw Error("--train", "too many training times");
+    surfaces_ = std::make_unique<SurfaceSet>(scene);
+    times_ = frameTimes(cfg, scene);
+    for (double t : cfg.train_s)
+        if (!(t >= scene.t_start_s && t <= scene.t_end_s))
+            throw Error("--train", "time " + std::to_string(t) + " s lies outside the scene's " + span(scene));
+    hist_ = cfg.histogram.empty() ? ColourHistogram(13) : ColourHistogram::load(cfg.histogram);
+    // A saved histogram's colours hold at the exposure it learned them at.
+    if (!(cfg_.run.exposure > 0) && hist_.exposure() > 0) cfg_.run.exposure = hist_.exposure();
+    run_ = std::make_unique<OmniRun>(scene, *surfaces_, cfg_.run);
+}
+
+OmnirangeRun::~OmnirangeRun() = default;
+
+void OmnirangeRun::train(const RunControl& control)
+{
+    const std::vector<double>& t = cfg_.train_s;
+    for (size_t k = 0; k < t.size(); ++k) {
+        checkCancel(control);
+        trained_ += run_->train(hist_, t[k], uint64_t(k));
+        reportProgress(control, (long long)k + 1, (long long)t.size());
+    }
+    if (hist_.total() == 0) throw Error("--train", "no free floor pixels to train on (the laser saw no free floor)");
+}
+
+void OmnirangeRun::run(const std::function<void(OmniFrame&&)>& sink, const RunControl& control)
+{
+    for (size_t k = 0; k < times_.size(); ++k) {
+        checkCancel(control);
+        // Keys apart from the training frames': a run with the histogram saved from this one
+        // reads the same frames.
+        sink(run_->read(hist_, times_[k], (uint64_t(1) << 32) + k));
+        reportProgress(control, (long long)k + 1, (long long)times_.size());
+    }
+}
+
+}  // namespace smokescan
