@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <tuple>
 
@@ -20,6 +21,19 @@
 
 namespace smokescan::python {
 namespace {
+
+/// The omnicam's classes (--tolerance, --max-range, --floor-z) from Python's optional keywords.
+void omniClasses(OmniFitConfig& omni, std::set<std::string>& given, std::optional<double> tolerance_m,
+                 std::optional<double> max_range_m, std::optional<double> floor_z_m)
+{
+    for (const auto& [value, name, target] : {std::tuple{tolerance_m, "--tolerance", &omni.tolerance_m},
+                                              std::tuple{max_range_m, "--max-range", &omni.max_range_m},
+                                              std::tuple{floor_z_m, "--floor-z", &omni.floor_z_m}})
+        if (value) {
+            *target = finiteArg(*value, name);
+            given.insert(name);
+        }
+}
 
 /// A JSON report's text as a smokescan.Report.
 py::object reportOf(const std::string& json)
@@ -74,9 +88,13 @@ ErrorLink linkArg(const std::string& name)
 std::string newFileArg(const py::object& o, const char* option)
 {
     const std::string p = pathArg(o, option);
+    if (p.empty()) return p;
+    namespace fs = std::filesystem;
     std::error_code ec;
-    if (!p.empty() && std::filesystem::symlink_status(p, ec).type() != std::filesystem::file_type::not_found)
+    if (fs::symlink_status(p, ec).type() != fs::file_type::not_found)
         throw Error(p, "exists; " + std::string(option) + " names a new file");
+    const fs::path folder = fs::path(p).parent_path();
+    if (!folder.empty() && !fs::is_directory(folder, ec)) throw Error(p, "its folder does not exist");
     return p;
 }
 
@@ -91,8 +109,11 @@ void bindFits(py::module_& m)
            const std::string& unit, bool lenient, double offset_s, bool fixed_offset, double offset_window_s,
            const std::string& link, double smooth_s, long long bootstrap, const std::string& reference,
            const std::string& image_topic, const std::vector<std::string>& rects,
-           const std::vector<std::string>& polygons, const py::object& out, py::object progress) {
+           const std::vector<std::string>& polygons, std::optional<double> tolerance_m,
+           std::optional<double> max_range_m, std::optional<double> floor_z_m, const py::object& out,
+           py::object progress) {
             FitRunConfig cfg;
+            omniClasses(cfg.omni, cfg.omni_given, tolerance_m, max_range_m, floor_z_m);
             cfg.in = inputsConfig(scene, laser, bag, topic, saturation, calibration, patch, sensor, sensor_type, unit,
                                   lenient, false);
             cfg.in.prefix = target_prefix;
@@ -129,6 +150,7 @@ void bindFits(py::module_& m)
         py::arg("offset_window_s") = 60.0, py::arg("link") = "probit", py::arg("smooth_s") = 2.0,
         py::arg("bootstrap") = 30, py::arg("reference") = "", py::arg("image_topic") = "",
         py::arg("rects") = std::vector<std::string>{}, py::arg("polygons") = std::vector<std::string>{},
+        py::arg("tolerance_m") = py::none(), py::arg("max_range_m") = py::none(), py::arg("floor_z_m") = py::none(),
         py::arg("out") = py::none(), py::arg("progress") = py::none(),
         "`smokescan fit`: a recorded run (laser= log or bag=) and the camera's saturation → the sensor's smoke "
         "thresholds, penetration power and clock offset, by beam groups from the scene (a file or built-in name) or "
@@ -294,13 +316,7 @@ void bindAnalysis(py::module_& m)
             cfg.in.image_topic = image_topic;
             cfg.in.rects = rects;
             cfg.in.polygons = polygons;
-            for (const auto& [value, name, target] : {std::tuple{tolerance_m, "--tolerance", &cfg.omni.tolerance_m},
-                                                      std::tuple{max_range_m, "--max-range", &cfg.omni.max_range_m},
-                                                      std::tuple{floor_z_m, "--floor-z", &cfg.omni.floor_z_m}})
-                if (value) {
-                    *target = finiteArg(*value, name);
-                    cfg.omni_given.insert(name);
-                }
+            omniClasses(cfg.omni, cfg.omni_given, tolerance_m, max_range_m, floor_z_m);
             cfg.sensor_file = pathArg(sensor_file, "--sensor-file");
             if (model) cfg.model = modelArg(*model);
             if (offset_s) cfg.replay.offset_s = finiteArg(*offset_s, "--offset");

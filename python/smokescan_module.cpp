@@ -193,18 +193,21 @@ PYBIND11_MODULE(_smokescan, m)
         });
 
     m.def(
-        "load_scene", [](const std::string& name_or_path) { return std::make_shared<Scene>(loadScene(name_or_path)); },
+        "load_scene",
+        [](const py::object& name_or_path) {
+            return std::make_shared<Scene>(loadScene(pathArg(name_or_path, "scene", false)));
+        },
         py::arg("name_or_path"), "Loads a built-in scene by name (builtin_scenes()) or a scene file (.toml)");
     m.def("builtin_scenes", &builtinSceneNames, "The built-in scenes' names");
 
     m.def(
         "scan",
         [](std::shared_ptr<Scene> scene, const std::string& sensor, std::optional<double> t0, std::optional<double> t1,
-           double rate_hz, py::object seed, std::optional<std::string> model, const std::string& sensor_file,
+           double rate_hz, py::object seed, std::optional<std::string> model, const py::object& sensor_file,
            double penetration_power, py::object progress) {
             ScanConfig cfg = laserConfig(sensor, t0, t1, seed, model);
             cfg.rate_hz = rate_hz;
-            cfg.sensor_file = sensor_file;
+            cfg.sensor_file = pathArg(sensor_file, "--sensor-file");
             if (!(penetration_power >= 0) || !std::isfinite(penetration_power))
                 throw Error("--penetration-power", "must be a finite number > 0 (0: the mount's)");
             cfg.penetration_power = penetration_power;
@@ -217,15 +220,16 @@ PYBIND11_MODULE(_smokescan, m)
             return scanArray(scans, run->spec());
         },
         py::arg("scene").none(false), py::arg("sensor") = "", py::arg("t0") = py::none(), py::arg("t1") = py::none(),
-        py::arg("rate_hz") = 1.0, py::arg("seed") = 1, py::arg("model") = py::none(), py::arg("sensor_file") = "",
-        py::arg("penetration_power") = 0.0, py::arg("progress") = py::none(),
+        py::arg("rate_hz") = 1.0, py::arg("seed") = 1, py::arg("model") = py::none(),
+        py::arg("sensor_file") = py::none(), py::arg("penetration_power") = 0.0, py::arg("progress") = py::none(),
         "A 2D laser's scans from t0 to t1 (default: the scene's span) at rate_hz: one row per beam and scan");
 
     m.def(
         "record_bag",
-        [](std::shared_ptr<Scene> scene, const std::string& path, const std::string& sensor, std::optional<double> t0,
+        [](std::shared_ptr<Scene> scene, const py::object& folder, const std::string& sensor, std::optional<double> t0,
            std::optional<double> t1, std::optional<double> rate_hz, py::object seed, std::optional<std::string> returns,
            std::optional<std::string> model, py::object progress) {
+            const std::string path = pathArg(folder, "path", false);
             PyControl pc(std::move(progress));
             BagRunResult r;
             if (isLidarRun(*scene, sensor)) {

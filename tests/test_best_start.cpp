@@ -57,25 +57,30 @@ TEST(BestStart, OneBasinIsFoundWhereverItsMinimumLiesWhateverTheGridsLength)
 
 TEST(BestStart, ANarrowBasinBetweenCoarseStartsIsFoundBesideABroaderOne)
 {
-    // A broad basin at −3 s (depth 92, 2 s wide) and a narrow deeper one (0.5 s wide) centred
-    // between coarse starts, anywhere on the grid: found. (Refining around the best coarse start
-    // alone, every 4th start coarse, missed it.)
+    // A broad basin at −3.25 s (depth 92, 2 s wide: two coarse starts near −90.6) and a narrow
+    // deeper one (0.73 s wide) on any start between coarse ones, 2.5 s or more from it: the
+    // narrow one's coarse neighbours rank third and fourth, so refining beside fewer than the three
+    // best coarse starts (or every 4th start coarse, the first version) misses it.
     const std::vector<double> g = grid(97);
-    for (double centre = -11.875; centre < 12; centre += 0.5) {
-        if (std::abs(centre + 3) < 1.5) continue;  // inside the broad basin: one basin
+    int tried = 0;
+    for (size_t j = 1; j < g.size(); j += 2) {
+        if (std::abs(g[j] + 3.25) < 2.5) continue;
         auto f = [&](double t) {
-            return -92 * std::exp(-std::pow((t + 3) / 2, 2)) - 100 * std::exp(-std::pow((t - centre) / 0.5, 2));
+            return -92 * std::exp(-std::pow((t + 3.25) / 2, 2)) - 100 * std::exp(-std::pow((t - g[j]) / 0.732, 2));
         };
-        EXPECT_EQ(bestStart(g, f), bruteArgmin(g, f)) << "narrow basin at " << centre;
+        ASSERT_EQ(bruteArgmin(g, f), j);
+        EXPECT_EQ(bestStart(g, f), j) << "narrow basin at " << g[j];
+        ++tried;
     }
+    EXPECT_GT(tried, 30);
 }
 
 TEST(BestStart, NonFiniteCostsNeverWinAndAllNonFiniteCoarseStartsSearchEverything)
 {
     const std::vector<double> g = grid(97);
     // Only one start, off the coarse grid, has a finite cost.
-    auto one = [&](double t) { return t == g[42] ? 1.0 : NAN; };
-    EXPECT_EQ(bestStart(g, one), 42u);
+    auto one = [&](double t) { return t == g[43] ? 1.0 : NAN; };
+    EXPECT_EQ(bestStart(g, one), 43u);
     auto inf = [&](double t) { return t == g[57] ? 3.0 : INFINITY; };
     EXPECT_EQ(bestStart(g, inf), 57u);
     // Every cost infinite: the first start.

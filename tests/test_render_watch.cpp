@@ -67,6 +67,34 @@ TEST(RenderWatch, AStopFromAnotherThreadEndsTheFrameEarly)
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
 }
 
+TEST(RenderWatch, AStopEndsTheFrameWithinAPixelNotATile)
+{
+    // One tile of 16 × 16 px at 4096 samples a pixel in smoke (seconds of work): a stop after
+    // 200 ms leaves the tile unfinished, some pixels rendered and the rest not, the ids all made.
+    const Scene scene = loadScene("bocas");
+    const SurfaceSet surfaces(scene);
+    RenderWatch watch;
+    RenderConfig cfg = smallFrame(16, 16, 4096);
+    cfg.watch = &watch;
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        watch.stop = true;
+    });
+    const RenderResult r = render(scene, surfaces, cfg);
+    stopper.join();
+    EXPECT_TRUE(r.stopped);
+    EXPECT_EQ(watch.tiles_total, 1);
+    EXPECT_EQ(watch.tiles_done, 0);
+    int lit = 0, dark = 0;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            (r.radiance.at(x, y, 0) + r.radiance.at(x, y, 1) + r.radiance.at(x, y, 2) > 0 ? lit : dark)++;
+            ASSERT_GE(r.ids.at(x, y, 0), 0.0f) << "an id is made for every pixel";
+        }
+    EXPECT_GT(lit, 0);
+    EXPECT_GT(dark, 0);
+}
+
 TEST(RenderWatch, ThePipelinesFrameIsTheRendersAndItsControlStopsIt)
 {
     const Scene scene = loadScene("bocas");

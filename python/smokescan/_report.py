@@ -14,6 +14,9 @@ class Report:
     def __setattr__(self, name, value):
         raise AttributeError("a Report is read-only; to_dict() gives a copy to change")
 
+    def __delattr__(self, name):
+        raise AttributeError("a Report is read-only; to_dict() gives a copy to change")
+
     def __reduce__(self):  # pickle and copy: rebuilt from the parsed JSON
         return (Report, (self.to_dict(),))
 
@@ -63,14 +66,14 @@ class Report:
 def _wrap(v):
     if isinstance(v, dict):
         return Report(v)
-    if isinstance(v, list):
-        return [_wrap(x) for x in v]
+    if isinstance(v, list):  # JSON's lists as tuples: a Report is read-only all the way down
+        return tuple(_wrap(x) for x in v)
     return v
 
 
 def _unwrap(v):
     if isinstance(v, Report):
         return v.to_dict()
-    if isinstance(v, list):
+    if isinstance(v, tuple):
         return [_unwrap(x) for x in v]
     return v

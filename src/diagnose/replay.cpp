@@ -197,8 +197,14 @@ double interpolatedNoiseShare(const Replay& r, double t, int h)
 /// The physical model's tables (Replay::PhysicalTable): each beam's error probability and
 /// noise-free range at the reference state scaled by e^u, over the run's scales and e^3 beyond
 /// (room for a shifted threshold and the density's noise), down to e^−5 of the densest.
+/// Throws when another thread asked the replay to stop (ReplayConfig::stop).
+void checkStop(const std::atomic<bool>* stop)
+{
+    if (stop && *stop) throw Error("replay", "stopped");
+}
+
 void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, const SmokeField& ref,
-                    const std::vector<Ray>& rays)
+                    const std::vector<Ray>& rays, const std::atomic<bool>* stop)
 {
     double s_max = 0;
     for (double d : r.density_series) s_max = std::max(s_max, d / r.density_ref);
@@ -224,6 +230,7 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
         sd = std::min(p.range_sigma_m, r.spec.range_max_m);
     };
     tbb::parallel_for(size_t(0), B, [&](size_t b) {
+        checkStop(stop);
         if (r.beams[b].surface < 0) return;
         evaluate(b, 0.0, t.err_clear[b], t.range_clear[b], t.sd_clear[b]);
         for (size_t j = 0; j < G; ++j) {
@@ -257,7 +264,7 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
 /// shape misstates them (Replay::shape_error_ln, on every scan or, for the reference shape, up to
 /// 100 scans spread over the run).
 void traceShapes(Replay& r, const std::vector<SmokeVolume>& regional, const SaturationPredictor& camera,
-                 const std::vector<Ray>& rays, const BeamQuery& q, SmokeShape shape)
+                 const std::vector<Ray>& rays, const BeamQuery& q, SmokeShape shape, const std::atomic<bool>* stop)
 {
     r.shape = shape;
     r.shape_floor = 0.01 * r.density_ref;
@@ -273,6 +280,7 @@ void traceShapes(Replay& r, const std::vector<SmokeVolume>& regional, const Satu
         (most > 1e-3 * r.density_ref ? seen : unseen).push_back(v);
     }
     auto columns = [&](const std::vector<SmokeVolume>& volumes, double t) {
+        checkStop(stop);
         std::vector<float> col(B, 0.0f);
         if (volumes.empty()) return col;
         const SmokeField f = SmokeField::at(volumes, t);
@@ -346,7 +354,7 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
             r.beams[b].column_ref = ref.trace(rays[b], 0.0, r.beams[b].sight_m, q).column_regional;
         r.curve = in.calibration.curve;
         r.smooth_h = densitySeries(in.saturation, in.calibration.curve, cfg.offset_s, cfg.smooth_s, r);
-        if (r.isPhysical()) physicalTables(r, scene, *in.surfaces, ref, rays);
+        if (r.isPhysical()) physicalTables(r, scene, *in.surfaces, ref, rays, cfg.stop);
         const double c0 = r.density_time_s.front(), c1 = r.density_time_s.back();
         if (t1 < c0 || t0 > c1)
             throw Error(in.saturation.path,
@@ -395,6 +403,7 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
             sc.rising = meanDensity(r, s.time_s, s.time_s + kTrend_s) - meanDensity(r, s.time_s - kTrend_s, s.time_s) >
                 2 * trend_sd;
         } else {
+            checkStop(cfg.stop);
             const SmokeField now = SmokeField::at(regional, s.time_s);
             std::vector<float> col(rays.size());
             double now_sum = 0;
@@ -410,7 +419,7 @@ Replay replayScans(const FitInputs& in, Replay r, const std::vector<Ray>& rays, 
     }
     if (r.scans.empty()) throw Error(in.log.path, "has no scan the camera's saturation covers");
     if (r.from_saturation)
-        traceShapes(r, regional, *camera, rays, q, cfg.shape);
+        traceShapes(r, regional, *camera, rays, q, cfg.shape, cfg.stop);
     else
         r.shape = SmokeShape::Timeline;  // the scene's own time line, traced
     assignBlocks(r, cfg.block_s);

@@ -350,6 +350,7 @@ private:
         double best = -1;
         int best_i = 0, best_j = 0;  // plateau of the maximum
         for (int i = -steps; i <= steps; ++i) {
+            if (cfg_.stop && *cfg_.stop) throw Error("fit", "stopped");
             const double d = cfg_.offset_s + i * cfg_.offset_step_s, a = agreement(fg, sat_, d, nullptr);
             res_.offset.agreement.emplace_back(d, a);
             if (a > best + 1e-12) {
@@ -503,7 +504,10 @@ private:
             std::min(cfg_.offset_window_s, std::max(2.5, 8 * res_.offset.offset_s.se + 2 * cfg_.offset_step_s));
         const uint64_t key = detail::dataKey(raw_->saturation, counts);
         std::vector<std::vector<double>> reps;  // [replicate]: offset, then each fit group's S*
-        for (int b = 0; b < cfg_.bootstrap; ++b) reps.push_back(replicate(key, uint64_t(b), models, S_truth, window));
+        for (int b = 0; b < cfg_.bootstrap; ++b) {
+            if (cfg_.stop && *cfg_.stop) throw Error("fit", "stopped");
+            reps.push_back(replicate(key, uint64_t(b), models, S_truth, window));
+        }
         auto column = [&](size_t j, int* fits) {
             std::vector<double> v;
             for (const auto& r : reps) v.push_back(r[j]);

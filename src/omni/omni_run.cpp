@@ -71,8 +71,10 @@ Image OmniRun::render(double t_s, uint64_t k)
     rc.spp = cfg_.spp;
     rc.seed = cfg_.seed * 1000003 + k;
     rc.progress = false;
+    rc.watch = cfg_.watch;
     const CameraModel& cam = cameraAt(t_s);
     const RenderResult rr = smokescan::render(scene_, surfaces_, cam, rc);
+    if (rr.stopped) throw Error("omnirange", "stopped");
     double used = 0;
     Image display = toDisplay(rr.radiance, exposure_, &used, &cam);
     exposure_ = used;  // metered once, then held: the histogram's colours stay comparable

@@ -4,6 +4,7 @@
 
 #include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_folder.hpp"
+#include "watched.hpp"
 
 namespace smokescan {
 namespace {
@@ -20,20 +21,26 @@ void checkSettings(const DiagnoseRunConfig& a)
         throw Error("--offset", "must lie in [-1e5, 1e5] s");
 }
 
-/// The diagnosis, its progress and cancel going through the control.
-DiagnosisResult diagnoseUnder(const Replay& replay, DiagnosisConfig dc, const RunControl& control)
+/// Where a diagnosis on another thread leaves its progress, and the caller's stop.
+struct Watching {
+    const std::atomic<bool>* stop = nullptr;
+    std::atomic<long long> done{0}, total{0};
+};
+
+/// The diagnosis, its progress left for the watching thread and its stop asked after each candidate.
+DiagnosisResult diagnoseUnder(const Replay& replay, DiagnosisConfig dc, Watching& w)
 {
     const auto own = dc.progress;
     dc.progress = [&](int round, int done, int total) {
         if (own) own(round, done, total);
-        reportProgress(control, done, total);
-        checkCancel(control);
+        w.done = done, w.total = total;
+        if (w.stop && *w.stop) throw Error("diagnose", "stopped");
     };
     return diagnose(replay, dc);
 }
 
 /// The omnicam's log against its truth, from the onset its sensor file holds.
-void diagnoseOmni(DiagnoseRunConfig& a, DiagnoseRunResult& out, const RunControl& control)
+void diagnoseOmni(DiagnoseRunConfig& a, DiagnoseRunResult& out, Watching& w)
 {
     if (a.sensor_file.empty())
         throw Error("--sensor-type omnicam",
@@ -61,10 +68,9 @@ void diagnoseOmni(DiagnoseRunConfig& a, DiagnoseRunResult& out, const RunControl
     OmniFitInputs o = loadOmniFitInputs(a.in, omni);
     if (a.on_scene && o.in.scene) a.on_scene(*o.in.scene);
     if (std::isnan(a.replay.offset_s)) a.replay.offset_s = file.extensions.clock_offset_s;
-    checkCancel(control);
     out.replay = std::make_unique<Replay>(replayOmniRun(o, file, a.replay));
     out.scene = std::move(o.in.scene);
-    out.diagnosis = diagnoseUnder(*out.replay, a.diag, control);
+    out.diagnosis = diagnoseUnder(*out.replay, a.diag, w);
     OmniSensorFile extended = file;
     extended.camera = o.camera;
     extended.extensions = out.diagnosis.model;
@@ -73,18 +79,15 @@ void diagnoseOmni(DiagnoseRunConfig& a, DiagnoseRunResult& out, const RunControl
         out.sources.laser + " (verdict: " + out.diagnosis.verdict + ")";
 }
 
-}  // namespace
-
-DiagnoseRunResult runDiagnosis(DiagnoseRunConfig a, const RunControl& control)
+/// The diagnosis, on whichever thread runs it (runDiagnosis watches it from the caller's).
+DiagnoseRunResult diagnosisRun(DiagnoseRunConfig a, Watching& w)
 {
-    checkSettings(a);
     DiagnoseRunResult out;
     out.sources.laser = scansSource(a.in.laser, a.in.bag, a.in.topic);
     if (a.in.saturation.empty() && !a.in.patch.empty()) throw Error("--patch", "needs --saturation");
     a.in.prefix = a.replay.target_prefix;
-    checkCancel(control);
     if (recordedSensor(a.in.sensor_type).omnicam()) {
-        diagnoseOmni(a, out, control);
+        diagnoseOmni(a, out, w);
     } else {
         if (!a.omni_given.empty())
             throw Error("diagnose", "--max-range, --floor-z and --tolerance are the omnicam's (--sensor-type omnicam)");
@@ -96,10 +99,9 @@ DiagnoseRunResult runDiagnosis(DiagnoseRunConfig a, const RunControl& control)
         if (a.model) config.model = *a.model;
         // The clock offset a sensor file learned is the default of the offset.
         if (std::isnan(a.replay.offset_s)) a.replay.offset_s = config.extensions.clock_offset_s;
-        checkCancel(control);
         out.replay = std::make_unique<Replay>(replayRun(in, config, a.replay));
         out.scene = std::move(in.scene);
-        out.diagnosis = diagnoseUnder(*out.replay, a.diag, control);
+        out.diagnosis = diagnoseUnder(*out.replay, a.diag, w);
         SensorConfig extended = config;
         extended.extensions = out.diagnosis.model;
         out.laser = extended;
@@ -114,6 +116,24 @@ DiagnoseRunResult runDiagnosis(DiagnoseRunConfig a, const RunControl& control)
     out.sources.offset_s = a.replay.offset_s;
     out.sources.block_s = a.replay.block_s;
     return out;
+}
+
+}  // namespace
+
+DiagnoseRunResult runDiagnosis(DiagnoseRunConfig a, const RunControl& control)
+{
+    checkSettings(a);
+    checkCancel(control);
+    Watching w;
+    if (!control.cancel && !control.progress) return diagnosisRun(std::move(a), w);
+    // On a thread of its own: the replay stopped within a beam's or a time's work, the diagnosis
+    // between candidates; progress is each round's candidates.
+    RenderWatch watch;
+    w.stop = &watch.stop;
+    a.replay.stop = &watch.stop;
+    return detail::runWatched<DiagnoseRunResult>([&] { return diagnosisRun(a, w); }, watch,
+                                                 [&] { return std::pair<long long, long long>(w.done, w.total); },
+                                                 control);
 }
 
 std::string diagnosisReportJson(const DiagnoseRunResult& r) { return diagnosisJson(r.diagnosis, r.sources); }

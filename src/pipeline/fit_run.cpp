@@ -9,6 +9,7 @@
 #include "smokescan/fit/fit_report.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensor_config/laser_kind.hpp"
+#include "watched.hpp"
 
 namespace smokescan {
 namespace {
@@ -152,14 +153,15 @@ void fitLaser(const FitRunConfig& a, FitRunResult& out)
     out.laser = fitted;
 }
 
-}  // namespace
-
-FitRunResult runFit(FitRunConfig a, const RunControl& control)
+/// The fit, on whichever thread runs it (runFit watches it from the caller's).
+FitRunResult fitRun(const FitRunConfig& a)
 {
     FitRunResult out;
     out.scans = scansSource(a.in.laser, a.in.bag, a.in.topic);
     if (a.model == SensorModel::Physical && a.in.scene.empty())
         throw Error("--model physical", "needs --scene (the geometry the noise floor is solved in)");
+    if (a.in.saturation.empty())
+        throw Error("--saturation", "give the camera's saturation: a CSV (`smokescan saturation`) or a bag's frames");
     const int sources = !a.in.scene.empty() + (!a.in.surfaces.empty() || !a.in.surfaces_file.empty());
     if (sources == 0) throw Error("fit", "say which beams see which surface: --scene, --surface or --surfaces");
     if (!(std::abs(a.fit.offset_s) <= 1e5)) throw Error("--offset", "must lie in [-1e5, 1e5] s");
@@ -168,7 +170,6 @@ FitRunResult runFit(FitRunConfig a, const RunControl& control)
     if (!(a.fit.smooth_s >= 0) || !std::isfinite(a.fit.smooth_s))
         throw Error("--smooth", "must be a finite number >= 0 [s]");
     if (a.fit.bootstrap < 0 || a.fit.bootstrap > 1000) throw Error("--bootstrap", "must lie in 0…1000");
-    checkCancel(control);
     if (recordedSensor(a.in.sensor_type).omnicam()) {
         if (!a.in.bag.empty())
             throw Error("--bag", "holds a laser's scans; the omnicam's log is omnirange's (--laser)");
@@ -182,6 +183,21 @@ FitRunResult runFit(FitRunConfig a, const RunControl& control)
         out.failure = "no threshold could be fitted: " +
             (out.fit.diagnoses.empty() ? std::string("see its report") : out.fit.diagnoses.front());
     return out;
+}
+
+}  // namespace
+
+FitRunResult runFit(FitRunConfig a, const RunControl& control)
+{
+    checkCancel(control);
+    if (!control.cancel && !control.progress) return fitRun(a);
+    // On a thread of its own, stopped between offset steps and bootstrap replicates.
+    RenderWatch watch;
+    a.fit.stop = &watch.stop;
+    FitRunResult r = detail::runWatched<FitRunResult>([&] { return fitRun(a); }, watch,
+                                                      [] { return std::pair<long long, long long>(0, 1); }, control);
+    reportProgress(control, 1, 1);
+    return r;
 }
 
 std::string fitRunJson(const FitRunResult& r)
@@ -224,6 +240,7 @@ PlumeRunResult runPlumeFit(const PlumeRunConfig& a, const RunControl& control)
                         " (a log of another sensor?)");
     checkCancel(control);
     out.fit = fitSickPlume(log, scene, surfaces, mount, a.fit);
+    reportProgress(control, 1, 1);
     return out;
 }
 

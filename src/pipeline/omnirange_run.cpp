@@ -1,8 +1,11 @@
 #include "smokescan/pipeline/omnirange_run.hpp"
 
+#include <atomic>
 #include <string>
+#include <utility>
 
 #include "smokescan/core/limits.hpp"
+#include "watched.hpp"
 
 namespace smokescan {
 namespace {
@@ -44,6 +47,7 @@ OmnirangeRun::OmnirangeRun(const Scene& scene, const OmnirangeRunConfig& cfg) : 
     hist_ = cfg.histogram.empty() ? ColourHistogram(13) : ColourHistogram::load(cfg.histogram);
     // A saved histogram's colours hold at the exposure it learned them at.
     if (!(cfg_.run.exposure > 0) && hist_.exposure() > 0) cfg_.run.exposure = hist_.exposure();
+    cfg_.run.watch = &watch_;
     run_ = std::make_unique<OmniRun>(scene, *surfaces_, cfg_.run);
 }
 
@@ -52,23 +56,41 @@ OmnirangeRun::~OmnirangeRun() = default;
 void OmnirangeRun::train(const RunControl& control)
 {
     const std::vector<double>& t = cfg_.train_s;
-    for (size_t k = 0; k < t.size(); ++k) {
-        checkCancel(control);
-        trained_ += run_->train(hist_, t[k], uint64_t(k));
-        reportProgress(control, (long long)k + 1, (long long)t.size());
-    }
+    std::atomic<long long> done{0};
+    auto work = [&] {
+        for (size_t k = 0; k < t.size(); ++k) {
+            trained_ += run_->train(hist_, t[k], uint64_t(k));
+            done = (long long)k + 1;
+        }
+        return 0;
+    };
+    checkCancel(control);
+    if (control.cancel || control.progress)
+        detail::runWatched<int>(
+            work, watch_, [&] { return std::pair<long long, long long>(done, (long long)t.size()); }, control);
+    else
+        work();
     if (hist_.total() == 0) throw Error("--train", "no free floor pixels to train on (the laser saw no free floor)");
 }
 
 void OmnirangeRun::run(const std::function<void(OmniFrame&&)>& sink, const RunControl& control)
 {
-    for (size_t k = 0; k < times_.size(); ++k) {
-        checkCancel(control);
-        // Keys apart from the training frames': a run with the histogram saved from this one
-        // reads the same frames.
-        sink(run_->read(hist_, times_[k], (uint64_t(1) << 32) + k));
-        reportProgress(control, (long long)k + 1, (long long)times_.size());
-    }
+    std::atomic<long long> done{0};
+    auto work = [&] {
+        for (size_t k = 0; k < times_.size(); ++k) {
+            // Keys apart from the training frames': a run with the histogram saved from this one
+            // reads the same frames.
+            sink(run_->read(hist_, times_[k], (uint64_t(1) << 32) + k));
+            done = (long long)k + 1;
+        }
+        return 0;
+    };
+    checkCancel(control);
+    if (control.cancel || control.progress)
+        detail::runWatched<int>(
+            work, watch_, [&] { return std::pair<long long, long long>(done, (long long)times_.size()); }, control);
+    else
+        work();
 }
 
 }  // namespace smokescan

@@ -19,14 +19,20 @@ SaturationSeries bagSaturation(const SaturationRunConfig& a, const FrameRegions&
           std::pair{!a.timestamps.empty(), "--timestamps"}, std::pair{a.fps > 0, "--fps"}})
         if (given) throw Error(option, "goes with frame files; a bag's frames carry their stamps");
     checkCancel(control);
-    return measureBagSaturation(a.bag, a.topic, regions);
+    // A bag's frame count is known only at its end: progress counts frames of an unknown total (0).
+    return measureBagSaturation(a.bag, a.topic, regions, [&](long long done) {
+        reportProgress(control, done, 0);
+        checkCancel(control);
+    });
 }
 
 }  // namespace
 
 SaturationSeries runSaturation(const SaturationRunConfig& a, const RunControl& control)
 {
-    if (!(a.fps >= 0) || !std::isfinite(a.fps)) throw Error("--fps", "must be a finite number > 0");
+    if (!(a.fps == 0 || (a.fps >= 1e-6 && a.fps <= 1e6)))
+        throw Error("--fps", "must lie in [1e-6, 1e6] Hz (0: the number in a frame's name is its time [s])");
+    if (a.fps > 0 && !a.timestamps.empty()) throw Error("--fps", "or --timestamps: give one of them");
     FrameRegions regions = frameRegions(a.rects, a.polygons);
     if (!a.bag.empty()) return bagSaturation(a, regions, control);
     if (!a.topic.empty()) throw Error("--topic", "names a bag's topic; give --bag");

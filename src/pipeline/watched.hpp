@@ -16,7 +16,7 @@
 namespace smokescan::detail {
 
 /// @brief Runs work() on another thread; about every 50 ms this thread reports progress_now()
-/// (when it changed) and asks the control's cancel, which sets watch.stop: work must then return
+/// (when it changed and some unit is done) and asks the control's cancel, which sets watch.stop: work must then return
 /// or throw soon, and the run throws Cancelled. work's own exceptions are rethrown here.
 template <class R>
 R runWatched(const std::function<R()>& work, RenderWatch& watch,
@@ -36,7 +36,7 @@ R runWatched(const std::function<R()>& work, RenderWatch& watch,
     std::pair<long long, long long> shown{-1, -1};
     auto report = [&] {
         const auto now = progress_now();
-        if (now != shown && now.second > 0) reportProgress(control, now.first, now.second);
+        if (now != shown && now.first > 0) reportProgress(control, now.first, now.second);
         shown = now;
     };
     try {

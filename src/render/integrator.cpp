@@ -397,7 +397,10 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
     constexpr int kTile = 16;
     const int tx = (W + kTile - 1) / kTile, ty = (H + kTile - 1) / kTile;
     Progress progress(cfg.progress, (long long)tx * ty);
-    if (cfg.watch) cfg.watch->tiles_total = (long long)tx * ty;
+    if (cfg.watch) {
+        cfg.watch->tiles_total = (long long)tx * ty;
+        cfg.watch->tiles_done = 0;
+    }
     std::atomic<bool> skipped{false};
     tbb::parallel_for(tbb::blocked_range<int>(0, tx * ty), [&](const tbb::blocked_range<int>& r) {
         for (int tile = r.begin(); tile != r.end(); ++tile) {
@@ -406,6 +409,7 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                 return;
             }
             const int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
+            bool cut = false;  // stopped within this tile
             for (int y = y0; y < std::min(H, y0 + kTile); ++y)
                 for (int x = x0; x < std::min(W, x0 + kTile); ++x) {
                     const uint64_t pix = uint64_t(y) * W + x;
@@ -422,7 +426,7 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                     if (cfg.mask && !(*cfg.mask)[size_t(pix)]) continue;
                     // A stop ends the frame within a pixel (a tile of many samples may take seconds).
                     if (cfg.watch && cfg.watch->stop) {
-                        skipped = true;
+                        skipped = cut = true;
                         continue;
                     }
                     Rgb sum = Rgb::Zero(), sum2 = Rgb::Zero();
@@ -444,7 +448,7 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                     }
                 }
             progress.add(1);
-            if (cfg.watch) ++cfg.watch->tiles_done;
+            if (cfg.watch && !cut) ++cfg.watch->tiles_done;
         }
     });
     res.stopped = skipped;

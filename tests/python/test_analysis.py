@@ -159,8 +159,13 @@ def test_a_calibration_from_python_is_one_diagnose_reads(bocas, planted_run, tmp
     a = smokescan.diagnose("bocas", laser=log, saturation=sat, calibration=mine, max_findings=1)
     b = smokescan.diagnose("bocas", laser=log, saturation=sat, calibration=tmp_path / "theirs.json", max_findings=1)
     a, b = a.to_dict(), b.to_dict()
+    assert a["inputs"]["calibration"] == str(mine)
     a["inputs"].pop("calibration"), b["inputs"].pop("calibration")
     assert a == b
+    # The calibration is the one used: the built-in one gives another diagnosis of this run.
+    builtin = smokescan.diagnose("bocas", laser=log, saturation=sat, max_findings=1).to_dict()
+    builtin["inputs"].pop("calibration")
+    assert builtin != a
 
 
 def test_a_diagnosis_is_the_command_lines_and_finds_the_planted_sector(planted_run, tmp_path):
@@ -356,9 +361,12 @@ def test_a_fit_is_the_command_lines_and_recovers_the_scenes_penetration_power(pl
 def test_a_plume_fit_is_the_command_lines(tmp_path):
     log = tmp_path / "sick.log"
     cli("scan", "plume", "--sensor", "lms200", "--from", "10", "--to", "40", "--quiet", "--out", str(log))
-    cli("fit-plume", "--laser", str(log), "--scene", "plume", "--out", str(tmp_path / "p.json"))
-    r = smokescan.fit_plume("plume", laser=log)
+    cli("fit-plume", "--laser", str(log), "--scene", "plume", "--bins", "4", "--out", str(tmp_path / "p.json"))
+    r = smokescan.fit_plume("plume", laser=log, bins=4)
     assert r.to_dict() == json.load(open(tmp_path / "p.json"))
+    assert len(r.bins) == 4 and r.to_dict() != smokescan.fit_plume("plume", laser=log).to_dict()
+    # The penetration depth falls with density (docs/fitting.md: k ≈ 1.4 here), clearly.
+    assert r.depth.k.value > 5 * r.depth.k.std_error
     with pytest.raises(smokescan.Error, match=r"^--bins: "):
         smokescan.fit_plume("plume", laser=log, bins=0)
     with pytest.raises(smokescan.Error, match=r"no sensor 'urg'"):
@@ -379,16 +387,29 @@ def test_saturation_of_frames_is_hsvs_formula(tmp_path):
     frames = tmp_path / "frames"
     frames.mkdir()
     greens = [128, 148, 168]
+    # A second patch, rows 7–8, columns 0–5: 6 pixels of (g, g, 255) and 6 of (g/2, g/2, 255), so
+    # its median is not its mean.
     for k, g in enumerate(greens):
         img = np.full((10, 12, 3), 40, np.uint8)
         img[2:6, 3:9] = (255, g, g)
+        img[7:9, 0:3] = (g, g, 255)
+        img[7:9, 3:6] = (g // 2, g // 2, 255)
         write_png(frames / f"frame_{k:03d}.png", img)
     seen = []
-    d = smokescan.saturation(frames, rects=["red=3,2,6,4"], fps=10, progress=lambda a, b: seen.append((a, b)))
-    assert np.allclose(d["time_s"], [0, 0.1, 0.2])
-    assert np.allclose(d["saturation"], [(255 - g) / 255 for g in greens], atol=1e-7)
-    assert np.array_equal(d["pixels"], [24, 24, 24]) and list(d["patches"]) == ["red"]
-    assert seen[-1] == (3, 3)
+    d = smokescan.saturation(frames, rects=["red=3,2,6,4", "blue=0,7,6,2"], fps=10,
+                             progress=lambda a, b: seen.append((a, b)))
+    assert np.allclose(d["time_s"], [0, 0.1, 0.2]) and seen == [(1, 3), (2, 3), (3, 3)]
+    red = np.array([(255 - g) / 255 for g in greens])
+    blue = [np.array([(255 - g) / 255] * 6 + [(255 - g // 2) / 255] * 6) for g in greens]
+    assert list(d["patches"]) == ["red", "blue"]
+    assert np.allclose(d["patches"]["red"], red, atol=1e-7) and np.allclose(d["patch_sd"]["red"], 0, atol=1e-7)
+    assert np.allclose(d["patches"]["blue"], [b.mean() for b in blue], atol=1e-7)
+    assert np.allclose(d["patch_median"]["blue"], [np.median(b) for b in blue], atol=1e-7)
+    assert np.allclose(d["patch_sd"]["blue"], [b.std() for b in blue], atol=1e-6)
+    both = [np.concatenate([[r] * 24, b]) for r, b in zip(red, blue)]
+    assert np.allclose(d["saturation"], [x.mean() for x in both], atol=1e-7)
+    assert np.allclose(d["median"], [np.median(x) for x in both], atol=1e-7)
+    assert np.array_equal(d["pixels"], [36, 36, 36])
     with pytest.raises(smokescan.Error, match=r"^saturation: give the target region"):
         smokescan.saturation(frames, fps=10)
     with pytest.raises(smokescan.Error, match=r"^--ids: needs --scene"):
@@ -436,8 +457,22 @@ def test_the_omnicam_rangefinder_is_the_command_lines(tmp_path):
     for k, (t, angles, values) in enumerate(las):
         assert np.allclose(d["laser_angle_rad"], angles, atol=1e-6)
         assert np.array_equal(d["laser_value"][k], values)
+    assert seen == [(1, 4), (2, 4), (3, 4), (4, 4)]
     c = d["comparison"]
     assert f"{c['pairs']} scanline pairs" in printed and f"{c['outliers']} outliers" in printed
+    assert f"mean |difference| {c['mean_abs_m']:.4f} m, {c['mean_percent']:.2f} %" in printed
+    assert f"(laser - omnicam) {c['mean_signed_m']:+.4f} m" in printed and f"exposure {d['exposure']:.4g}" in printed
+    # A range at the maximum is status 2, a hit lies within the ranges; the laser's ranges are its
+    # values in metres, NaN where it reported an error code.
+    st, rg = d["status"], d["range_m"]
+    assert st.shape == rg.shape and np.all(rg[st == 2] == 3.8) and np.all((rg[st == 0] >= 0.3) & (rg[st == 0] < 3.8))
+    lv, lr = d["laser_value"], d["laser_range_m"]
+    # (the factory's LMS200: its error codes lie above 8100 mm, its ranges up to 8183 mm.)
+    assert np.isnan(lr).any() and np.all(lv[np.isnan(lr)] > 8100)
+    assert np.allclose(lr[~np.isnan(lr)] * 1000, lv[~np.isnan(lr)], atol=1e-6)
+    # Below a raised minimum range, status 1 at the minimum.
+    near = smokescan.omnirange(smokescan.load_scene("factory"), train=[0], t0=0, t1=0, spp=4, min_range_m=1.5)
+    assert np.any(near["status"] == 1) and np.all(near["range_m"][near["status"] == 1] == 1.5)
     # The factory's floor is seen to within centimetres where both read it (the paper's Fig. 9).
     assert c["pairs"] > 300 and c["mean_abs_m"] < 0.15
     assert d["status"].dtype == np.uint8 and set(np.unique(d["status"])) <= {0, 1, 2}
@@ -447,3 +482,54 @@ def test_the_omnicam_rangefinder_is_the_command_lines(tmp_path):
         smokescan.omnirange(smokescan.load_scene("factory"), train=[0], t0=2, t1=1)
     with pytest.raises(smokescan.Error, match=r"^--rate: would keep"):
         smokescan.omnirange(smokescan.load_scene("factory"), train=[0], rate_hz=2000)
+
+
+@pytest.mark.parametrize("which", ["diagnose", "fit"])
+def test_a_long_fit_or_diagnosis_stops_on_ctrl_c(planted_run, tmp_path, which):
+    import time
+
+    log, sat = planted_run / "run.log", planted_run / "sat.csv"
+    call = {  # both take tens of seconds
+        "diagnose": lambda: smokescan.diagnose("bocas", laser=log, saturation=sat, model="physical",
+                                               out=tmp_path / "never"),
+        "fit": lambda: smokescan.fit("bocas", laser=log, saturation=sat, bootstrap=1000, out=tmp_path / "never"),
+    }[which]
+    threading.Timer(0.7, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        call()
+    assert time.monotonic() - start < 5 and not (tmp_path / "never").exists()
+
+
+def test_paths_and_settings_are_checked_before_any_work(planted_run, tmp_path):
+    import time
+
+    log, sat = planted_run / "run.log", planted_run / "sat.csv"
+    with pytest.raises(smokescan.Error, match=r"^scene: holds a NUL"):
+        smokescan.load_scene("plume\0junk")
+    with pytest.raises(smokescan.Error, match=r"^--sensor-file: holds a NUL"):
+        smokescan.scan(smokescan.load_scene("plume"), sensor_file="x.toml\0y", t0=20, t1=20)
+    with pytest.raises(smokescan.Error, match=r"^--saturation: give the camera's saturation"):
+        smokescan.fit("bocas", laser=log)
+    start = time.monotonic()
+    with pytest.raises(smokescan.Error, match=r"its folder does not exist"):
+        smokescan.fit("bocas", laser=log, saturation=sat, bootstrap=1000, out=tmp_path / "nodir" / "x.toml")
+    assert time.monotonic() - start < 1
+    with pytest.raises(smokescan.Error, match=r"^--fps: "):
+        smokescan.saturation(tmp_path, rects=["a=0,0,1,1"], fps=1e-300)
+    # A Report is read-only all the way down: its lists are tuples.
+    r = smokescan.Report({"bins": [{"n": 1}], "ok": True})
+    assert isinstance(r.bins, tuple) and r.bins[0].n == 1 and r.to_dict() == {"bins": [{"n": 1}], "ok": True}
+    with pytest.raises(AttributeError):
+        del r.ok
+
+
+def test_omnirange_stops_on_ctrl_c_within_a_frame():
+    import time
+
+    factory = smokescan.load_scene("factory")
+    threading.Timer(0.7, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        smokescan.omnirange(factory, train=[0], t0=0, t1=0, spp=4096)  # minutes a frame
+    assert time.monotonic() - start < 5

@@ -21,6 +21,7 @@
 /// The saturation's own noise (its white-noise level, shrunk by the smoothing) makes each scan's
 /// density uncertain: its standard error in ln(density) is kept per scan, and the predictive
 /// model widens the threshold by it.
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,8 @@ struct ReplayConfig {
     double time_step_s = 1.0;
     double smooth_s = 0.0;
     SmokeShape shape = SmokeShape::Reference;
+    /// When set, another thread may stop the replay: it then throws Error ("stopped") soon.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 /// What the simulation knows of one beam of the log (the same for every scan).

@@ -3,6 +3,7 @@
 /// @brief The smoke paper's saturation series measured on a recorded bag's camera frames
 /// (sensor_msgs/Image, docs/bags.md): each frame's target saturation over pixel polygons
 /// (camera/frame_saturation.hpp), on the frames' header stamps (the camera's clock).
+#include <functional>
 #include <string>
 
 #include "smokescan/camera/frame_saturation.hpp"
@@ -15,6 +16,8 @@ namespace smokescan {
 /// @param regions the target's patches (polygons: a bag holds no id frames)
 /// @throw Error naming the bag and message: a missing topic or one of another type, no frames, an
 /// encoding without colour, stamps that do not increase, a region without pixels in a frame.
-SaturationSeries measureBagSaturation(const std::string& path, const std::string& topic, const FrameRegions& regions);
+/// @param each called after each frame with the frames measured so far (on the calling thread)
+SaturationSeries measureBagSaturation(const std::string& path, const std::string& topic, const FrameRegions& regions,
+                                      const std::function<void(long long)>& each = {});
 
 }  // namespace smokescan

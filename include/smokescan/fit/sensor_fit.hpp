@@ -28,6 +28,7 @@
 /// | reference        | ""       | –    | group whose threshold goes into the sensor file ("" = most beams) |
 /// | smooth_s         | 2        | s    | the saturation is averaged over this window before fitting (its slope aligns the clocks) |
 /// | bootstrap        | 30       | –    | replicates of the parametric bootstrap behind the errors on S* and δ: 0 (the analytic floor only) or 10…1000 |
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,8 @@ struct SensorFitConfig {
     std::string reference;
     double smooth_s = 2.0;
     int bootstrap = 30;
+    /// When set, another thread may stop the fit: it then throws Error ("stopped") soon.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 struct ThresholdFit {

@@ -20,6 +20,7 @@
 
 #include "smokescan/io/image.hpp"
 #include "smokescan/omni/omni_rangefinder.hpp"
+#include "smokescan/render/renderer.hpp"
 #include "smokescan/scene/surfaces.hpp"
 #include "smokescan/sensors/scanner.hpp"
 
@@ -34,6 +35,9 @@ struct OmniRunConfig {
     double outlier_m = 1.25;
     double exposure = 0;
     OmniRangeConfig range;  ///< height_m is set from the camera's pose at each time
+    /// When set, each frame's render counts its tiles there, and a stop ends a frame (Error) within
+    /// a pixel of its render.
+    RenderWatch* watch = nullptr;
 };
 
 /// @brief The point range_m along bearing_rad in a pose's local x–y plane (a scan's point).

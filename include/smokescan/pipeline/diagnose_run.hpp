@@ -58,8 +58,11 @@ struct DiagnoseRunResult {
     std::string sensor_comment;  ///< the sensor file's header comment
 };
 
-/// @brief Reads the run's files, replays it and diagnoses it. @param control progress after
-/// each candidate of a round (done, total); cancel asked before the replay and after each candidate
+/// @brief Reads the run's files, replays it and diagnoses it. With a control, the work runs on
+/// another thread while the calling thread reports progress (each round's candidates: done,
+/// total) and asks cancel about every 50 ms; a cancel stops the replay within a beam's or a scan
+/// time's work and the diagnosis after its current candidate. on_scene and diag.progress are
+/// called on the thread doing the work.
 /// @throw Error naming the file or option at fault; Cancelled
 DiagnoseRunResult runDiagnosis(DiagnoseRunConfig cfg, const RunControl& control = {});
 

@@ -63,7 +63,10 @@ struct FitRunResult {
 };
 
 /// @brief Reads the run's files and fits the sensor. A fit that finds no threshold is a result
-/// (its report says why: failure), not an exception. @param control cancel asked before the fit
+/// (its report says why: failure), not an exception. With a control, the fit runs on another
+/// thread while the calling thread asks cancel about every 50 ms (a cancel stops it at its next
+/// offset step or bootstrap replicate) and reports (1, 1) when it is done; on_scene is called on
+/// the thread doing the work.
 /// @throw Error naming the file or option at fault; Cancelled
 FitRunResult runFit(FitRunConfig cfg, const RunControl& control = {});
 

@@ -42,11 +42,14 @@ public:
     /// The frames' times [s], scene clock.
     const std::vector<double>& times() const { return times_; }
     /// @brief Learns the floor's colours at the training times (nothing with a saved histogram).
-    /// @param control progress after each training frame; cancel before each
+    /// @param control progress after each training frame. With a control the frames are rendered
+    /// on another thread while the calling thread reports and asks cancel about every 50 ms (a
+    /// cancel stops the frame being rendered within a pixel)
     /// @throw Error when no free floor pixel was seen; Cancelled
     void train(const RunControl& control = {});
-    /// @brief Reads every frame in time order and hands each to `sink` (train() first).
-    /// @param control progress after each frame; cancel before each (throws Cancelled)
+    /// @brief Reads every frame in time order and hands each to `sink` (train() first); with a
+    /// control, as train(), the sink then called on the thread that renders.
+    /// @throw Cancelled
     void run(const std::function<void(OmniFrame&&)>& sink, const RunControl& control = {});
 
     const ColourHistogram& histogram() const { return hist_; }
@@ -59,6 +62,7 @@ private:
     OmnirangeRunConfig cfg_;
     std::unique_ptr<SurfaceSet> surfaces_;
     ColourHistogram hist_;
+    RenderWatch watch_;  ///< the frames' renders, stopped from the calling thread
     std::unique_ptr<OmniRun> run_;
     std::vector<double> times_;
     long long trained_ = 0;

@@ -10,7 +10,7 @@ namespace smokescan {
 
 /// | field    | default | meaning                                                              |
 /// |----------|---------|----------------------------------------------------------------------|
-/// | progress | none    | called after each unit of work (a scan, a frame) with (done, total)   |
+/// | progress | none    | called after each unit of work (a scan, a frame) with (done, total); total 0: not known (a bag's frames) |
 /// | cancel   | none    | asked before each unit; true stops the run, which throws Cancelled    |
 ///
 /// Both are called on the thread that started the run, never from worker threads.
