@@ -53,44 +53,44 @@ OmnirangeRun::OmnirangeRun(const Scene& scene, const OmnirangeRunConfig& cfg) : 
 
 OmnirangeRun::~OmnirangeRun() = default;
 
-void OmnirangeRun::train(const RunControl& control)
+namespace {
+
+/// n units of work, unit(k) each; with a control, on another thread watched from this one (the
+/// frames' renders stopped through `watch`).
+void units(size_t n, const std::function<void(size_t)>& unit, RenderWatch& watch, const RunControl& control)
 {
-    const std::vector<double>& t = cfg_.train_s;
+    checkCancel(control);
     std::atomic<long long> done{0};
     auto work = [&] {
-        for (size_t k = 0; k < t.size(); ++k) {
-            trained_ += run_->train(hist_, t[k], uint64_t(k));
+        for (size_t k = 0; k < n; ++k) {
+            unit(k);
             done = (long long)k + 1;
         }
         return 0;
     };
-    checkCancel(control);
     if (control.cancel || control.progress)
         detail::runWatched<int>(
-            work, watch_, [&] { return std::pair<long long, long long>(done, (long long)t.size()); }, control);
+            work, watch, [&] { return std::pair<long long, long long>(done, (long long)n); }, control);
     else
         work();
+}
+
+}  // namespace
+
+void OmnirangeRun::train(const RunControl& control)
+{
+    const std::vector<double>& t = cfg_.train_s;
+    units(
+        t.size(), [&](size_t k) { trained_ += run_->train(hist_, t[k], uint64_t(k)); }, watch_, control);
     if (hist_.total() == 0) throw Error("--train", "no free floor pixels to train on (the laser saw no free floor)");
 }
 
 void OmnirangeRun::run(const std::function<void(OmniFrame&&)>& sink, const RunControl& control)
 {
-    std::atomic<long long> done{0};
-    auto work = [&] {
-        for (size_t k = 0; k < times_.size(); ++k) {
-            // Keys apart from the training frames': a run with the histogram saved from this one
-            // reads the same frames.
-            sink(run_->read(hist_, times_[k], (uint64_t(1) << 32) + k));
-            done = (long long)k + 1;
-        }
-        return 0;
-    };
-    checkCancel(control);
-    if (control.cancel || control.progress)
-        detail::runWatched<int>(
-            work, watch_, [&] { return std::pair<long long, long long>(done, (long long)times_.size()); }, control);
-    else
-        work();
+    // Keys apart from the training frames': a run with the histogram saved from this one reads
+    // the same frames.
+    units(
+        times_.size(), [&](size_t k) { sink(run_->read(hist_, times_[k], (uint64_t(1) << 32) + k)); }, watch_, control);
 }
 
 }  // namespace smokescan
