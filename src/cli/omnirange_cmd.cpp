@@ -1,7 +1,6 @@
 // `smokescan omnirange`: the omnidirectional camera as a colour-based rangefinder beside a laser.
 #include <cmath>
 #include <cstdio>
-#include <iomanip>
 #include <memory>
 
 #include "commands.hpp"
@@ -14,13 +13,13 @@
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/omni/omni_compare.hpp"
+#include "smokescan/omni/omni_log.hpp"
 #include "smokescan/omni/omni_plots.hpp"
 #include "smokescan/omni/omni_run.hpp"
 #include "smokescan/omni/omni_scan_message.hpp"
 #include "smokescan/omni/sensors_versus_smoke.hpp"
 #include "smokescan/pipeline/omnirange_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
-#include "smokescan/sensors/laser_log.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -30,24 +29,6 @@ struct OmniArgs {
     double from = NAN, to = NAN, rate_hz = 1;
     OmniRunConfig cfg;
 };
-
-void writeOmniScan(std::ostream& o, const OmniFrame& f)
-{
-    o << std::fixed << std::setprecision(3) << f.time_s;
-    for (size_t i = 0; i < f.omni.range_m.size(); ++i)
-        o << ' ' << std::setprecision(6) << f.omni.angle_rad[i] << ' ' << std::llround(f.omni.range_m[i] * 1000);
-    o << '\n';
-}
-
-/// The laser's scan at the frame's time, as `scan` writes logs (error values kept).
-void writeLaserScan(std::ostream& o, const OmniFrame& f, const LrfSpec& spec)
-{
-    Scan s;
-    s.time_s = f.time_s;
-    s.angle_rad = f.laser_angle_rad;
-    s.value = f.laser_value;
-    writeLaserLogScan(o, s, spec);
-}
 
 /// The frame on the bag: the omnicam's ranges on /omni/scan, the laser's scan on /scan.
 void addToBag(ScanBag& bag, const OmniFrame& f, const OmniRun& run, const Scene& scene, const OmniArgs& a)
@@ -94,19 +75,13 @@ int runOmnirange(const OmniArgs& a)
     std::unique_ptr<AtomicFile> log_file;
     if (!a.out.empty()) log_file = std::make_unique<AtomicFile>(files.stage(a.out));
     if (log_file)
-        log_file->stream() << "# smokescan omnirange " << scene.source << "\n# camera " << run.cameraName()
-                           << ", trained on "
-                           << (a.histogram.empty() ? std::to_string(trained) + " pixels at " + a.train : a.histogram)
-                           << ", threshold " << a.cfg.range.threshold << ", N " << a.cfg.range.filter.n_behind << ", K "
-                           << a.cfg.range.filter.k_free << ", range " << a.cfg.range.min_range_m << "-"
-                           << a.cfg.range.max_range_m << " m\n# format: time_s then pairs of (angle_rad, range_mm)\n";
+        writeOmniLogHeader(log_file->stream(), scene.source, run.cameraName(),
+                           a.histogram.empty() ? std::to_string(trained) + " pixels at " + a.train : a.histogram,
+                           a.cfg.range);
     std::unique_ptr<AtomicFile> laser;
     if (!a.laser_out.empty()) {
         laser = std::make_unique<AtomicFile>(files.stage(a.laser_out));
-        laser->stream() << "# smokescan omnirange " << scene.source << ": the laser " << run.laser().mount().name
-                        << " at the omnicam's times\n"
-                        << "# format: time_s then pairs of (angle_rad, range_mm); error codes: "
-                        << run.laser().spec().errorValueSummary() << "\n";
+        writeOmniLaserLogHeader(laser->stream(), scene.source, run.laser());
     }
     std::unique_ptr<ScanBag> bag;
     if (!a.bag.empty()) bag = std::make_unique<ScanBag>(a.bag, scene);
@@ -125,8 +100,8 @@ int runOmnirange(const OmniArgs& a)
     size_t k = 0;
     omni.run(
         [&](OmniFrame&& f) {
-            if (log_file) writeOmniScan(log_file->stream(), f);
-            if (laser) writeLaserScan(laser->stream(), f, run.laser().spec());
+            if (log_file) writeOmniLogScan(log_file->stream(), f);
+            if (laser) writeOmniLaserLogScan(laser->stream(), f, run.laser().spec());
             if (bag) addToBag(*bag, f, run, scene, a);
             cmp.add(f);
             if (versus) versus->add(f, run.rangeAt(f.time_s).height_m, (uint64_t(1) << 32) + k);
