@@ -34,7 +34,7 @@ std::vector<double> frameTimes(const OmnirangeRunConfig& a, const Scene& scene)
 
 }  // namespace
 
-OmnirangeRun::OmnirangeRun(const Scene& scene, const OmnirangeRunConfig& cfg) : scene_(scene), cfg_(cfg)
+OmnirangeRun::OmnirangeRun(const Scene& scene, const OmnirangeRunConfig& cfg) : cfg_(cfg)
 {
     if (cfg.train_s.empty() == cfg.histogram.empty())
         throw Error("--train", "give either --train TIMES or --histogram FILE");

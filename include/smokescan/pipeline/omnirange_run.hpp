@@ -58,7 +58,6 @@ public:
     const SurfaceSet& surfaces() const { return *surfaces_; }
 
 private:
-    const Scene& scene_;
     OmnirangeRunConfig cfg_;
     std::unique_ptr<SurfaceSet> surfaces_;
     ColourHistogram hist_;
