@@ -2,7 +2,7 @@
 # Builds smokescan (installing what is missing) and runs its tests (labels: tests/CMakeLists.txt).
 #   bash scripts/test.sh             every test, the Release build in build/ (CI's first leg)
 #   bash scripts/test.sh --fast      the unit and cli tests only (the loop between commits: about
-#                                    80 s on 2 cores)
+#                                    2 minutes on 2 cores)
 #   bash scripts/test.sh --sanitize  the unit, cli, workflow and package tests built with clang,
 #                                    AddressSanitizer and UndefinedBehaviorSanitizer in
 #                                    build-sanitize/, then each reader's fuzzer for a bounded time
