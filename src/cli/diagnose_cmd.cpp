@@ -1,5 +1,6 @@
 // `smokescan diagnose`: a recorded run replayed through the simulation, what the simulation gets
 // wrong, the cause, the extended model and its gain on held-out data (docs/diagnosis.md).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/pipeline/diagnose_run.hpp"
+#include "smokescan/pipeline/lidar_diagnose_run.hpp"
 
 namespace smokescan::cli {
 namespace {
@@ -19,7 +21,48 @@ struct DiagnoseArgs {
     DiagnoseRunConfig run;
     std::string unit = "mm", model, out, shape = "reference";
     bool lenient = false;
+    LidarDiagnoseRunConfig lidar;  ///< --points: a 3D lidar's frames
 };
+
+/// A 3D lidar's frames (--points): the 2D runs' options refused, the lidar's diagnosed.
+int diagnoseLidarFrames(const DiagnoseArgs& a0)
+{
+    DiagnoseArgs a = a0;
+    LidarDiagnoseRunConfig& cfg = a.lidar;
+    cfg.scene = a.run.in.scene;
+    cfg.sensor.sensor = a.run.in.sensor;
+    if (cfg.sensor.sensor.empty())
+        throw Error("--sensor", "names the lidar whose frames --points holds (a preset or a preset file)");
+    cfg.diag.level = a.run.diag.alpha;
+    RunFiles files;
+    files.input(cfg.points + "/frames.csv", "--points");
+    files.input(cfg.sensor.sensor, "--sensor");
+    files.outputFolder(a.out, "--out");
+    AtomicFolder out(a.out, "the diagnosis folder", "--out");
+    cfg.on_scene = [&](const Scene& scene) { recordSceneInputs(files, cfg.scene, scene); };
+    Progress bar("diagnose", "frames");
+    RunControl control;
+    control.progress = [&](long long done, long long total) { bar.update(done, total); };
+    const LidarDiagnoseRunResult r = runLidarDiagnosis(cfg, control);
+    writeLidarDiagnosisFolder(out, r);
+    const LidarDiagnosis& d = r.diagnosis;
+    say("verdict: %s\n", d.verdict.c_str());
+    for (const LidarFinding& f : d.tried) {
+        if (!f.named) continue;
+        if (f.cause == LidarCause::WindowSector)
+            say("  %s at azimuth %.1f..%.1f deg: missed share +%.3f +/- %.2g;", lidarCauseName(f.cause), f.from_deg,
+                f.to_deg, f.effect, f.effect_se);
+        else
+            say("  %s on ring %d: %s %.4g +/- %.2g%s;", lidarCauseName(f.cause), f.ring,
+                f.cause == LidarCause::BiasedChannel ? "range bias" : "missed share +", f.effect, f.effect_se,
+                f.cause == LidarCause::BiasedChannel ? " m" : "");
+        say(" held-out gain %.4g nats, p = %.2g\n", f.gain_nats, f.p_value);
+    }
+    say("%zu frames, %lld clear beams compared; recorded poses within %.3g m and %.3g deg of the scene's\n", d.frames,
+        d.clear, d.pose_mismatch_m, d.pose_mismatch_deg);
+    say("wrote %s/diagnosis.json and %s/report.md\n", a.out.c_str(), a.out.c_str());
+    return 0;
+}
 
 /// The verdict and figures, printed once the folder is committed.
 void sayDiagnosis(const DiagnoseArgs& a, const DiagnosisResult& r)
@@ -42,8 +85,20 @@ void sayDiagnosis(const DiagnoseArgs& a, const DiagnosisResult& r)
     say("wrote %s/diagnosis.json, %s/report.md and %s/sensor.toml\n", a.out.c_str(), a.out.c_str(), a.out.c_str());
 }
 
-int runDiagnose(const DiagnoseArgs& a0)
+/// The options a 3D lidar's diagnosis takes; --returns, --columns and --rate are its alone.
+const std::set<std::string> kLidarOptions = {"--points",  "--scene",   "--out",  "--sensor",
+                                             "--returns", "--columns", "--rate", "--alpha"};
+const std::set<std::string> kLidarOnly = {"--points", "--returns", "--columns", "--rate"};
+
+/// @param given the options given on the command line
+int runDiagnose(const DiagnoseArgs& a0, const std::vector<std::string>& given)
 {
+    const bool lidar = std::find(given.begin(), given.end(), "--points") != given.end();
+    for (const std::string& o : given) {
+        if (lidar && !kLidarOptions.count(o)) throw Error(o, "is not an option of a 3D lidar's diagnosis (--points)");
+        if (!lidar && kLidarOnly.count(o)) throw Error(o, "is a 3D lidar's option (with --points)");
+    }
+    if (lidar) return diagnoseLidarFrames(a0);
     DiagnoseArgs a = a0;
     FitInputsConfig& in = a.run.in;
     scansSource(in.laser, in.bag, in.topic);
@@ -88,9 +143,19 @@ void addDiagnose(CLI::App& app, Runner& run)
     addSaturationOptions(c, a->run.in.saturation, a->run.in.image_topic, a->run.in.rects, a->run.in.polygons,
                          "The camera's saturation CSV (drives the replayed smoke; without it the scene's own smoke "
                          "time line is replayed)");
+    c->add_option("--points", a->lidar.points,
+                  "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
+                  "with ring and time fields); --sensor names the lidar");
+    c->add_option("--returns", a->lidar.sensor.returns, "3D lidar: the frames' return mode (default: the preset's)");
+    c->add_option("--columns", a->lidar.sensor.columns, "3D lidar: columns a turn (default: the preset's)")
+        ->check(positive());
+    c->add_option("--rate", a->lidar.sensor.rate_hz, "3D lidar: spin rate [Hz] (default: the preset's)")
+        ->check(positive());
     c->add_option("--scene", a->run.in.scene, "Scene the run was recorded in (built-in name or file)")->required();
     c->add_option("--out", a->out, "Folder to write (new): diagnosis.json, report.md, sensor.toml")->required();
-    c->add_option("--sensor", a->run.in.sensor, "Sensor in the scene (default: the first of --sensor-type)");
+    c->add_option("--sensor", a->run.in.sensor,
+                  "Sensor in the scene (default: the first of --sensor-type); with --points the lidar: a preset's name "
+                  "(vlp16, hdl32e, os1-128) or a preset file");
     c->add_option("--sensor-type", a->run.in.sensor_type,
                   "urg04lx or lms200, or omnicam: the omnirange log against the scene's truth, from the onset of "
                   "--sensor-file (--sensor then names the omni camera)")
@@ -131,7 +196,12 @@ void addDiagnose(CLI::App& app, Runner& run)
     c->add_option("--seed", a->run.diag.seed, "Seed of the sign-flip draws")
         ->transform(seedRule())
         ->capture_default_str();
-    c->callback([a, &run] { run = [a] { return runDiagnose(*a); }; });
+    c->callback([a, c, &run] {
+        std::vector<std::string> given;
+        for (const CLI::Option* o : c->get_options())
+            if (o->count() > 0) given.push_back(o->get_name());
+        run = [a, given] { return runDiagnose(*a, given); };
+    });
 }
 
 }  // namespace smokescan::cli

@@ -153,30 +153,84 @@ LidarScanner::LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const
     }
 }
 
+struct LidarScanner::FrameSetup {
+    double start_s = 0, end_s = 0;
+    Pose start_pose, end_pose;
+    SmokeField field;
+};
+
+LidarScanner::FrameSetup LidarScanner::setup(double start_s) const
+{
+    FrameSetup f{start_s, start_s + (pattern_.empty() ? 0.0 : pattern_.back().time_s), {}, {}, {}};
+    f.start_pose = scene_.sensorAt(mount_, f.start_s).pose;
+    f.end_pose = scene_.sensorAt(mount_, f.end_s).pose;
+    f.field = SmokeField::at(scene_.volumes, 0.5 * (f.start_s + f.end_s));
+    f.field.prepare(spec_.wavelength_nm);
+    return f;
+}
+
+BeamSignal LidarScanner::signal(const FrameSetup& f, size_t i) const
+{
+    const Pose pose = mount_.robot >= 0 ? scene_.sensorAt(mount_, f.start_s + pattern_[i].time_s).pose : f.start_pose;
+    const Ray ray{pose.t, pose.rotate(local_[i]).normalized()};
+    return traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_, surfaces_, f.field,
+                           nullptr, nullptr);
+}
+
+std::vector<ExpectedBeam> LidarScanner::expected(double start_s) const
+{
+    const FrameSetup f = setup(start_s);
+    const PhysicalParams& p = spec_.receiver;
+    const double threshold = p.threshold_snr * p.noise_floor;
+    // The receiver with its threshold kClearMarginSd noise sd lower: a smoke echo it sees could
+    // cross the real threshold with the noise.
+    LidarSpec low = spec_;
+    low.receiver.threshold_snr = std::max(0.0, p.threshold_snr - kClearMarginSd);
+    std::vector<ExpectedBeam> out(pattern_.size());
+    tbb::parallel_for(size_t(0), pattern_.size(), [&](size_t i) {
+        const BeamSignal sig = signal(f, i);
+        const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, nullptr);
+        const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
+        if (kept.empty()) return;
+        const LidarEcho& e = echoes[kept.front()];
+        ExpectedBeam& x = out[i];
+        x.range_m = float(e.range_m);
+        x.margin_sd = float((e.peak - threshold) / p.noise_floor);
+        x.source = uint8_t(e.source);
+        if (e.source != EchoSource::Surface || x.margin_sd < kClearMarginSd) return;
+        // At the lower threshold the echo must still stand on its own (not merged into a run that
+        // starts in the blind zone, e.g. the near field's smoke) and no other source may speak.
+        const std::vector<LidarEcho> faint = receiveEchoes(low, sig, nullptr);
+        const double pulse_m = 2.354820045 * pulseSigma_m(p);
+        const bool alone = std::any_of(faint.begin(), faint.end(), [&](const LidarEcho& f) {
+            return f.source == EchoSource::Surface && std::abs(f.range_m - e.range_m) < pulse_m;
+        });
+        x.clear = alone && std::none_of(faint.begin(), faint.end(), [](const LidarEcho& f) {
+                      return f.source != EchoSource::Surface;
+                  });
+    });
+    return out;
+}
+
 LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
 {
+    const FrameSetup f = setup(start_s);
     LidarFrame fr;
     fr.index = index;
-    fr.start_s = start_s;
-    fr.end_s = start_s + (pattern_.empty() ? 0.0 : pattern_.back().time_s);
-    fr.start_pose = scene_.sensorAt(mount_, fr.start_s).pose;
-    fr.end_pose = scene_.sensorAt(mount_, fr.end_s).pose;
+    fr.start_s = f.start_s;
+    fr.end_s = f.end_s;
+    fr.start_pose = f.start_pose;
+    fr.end_pose = f.end_pose;
     fr.channels = spec_.channels();
     fr.columns = frameColumns(spec_);
-    SmokeField field = SmokeField::at(scene_.volumes, 0.5 * (fr.start_s + fr.end_s));
-    field.prepare(spec_.wavelength_nm);
     const size_t n = pattern_.size();
-    const bool moving = mount_.robot >= 0;
     // Up to two points a beam, in fixed slots: the frame is the same whatever the thread count.
     std::vector<LidarPoint> slots(2 * n);
     std::vector<uint8_t> used(n, 0);
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
         const PatternBeam& b = pattern_[i];
-        const Pose pose = moving ? scene_.sensorAt(mount_, start_s + b.time_s).pose : fr.start_pose;
         const Vec3& local = local_[i];
-        const Ray ray{pose.t, pose.rotate(local).normalized()};
-        const BeamSignal sig = traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_,
-                                               surfaces_, field, nullptr, nullptr);
+        const BeamSignal sig = signal(f, i);
         KeyedRng rng(seed_, index, uint64_t(i));
         const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
         const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);

@@ -61,6 +61,19 @@ struct LidarFrame {
     std::vector<float> range_image;  ///< channels × columns: the first kept return's range, 0 none
 };
 
+/// What a beam's receiver reports without its noise: the replay a diagnosis compares recorded
+/// frames with (diagnose/lidar_diagnosis.hpp).
+struct ExpectedBeam {
+    float range_m = 0;  ///< the return mode's first kept echo [m]; 0: none
+    float margin_sd = 0;  ///< that echo's peak above the detection threshold, in noise sd
+    uint8_t source = 0;  ///< that echo's EchoSource
+    /// A surface echo at least kClearMarginSd noise sd above the threshold, and no smoke or
+    /// mirror echo even with the threshold kClearMarginSd noise sd lower: the receiver's noise can
+    /// neither lose the echo nor add another.
+    bool clear = false;
+};
+inline constexpr double kClearMarginSd = 5;
+
 /// @brief Where a lidar goes in a scene that has no lidar of its own: where the scene's first
 /// sensor stands (its position and robot), looking where that sensor looks (the middle of its
 /// scan: an LMS200's 90°), or at the origin looking along +x in a scene without sensors.
@@ -76,7 +89,12 @@ public:
     /// @brief The frame starting at scene time start_s; `index` keys its noise. The smoke is the
     /// scene's at the frame's middle (it changes little in a turn of the head).
     LidarFrame frame(double start_s, uint64_t index) const;
+    /// @brief Each beam of the frame starting at start_s (in pattern order) as its receiver
+    /// reports it without noise, from the same poses and smoke as frame().
+    std::vector<ExpectedBeam> expected(double start_s) const;
     const LidarSpec& spec() const { return spec_; }
+    /// The frame's beams in firing order (direction, channel, time).
+    const std::vector<PatternBeam>& pattern() const { return pattern_; }
     double period_s() const { return 1 / spec_.rate_hz; }
 
 private:
@@ -88,6 +106,12 @@ private:
     uint64_t seed_;
     std::vector<PatternBeam> pattern_;
     std::vector<Vec3> local_;  ///< each beam's unit direction in the sensor frame
+
+    /// The frame's timing, poses and smoke (frame() and expected() share them).
+    struct FrameSetup;
+    FrameSetup setup(double start_s) const;
+    /// Beam i's signal in the frame `f`.
+    BeamSignal signal(const FrameSetup& f, size_t i) const;
 };
 
 }  // namespace smokescan

@@ -55,6 +55,8 @@ public:
     const LidarSpec& spec() const { return spec_; }
     ReturnMode mode() const { return mode_; }
     const SensorMount& mount() const { return mount_; }
+    /// The run's scanner (a diagnosis replays recorded frames with it).
+    const LidarScanner& scanner() const { return *scanner_; }
     long long frames() const { return frames_; }
     /// The scene time frame k starts at [s].
     double frameStart(long long k) const { return from_s_ + double(k) * (1 / spec_.rate_hz); }

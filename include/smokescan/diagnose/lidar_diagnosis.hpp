@@ -1,0 +1,121 @@
+#pragma once
+/// @file lidar_diagnosis.hpp
+/// @brief What a 3D lidar's recorded frames say its simulation gets wrong (docs/diagnosis.md,
+/// "A 3D lidar's frames"): each recorded frame against the same frame replayed without noise
+/// (LidarScanner::expected), beam by beam, on the beams the replay is sure of (clear:
+/// a surface echo far above the threshold, no smoke to speak of). Grouped by channel (ring) and
+/// by azimuth in the sensor frame, the frames split into two folds (even and odd frames): each
+/// cause's candidate is searched on the even frames and tested on the odd ones, so that the
+/// search's choice does not make its own evidence.
+///
+/// | field         | default | unit | meaning                                                        |
+/// |---------------|---------|------|----------------------------------------------------------------|
+/// | level         | 0.01    | –    | false-alarm level of the whole diagnosis (Bonferroni over the causes) |
+/// | sector_deg    | 5       | deg  | azimuth bins of the window's sector search                     |
+/// | max_sector_deg| 90      | deg  | the widest sector tried                                        |
+/// | min_dropout   | 0.1     | –    | floor: the smallest excess of missed returns named (a channel, a sector) |
+/// | min_bias_sd   | 1       | –    | floor: the smallest channel range bias named, in the datasheet's range sd |
+///
+/// Causes (LidarCause): a dropping channel (dead or weak: returns missing on one ring, all
+/// azimuths), a dirty-window sector (returns missing on every ring within a span of azimuth), a
+/// biased channel (one ring's ranges offset from the others'). A cause is named when its held-out
+/// test passes at level/3 and its held-out effect reaches its floor.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "smokescan/lidar/lidar_scanner.hpp"
+
+namespace smokescan {
+
+struct LidarDiagnosisConfig {
+    double level = 0.01;
+    double sector_deg = 5;
+    double max_sector_deg = 90;
+    double min_dropout = 0.1;
+    double min_bias_sd = 1;
+};
+
+enum class LidarCause { DroppingChannel, WindowSector, BiasedChannel };
+const char* lidarCauseName(LidarCause c);
+
+/// One cause's candidate, searched on the even frames and tested on the odd ones.
+struct LidarFinding {
+    LidarCause cause = LidarCause::DroppingChannel;
+    int ring = -1;  ///< the channel (DroppingChannel, BiasedChannel)
+    double from_deg = 0, to_deg = 0;  ///< the sector's azimuths in the sensor frame (WindowSector)
+    double effect = 0, effect_se = 0;  ///< held out: excess missed share, or range bias [m]
+    double floor = 0;  ///< the cause's floor in the effect's unit
+    double gain_nats = 0;  ///< held-out log-likelihood gain of the candidate over none
+    double p_value = 1;  ///< held-out, one-sided (dropouts) or two-sided (bias)
+    bool named = false;  ///< p < level/3 and effect at least its floor
+    bool tested = false;  ///< false: no candidate (no beams or no excess on the search fold)
+};
+
+/// One channel's or sector's beams over both folds.
+struct LidarGroupStats {
+    long long clear = 0;  ///< clear beams (the replay's certain surface echoes)
+    long long missed = 0;  ///< of them, without a recorded return
+    long long matched = 0;  ///< of them, with a recorded first return (a range residual)
+    double median_residual_m = 0;  ///< recorded − replayed range, median (0 when none matched)
+};
+
+/// What the frames say: counts, group tables, each cause's test and the verdict.
+struct LidarDiagnosis {
+    size_t frames = 0;
+    long long beams = 0, clear = 0, unmatched_points = 0;  ///< unmatched: no beam of that ring near its time
+    double range_sd_m = 0;  ///< the clear beams' residuals' robust sd (1.4826·MAD) [m]
+    std::vector<LidarGroupStats> rings;  ///< by channel
+    std::vector<LidarGroupStats> sectors;  ///< by azimuth bin from −180°, sector_deg wide
+    double sector_deg = 5;
+    std::vector<LidarFinding> tried;  ///< one per cause
+    std::string verdict;  ///< "none" or the named causes, comma-separated
+    /// The largest difference between a frame's recorded start pose and the scene's pose of the
+    /// sensor then (set by the caller that reads the frames): position [m] and angle [deg].
+    double pose_mismatch_m = 0, pose_mismatch_deg = 0;
+};
+
+/// A recorded point is its beam's when it lies within this angle of the beam's direction [deg].
+inline constexpr double kMatchDeg = 1;
+
+/// Counts a run's frames against their replays, beam by beam, in two folds.
+class LidarTally {
+public:
+    /// @param pattern the frame's beams (LidarScanner::pattern)
+    LidarTally(const std::vector<PatternBeam>& pattern, int channels);
+    /// @brief Adds one frame: the replay's beams (in pattern order) and the recorded points
+    /// (ring and time from the frame's start identify a point's beam, its direction within
+    /// kMatchDeg confirms it; return_index 0 is its first kept return; any other point is
+    /// counted unmatched). @param fold 0 (search) or 1 (held out)
+    void add(const std::vector<ExpectedBeam>& expected, const std::vector<LidarPoint>& recorded, int fold);
+    size_t frames() const { return frames_; }
+
+    struct Fold {
+        std::vector<uint32_t> clear, missed;  ///< per beam of the pattern
+        std::vector<std::vector<float>> residual_m;  ///< per channel: recorded − replayed range
+    };
+    const Fold& fold(int k) const { return fold_[k]; }
+    const std::vector<PatternBeam>& pattern() const { return pattern_; }
+    int channels() const { return channels_; }
+    long long unmatched() const { return unmatched_; }
+
+private:
+    std::vector<PatternBeam> pattern_;
+    int channels_ = 0;
+    std::vector<std::vector<std::pair<double, uint32_t>>> by_ring_;  ///< (time, beam), by time
+    Fold fold_[2];
+    size_t frames_ = 0;
+    long long unmatched_ = 0;
+};
+
+/// @brief The diagnosis of a tally: group tables and each cause's held-out test.
+/// @param range_sigma_m the sensor's datasheet range sd (the bias's floor unit)
+/// @throw Error when either fold has no clear beam.
+LidarDiagnosis diagnoseLidar(const LidarTally& tally, double range_sigma_m, const LidarDiagnosisConfig& cfg = {});
+
+/// @brief The diagnosis as JSON text (diagnosis.json of `smokescan diagnose --points`).
+std::string lidarDiagnosisJson(const LidarDiagnosis& d);
+/// @brief The diagnosis as a Markdown report (report.md).
+std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& sensor);
+
+}  // namespace smokescan

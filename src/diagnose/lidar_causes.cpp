@@ -1,0 +1,307 @@
+// Each cause of a 3D lidar's diagnosis searched on the even frames and tested on the odd ones
+// (diagnose/lidar_diagnosis.hpp, docs/diagnosis.md "A 3D lidar's frames").
+#include <algorithm>
+#include <cmath>
+
+#include "ceres_fit.hpp"
+#include "range_offset_residual.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/diagnose/lidar_diagnosis.hpp"
+
+namespace smokescan {
+namespace {
+
+/// Missed returns inside a group of beams and outside it.
+struct Split {
+    double m_in = 0, n_in = 0, m_out = 0, n_out = 0;
+    double rateIn() const { return n_in > 0 ? m_in / n_in : 0; }
+    double rateOut() const { return n_out > 0 ? m_out / n_out : 0; }
+};
+
+double binomialLl(double m, double n, double p)
+{
+    double ll = 0;
+    if (m > 0) ll += m * std::log(p);
+    if (n - m > 0) ll += (n - m) * std::log1p(-p);
+    return ll;
+}
+
+/// The likelihood ratio statistic 2·Δln L of "inside and outside miss at their own rates" over
+/// "one rate for all", signed by whether inside misses more: under no difference, a standard
+/// normal's square with that sign.
+double signedRoot(const Split& s)
+{
+    if (s.n_in <= 0 || s.n_out <= 0) return 0;
+    const double pa = (s.m_in + s.m_out) / (s.n_in + s.n_out);
+    const double lr = 2 *
+        (binomialLl(s.m_in, s.n_in, s.rateIn()) + binomialLl(s.m_out, s.n_out, s.rateOut()) -
+         binomialLl(s.m_in + s.m_out, s.n_in + s.n_out, pa));
+    const double r = std::sqrt(std::max(0.0, lr));
+    return s.rateIn() > s.rateOut() ? r : -r;
+}
+
+/// The held-out test of a dropout split: its excess, the one-sided p and the gain in nats.
+void testDropout(const Split& s, LidarFinding& f)
+{
+    const double z = signedRoot(s);
+    const double pi = s.rateIn(), po = s.rateOut();
+    f.tested = s.n_in > 0 && s.n_out > 0;
+    f.effect = pi - po;
+    f.effect_se = std::sqrt(pi * (1 - pi) / std::max(1.0, s.n_in) + po * (1 - po) / std::max(1.0, s.n_out));
+    f.gain_nats = 0.5 * z * std::abs(z);
+    f.p_value = f.tested ? 0.5 * std::erfc(z / std::sqrt(2.0)) : 1;
+}
+
+int sectorBin(double azimuth_rad, int bins)
+{
+    const double deg = azimuth_rad * 180 / M_PI;
+    const double u = std::fmod(deg + 180, 360.0);
+    return std::min(bins - 1, int(std::floor((u < 0 ? u + 360 : u) / (360.0 / bins))));
+}
+
+/// Counts of a fold by sector bin.
+std::vector<Split> binCounts(const LidarTally& t, int fold, int bins)
+{
+    std::vector<Split> out(static_cast<size_t>(bins));
+    const LidarTally::Fold& f = t.fold(fold);
+    for (size_t i = 0; i < t.pattern().size(); ++i) {
+        Split& s = out[size_t(sectorBin(t.pattern()[i].azimuth_rad, bins))];
+        s.n_in += f.clear[i];
+        s.m_in += f.missed[i];
+    }
+    return out;
+}
+
+/// Whether bin b lies in the run of `width` bins from `start` (wrapping at 180°).
+bool inRun(int b, int start, int width, int bins) { return ((b - start) % bins + bins) % bins < width; }
+
+Split runSplit(const std::vector<Split>& bin, int start, int width)
+{
+    Split s;
+    const int bins = int(bin.size());
+    for (int b = 0; b < bins; ++b) {
+        const bool in = inRun(b, start, width, bins);
+        (in ? s.n_in : s.n_out) += bin[size_t(b)].n_in;
+        (in ? s.m_in : s.m_out) += bin[size_t(b)].m_in;
+    }
+    return s;
+}
+
+/// The window's sector: the run of bins whose missed returns most exceed the rest's on fold 0
+/// (a scan statistic), tested on fold 1.
+LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, int& start, int& width)
+{
+    LidarFinding f;
+    f.cause = LidarCause::WindowSector;
+    f.floor = cfg.min_dropout;
+    const int bins = int(std::lround(360 / cfg.sector_deg));
+    const int widest = std::max(1, std::min(bins - 1, int(std::lround(cfg.max_sector_deg / cfg.sector_deg))));
+    const std::vector<Split> search = binCounts(t, 0, bins);
+    double best = 0;
+    start = -1;
+    width = 0;
+    for (int s = 0; s < bins; ++s)
+        for (int w = 1; w <= widest; ++w) {
+            const double z = signedRoot(runSplit(search, s, w));
+            if (z > best) best = z, start = s, width = w;
+        }
+    if (start < 0) return f;
+    f.from_deg = -180 + start * cfg.sector_deg;
+    f.to_deg = f.from_deg + width * cfg.sector_deg;
+    if (f.to_deg > 180) f.to_deg -= 360;  // a sector across 180°: from > to
+    testDropout(runSplit(binCounts(t, 1, bins), start, width), f);
+    return f;
+}
+
+/// A channel dropping returns: the ring whose missed returns most exceed the others' on fold 0,
+/// tested on fold 1; beams in `skip` bins (a named window sector) left out of both.
+LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cfg, int start, int width)
+{
+    LidarFinding f;
+    f.cause = LidarCause::DroppingChannel;
+    f.floor = cfg.min_dropout;
+    const int bins = int(std::lround(360 / cfg.sector_deg));
+    auto ringSplit = [&](int fold, int ring) {
+        Split s;
+        const LidarTally::Fold& fo = t.fold(fold);
+        for (size_t i = 0; i < t.pattern().size(); ++i) {
+            if (width > 0 && inRun(sectorBin(t.pattern()[i].azimuth_rad, bins), start, width, bins)) continue;
+            const bool in = t.pattern()[i].channel == ring;
+            (in ? s.n_in : s.n_out) += fo.clear[i];
+            (in ? s.m_in : s.m_out) += fo.missed[i];
+        }
+        return s;
+    };
+    double best = 0;
+    for (int c = 0; c < t.channels(); ++c) {
+        const double z = signedRoot(ringSplit(0, c));
+        if (z > best) best = z, f.ring = c;
+    }
+    if (f.ring < 0) return f;
+    testDropout(ringSplit(1, f.ring), f);
+    return f;
+}
+
+double median(std::vector<float> v)
+{
+    if (v.empty()) return 0;
+    const size_t h = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + long(h), v.end());
+    return double(v[h]);
+}
+
+/// 1.4826 · the median absolute deviation of every channel's residuals in a fold.
+double robustSd(const LidarTally::Fold& f)
+{
+    std::vector<float> all;
+    for (const auto& r : f.residual_m) all.insert(all.end(), r.begin(), r.end());
+    const double m = median(all);
+    for (float& x : all) x = float(std::abs(double(x) - m));
+    return 1.4826 * median(std::move(all));
+}
+
+/// Every `stride`-th of v, at most `cap` of them.
+std::vector<float> strided(const std::vector<float>& v, size_t cap)
+{
+    if (v.size() <= cap) return v;
+    std::vector<float> out;
+    const double step = double(v.size()) / double(cap);
+    for (size_t k = 0; k < cap; ++k) out.push_back(v[size_t(double(k) * step)]);
+    return out;
+}
+
+/// A channel's range bias: the ring whose median residual stands furthest from the others' on
+/// fold 0, fitted on fold 1 beside an offset common to all (Huber loss, Ceres' covariance).
+LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const LidarDiagnosisConfig& cfg)
+{
+    LidarFinding f;
+    f.cause = LidarCause::BiasedChannel;
+    f.floor = cfg.min_bias_sd * range_sigma_m;
+    const LidarTally::Fold& a = t.fold(0);
+    const double sd0 = robustSd(a);
+    std::vector<float> all;
+    for (const auto& r : a.residual_m) all.insert(all.end(), r.begin(), r.end());
+    const double med0 = median(std::move(all));
+    double best = 0;
+    for (int c = 0; c < t.channels(); ++c) {
+        const auto& r = a.residual_m[size_t(c)];
+        if (r.size() < 10 || !(sd0 > 0)) continue;
+        const double z = std::abs(median(r) - med0) / (1.2533 * sd0 / std::sqrt(double(r.size())));
+        if (z > best) best = z, f.ring = c;
+    }
+    const LidarTally::Fold& b = t.fold(1);
+    if (f.ring < 0 || b.residual_m[size_t(f.ring)].size() < 10) return f;
+    const double sd = std::max(robustSd(b), 1e-6);
+    // At most 2e5 residuals on each side: the rest's offset is then known far better than the channel's.
+    constexpr size_t kCap = 200'000;
+    std::vector<float> rest;
+    for (int c = 0; c < t.channels(); ++c)
+        if (c != f.ring) rest.insert(rest.end(), b.residual_m[size_t(c)].begin(), b.residual_m[size_t(c)].end());
+    if (rest.size() < 10) return f;
+    double x[2] = {median(rest), median(b.residual_m[size_t(f.ring)]) - median(rest)};
+    ceres::Problem problem;
+    auto addAll = [&](const std::vector<float>& v, bool on) {
+        for (float r : strided(v, kCap))
+            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<detail::RangeOffsetResidual, 1, 2>(
+                                         new detail::RangeOffsetResidual(double(r), sd, on)),
+                                     new ceres::HuberLoss(3.0), x);
+    };
+    addAll(b.residual_m[size_t(f.ring)], true);
+    addAll(rest, false);
+    ceres::Solver::Summary summary;
+    double C[4];
+    if (!detail::solveQuiet(problem, detail::denseOptions(100, 1e-10), summary) ||
+        !detail::blockCovariance(problem, x, C) || !(C[3] > 0))
+        return f;
+    f.tested = true;
+    f.effect = x[1];
+    f.effect_se = std::sqrt(C[3]);
+    const double z = f.effect / f.effect_se;
+    f.gain_nats = 0.5 * z * z;
+    f.p_value = std::erfc(std::abs(z) / std::sqrt(2.0));
+    return f;
+}
+
+/// Both folds' stats of the beams `in` selects.
+template <typename In>
+LidarGroupStats groupStats(const LidarTally& t, In in)
+{
+    LidarGroupStats g;
+    for (int k = 0; k < 2; ++k)
+        for (size_t i = 0; i < t.pattern().size(); ++i)
+            if (in(i)) {
+                g.clear += t.fold(k).clear[i];
+                g.missed += t.fold(k).missed[i];
+            }
+    g.matched = g.clear - g.missed;
+    return g;
+}
+
+}  // namespace
+
+const char* lidarCauseName(LidarCause c)
+{
+    switch (c) {
+    case LidarCause::DroppingChannel:
+        return "dropping_channel";
+    case LidarCause::WindowSector:
+        return "window_sector";
+    case LidarCause::BiasedChannel:
+        return "biased_channel";
+    }
+    return "?";
+}
+
+LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const LidarDiagnosisConfig& cfg)
+{
+    if (!(cfg.level > 0 && cfg.level < 1)) throw Error("lidar diagnosis", "the level must lie in (0, 1)");
+    if (!(cfg.sector_deg >= 0.5 && cfg.sector_deg <= 90))
+        throw Error("lidar diagnosis", "the sector bins must be 0.5 to 90 degrees wide");
+    if (!(cfg.max_sector_deg >= cfg.sector_deg && cfg.max_sector_deg <= 180))
+        throw Error("lidar diagnosis", "the widest sector must be one bin to 180 degrees");
+    LidarDiagnosis d;
+    d.frames = t.frames();
+    d.beams = (long long)(t.frames() * t.pattern().size());
+    d.unmatched_points = t.unmatched();
+    d.sector_deg = cfg.sector_deg;
+    for (int k = 0; k < 2; ++k) {
+        long long clear = 0;
+        for (uint32_t c : t.fold(k).clear) clear += c;
+        if (clear == 0)
+            throw Error("lidar diagnosis",
+                        std::string("the ") + (k == 0 ? "even" : "odd") +
+                            " frames have no beam the replay is sure of (clear air, a surface in "
+                            "range): nothing to compare");
+        d.clear += clear;
+    }
+    d.range_sd_m = robustSd(t.fold(1));
+    const int bins = int(std::lround(360 / cfg.sector_deg));
+    for (int c = 0; c < t.channels(); ++c) {
+        LidarGroupStats g = groupStats(t, [&](size_t i) { return t.pattern()[i].channel == c; });
+        std::vector<float> r = t.fold(0).residual_m[size_t(c)];
+        r.insert(r.end(), t.fold(1).residual_m[size_t(c)].begin(), t.fold(1).residual_m[size_t(c)].end());
+        g.median_residual_m = median(std::move(r));
+        d.rings.push_back(g);
+    }
+    for (int b = 0; b < bins; ++b) {
+        LidarGroupStats g = groupStats(t, [&](size_t i) { return sectorBin(t.pattern()[i].azimuth_rad, bins) == b; });
+        g.median_residual_m = NAN;  // residuals are kept by channel
+        d.sectors.push_back(g);
+    }
+    const double each = cfg.level / 3;  // Bonferroni over the three causes
+    auto judge = [&](LidarFinding& f) { f.named = f.tested && f.p_value < each && std::abs(f.effect) >= f.floor; };
+    int start = -1, width = 0;
+    LidarFinding window = windowSector(t, cfg, start, width);
+    judge(window);
+    LidarFinding channel = droppingChannel(t, cfg, window.named ? start : -1, window.named ? width : 0);
+    judge(channel);
+    LidarFinding bias = biasedChannel(t, range_sigma_m, cfg);
+    judge(bias);
+    d.tried = {channel, window, bias};
+    for (const LidarFinding& f : d.tried)
+        if (f.named) d.verdict += (d.verdict.empty() ? "" : ", ") + std::string(lidarCauseName(f.cause));
+    if (d.verdict.empty()) d.verdict = "none";
+    return d;
+}
+
+}  // namespace smokescan

@@ -1,0 +1,113 @@
+// A 3D lidar's diagnosis as JSON and Markdown (diagnose/lidar_diagnosis.hpp).
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "smokescan/core/format.hpp"
+#include "smokescan/diagnose/lidar_diagnosis.hpp"
+
+namespace smokescan {
+namespace {
+
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json groupJson(const LidarGroupStats& g)
+{
+    return {{"clear", g.clear},
+            {"missed", g.missed},
+            {"missed_share", g.clear > 0 ? num(double(g.missed) / double(g.clear)) : nullptr},
+            {"matched", g.matched},
+            {"median_residual_m", g.matched > 0 ? num(g.median_residual_m) : nullptr}};
+}
+
+std::string targetText(const LidarFinding& f)
+{
+    if (f.cause == LidarCause::WindowSector) return fmt("azimuth %.1f..%.1f deg", f.from_deg, f.to_deg);
+    return f.ring >= 0 ? fmt("ring %d", f.ring) : std::string("-");
+}
+
+const char* effectUnit(const LidarFinding& f) { return f.cause == LidarCause::BiasedChannel ? "m" : "share"; }
+
+}  // namespace
+
+std::string lidarDiagnosisJson(const LidarDiagnosis& d)
+{
+    nlohmann::json j;
+    j["verdict"] = d.verdict;
+    j["frames"] = d.frames;
+    j["beams"] = d.beams;
+    j["clear_beams"] = d.clear;
+    j["unmatched_points"] = d.unmatched_points;
+    j["range_sd_m"] = num(d.range_sd_m);
+    j["sector_deg"] = d.sector_deg;
+    j["pose_mismatch_m"] = num(d.pose_mismatch_m);
+    j["pose_mismatch_deg"] = num(d.pose_mismatch_deg);
+    nlohmann::json tried = nlohmann::json::array();
+    for (const LidarFinding& f : d.tried) {
+        nlohmann::json t = {{"cause", lidarCauseName(f.cause)},
+                            {"tested", f.tested},
+                            {"named", f.named},
+                            {"effect", num(f.effect)},
+                            {"effect_se", num(f.effect_se)},
+                            {"effect_unit", effectUnit(f)},
+                            {"floor", num(f.floor)},
+                            {"held_out_gain_nats", num(f.gain_nats)},
+                            {"p", f.tested ? num(f.p_value) : nullptr}};
+        if (f.cause == LidarCause::WindowSector) {
+            t["from_deg"] = num(f.from_deg);
+            t["to_deg"] = num(f.to_deg);
+        } else {
+            t["ring"] = f.ring;
+        }
+        tried.push_back(t);
+    }
+    j["tried"] = tried;
+    nlohmann::json rings = nlohmann::json::array(), sectors = nlohmann::json::array();
+    for (size_t c = 0; c < d.rings.size(); ++c) {
+        nlohmann::json g = groupJson(d.rings[c]);
+        g["ring"] = c;
+        rings.push_back(g);
+    }
+    for (size_t b = 0; b < d.sectors.size(); ++b) {
+        nlohmann::json g = groupJson(d.sectors[b]);
+        g.erase("median_residual_m");
+        g["from_deg"] = -180 + double(b) * d.sector_deg;
+        g["to_deg"] = -180 + double(b + 1) * d.sector_deg;
+        sectors.push_back(g);
+    }
+    j["rings"] = rings;
+    j["sectors"] = sectors;
+    return j.dump(2) + "\n";
+}
+
+std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& sensor)
+{
+    std::string s = "# Diagnosis of a " + sensor + "'s frames\n\nVerdict: **" + d.verdict + "**\n\n";
+    s +=
+        fmt("%zu frames, %lld beams, %lld of them clear (the replay's certain surface echoes); %lld recorded points "
+            "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",
+            d.frames, d.beams, d.clear, d.unmatched_points, d.range_sd_m);
+    s += fmt("The frames' recorded start poses differ from the scene's by %.3g m and %.3g deg at most.\n\n",
+             d.pose_mismatch_m, d.pose_mismatch_deg);
+    s += "Each cause's candidate was searched on the even frames and tested on the odd ones.\n\n";
+    s += "| cause | target | effect | se | floor | held-out gain [nats] | p | named |\n";
+    s += "|---|---|---|---|---|---|---|---|\n";
+    for (const LidarFinding& f : d.tried)
+        s += fmt("| %s | %s | %.4g %s | %.2g | %.3g | %.4g | %s | %s |\n", lidarCauseName(f.cause),
+                 targetText(f).c_str(), f.effect, effectUnit(f), f.effect_se, f.floor, f.gain_nats,
+                 f.tested ? fmt("%.2g", f.p_value).c_str() : "-", f.named ? "yes" : "no");
+    s += "\n## Channels\n\n| ring | clear | missed share | median residual [m] |\n|---|---|---|---|\n";
+    for (size_t c = 0; c < d.rings.size(); ++c) {
+        const LidarGroupStats& g = d.rings[c];
+        s += fmt("| %zu | %lld | %.4f | %s |\n", c, g.clear, g.clear ? double(g.missed) / double(g.clear) : 0.0,
+                 g.matched ? fmt("%.4f", g.median_residual_m).c_str() : "-");
+    }
+    s += "\n## Azimuth sectors (sensor frame)\n\n| from [deg] | to [deg] | clear | missed share |\n|---|---|---|---|\n";
+    for (size_t b = 0; b < d.sectors.size(); ++b) {
+        const LidarGroupStats& g = d.sectors[b];
+        s += fmt("| %.1f | %.1f | %lld | %.4f |\n", -180 + double(b) * d.sector_deg,
+                 -180 + double(b + 1) * d.sector_deg, g.clear, g.clear ? double(g.missed) / double(g.clear) : 0.0);
+    }
+    return s;
+}
+
+}  // namespace smokescan

@@ -1,0 +1,87 @@
+// A 3D lidar's recorded frames against their replays, beam by beam (diagnose/lidar_diagnosis.hpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "smokescan/core/error.hpp"
+#include "smokescan/diagnose/lidar_diagnosis.hpp"
+
+namespace smokescan {
+
+LidarTally::LidarTally(const std::vector<PatternBeam>& pattern, int channels) : pattern_(pattern), channels_(channels)
+{
+    if (channels_ <= 0 || pattern_.empty()) throw Error("lidar diagnosis", "the sensor's pattern has no beams");
+    by_ring_.resize(size_t(channels_));
+    for (size_t i = 0; i < pattern_.size(); ++i) {
+        const int c = pattern_[i].channel;
+        if (c < 0 || c >= channels_)
+            throw Error("lidar diagnosis", "a beam's channel is outside the sensor's channels");
+        by_ring_[size_t(c)].emplace_back(pattern_[i].time_s, uint32_t(i));
+    }
+    for (auto& ring : by_ring_) std::sort(ring.begin(), ring.end());
+    for (Fold& f : fold_) {
+        f.clear.assign(pattern_.size(), 0);
+        f.missed.assign(pattern_.size(), 0);
+        f.residual_m.resize(size_t(channels_));
+    }
+}
+
+namespace {
+
+/// The beam of `ring` fired nearest `time_s`, when it is nearer than half the gap to the ring's
+/// neighbouring beams; -1 otherwise.
+long nearestBeam(const std::vector<std::pair<double, uint32_t>>& ring, double time_s)
+{
+    if (ring.empty()) return -1;
+    auto it = std::lower_bound(ring.begin(), ring.end(), std::make_pair(time_s, uint32_t(0)));
+    size_t k = size_t(it - ring.begin());
+    if (k == ring.size() || (k > 0 && time_s - ring[k - 1].first < ring[k].first - time_s)) --k;
+    const double before = k > 0 ? ring[k].first - ring[k - 1].first : std::numeric_limits<double>::infinity();
+    const double after =
+        k + 1 < ring.size() ? ring[k + 1].first - ring[k].first : std::numeric_limits<double>::infinity();
+    double half_gap = 0.5 * std::min(before, after);
+    if (!std::isfinite(half_gap)) half_gap = 1e-3;  // a ring of one beam: within a millisecond
+    return std::abs(time_s - ring[k].first) <= half_gap ? long(ring[k].second) : -1;
+}
+
+/// Whether the point lies within kMatchDeg of its beam's direction in the sensor frame.
+bool alongBeam(const PatternBeam& b, const LidarPoint& p)
+{
+    const double r = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
+    if (!(r > 0)) return false;
+    const double ce = std::cos(b.elevation_rad);
+    const double dot =
+        (ce * std::cos(b.azimuth_rad) * p.x + ce * std::sin(b.azimuth_rad) * p.y + std::sin(b.elevation_rad) * p.z) / r;
+    return dot >= std::cos(kMatchDeg * M_PI / 180);
+}
+
+}  // namespace
+
+void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vector<LidarPoint>& recorded, int fold)
+{
+    const size_t n = pattern_.size();
+    if (expected.size() != n) throw Error("lidar diagnosis", "the replay's beams are not the pattern's");
+    if (fold != 0 && fold != 1) throw Error("lidar diagnosis", "a fold is 0 or 1");
+    std::vector<float> got(n, std::numeric_limits<float>::quiet_NaN());
+    for (const LidarPoint& p : recorded) {
+        if (p.return_index != 0) continue;
+        const long b = p.ring < channels_ ? nearestBeam(by_ring_[p.ring], double(p.time_s)) : -1;
+        if (b < 0 || !std::isnan(got[size_t(b)]) || !alongBeam(pattern_[size_t(b)], p)) {
+            ++unmatched_;
+            continue;
+        }
+        got[size_t(b)] = p.range_m;
+    }
+    Fold& f = fold_[fold];
+    for (size_t i = 0; i < n; ++i) {
+        if (!expected[i].clear) continue;
+        ++f.clear[i];
+        if (std::isnan(got[i]))
+            ++f.missed[i];
+        else
+            f.residual_m[size_t(pattern_[i].channel)].push_back(got[i] - expected[i].range_m);
+    }
+    ++frames_;
+}
+
+}  // namespace smokescan

@@ -1,0 +1,454 @@
+// A 3D lidar's frames diagnosed (diagnose/lidar_diagnosis.hpp): the tally's matching, each
+// cause's test on synthetic tallies (found with its target, unit pulls, no false alarm beyond the
+// level) and on simulated frames with effects planted in the point clouds.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+
+#include "diagnose/range_offset_residual.hpp"
+#include "error_of.hpp"
+#include "scratch.hpp"
+#include "smokescan/core/random.hpp"
+#include "smokescan/diagnose/lidar_diagnosis.hpp"
+#include "smokescan/lidar/frame_index.hpp"
+#include "smokescan/lidar/point_cloud_io.hpp"
+#include "smokescan/pipeline/lidar_diagnose_run.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+using namespace smokescan;
+using smokescan::test::scratch;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+/// A spinning pattern: `channels` rings, `columns` columns a turn at 10 Hz, ring c fired c µs
+/// after its column's start.
+std::vector<PatternBeam> spinPattern(int channels, int columns)
+{
+    std::vector<PatternBeam> p;
+    for (int k = 0; k < columns; ++k)
+        for (int c = 0; c < channels; ++c)
+            p.push_back(
+                {-M_PI + 2 * M_PI * (k + 0.5) / columns, (c - channels / 2) * kDeg, c, 0.1 * k / columns + c * 1e-6});
+    return p;
+}
+
+/// A point `range_m` along the beam's direction, with its ring and firing time.
+LidarPoint pointOn(const PatternBeam& b, double range_m, double dt_s = 0, double turn_rad = 0)
+{
+    LidarPoint p;
+    const double az = b.azimuth_rad + turn_rad, ce = std::cos(b.elevation_rad);
+    p.x = float(range_m * ce * std::cos(az));
+    p.y = float(range_m * ce * std::sin(az));
+    p.z = float(range_m * std::sin(b.elevation_rad));
+    p.range_m = float(range_m);
+    p.ring = uint16_t(b.channel);
+    p.time_s = float(b.time_s + dt_s);
+    return p;
+}
+
+/// What a synthetic frame's beams do: each clear at range 5–15 m; a beam's recorded return is
+/// dropped with probability `drop(i)` and its range offset by `bias(i)` plus noise of sd `sd`.
+struct Synthetic {
+    std::vector<PatternBeam> pattern;
+    int channels = 16;
+    double sd = 0.03;
+    std::function<double(size_t)> drop = [](size_t) { return 0.0; };
+    std::function<double(size_t)> bias = [](size_t) { return 0.0; };
+
+    double rangeOf(size_t i) const { return 5 + 10 * (0.5 + 0.5 * std::sin(3 * pattern[i].azimuth_rad + i % 7)); }
+
+    LidarTally tally(int frames, uint64_t seed) const
+    {
+        LidarTally t(pattern, channels);
+        for (int f = 0; f < frames; ++f) {
+            std::vector<ExpectedBeam> ex(pattern.size());
+            std::vector<LidarPoint> rec;
+            KeyedRng rng(seed, uint64_t(f));
+            for (size_t i = 0; i < pattern.size(); ++i) {
+                ex[i].range_m = float(rangeOf(i));
+                ex[i].clear = true;
+                if (rng.uniform() < drop(i)) continue;
+                rec.push_back(pointOn(pattern[i], rangeOf(i) + bias(i) + sd * rng.normal()));
+            }
+            t.add(ex, rec, f % 2);
+        }
+        return t;
+    }
+};
+
+const LidarFinding& triedOf(const LidarDiagnosis& d, LidarCause c)
+{
+    for (const LidarFinding& f : d.tried)
+        if (f.cause == c) return f;
+    throw std::runtime_error("cause not tried");
+}
+
+double sdOf(const std::vector<double>& v)
+{
+    const double m = std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+    double s = 0;
+    for (double x : v) s += (x - m) * (x - m);
+    return std::sqrt(s / double(v.size() - 1));
+}
+
+}  // namespace
+
+TEST(LidarTally, PointsAreMatchedToTheirBeamByRingAndTimeAndCounted)
+{
+    const std::vector<PatternBeam> pattern = spinPattern(4, 8);  // 32 beams
+    LidarTally t(pattern, 4);
+    std::vector<ExpectedBeam> ex(pattern.size());
+    for (size_t i = 0; i < ex.size(); ++i) {
+        ex[i].range_m = 10;
+        ex[i].clear = i % 4 != 3;  // ring 3 never clear: not counted
+    }
+    std::vector<LidarPoint> rec;
+    auto point = [&](size_t beam, float range, uint8_t ret = 0, double dt = 0, double turn = 0) {
+        LidarPoint p = pointOn(pattern[beam], range, dt, turn);
+        p.return_index = ret;
+        rec.push_back(p);
+    };
+    point(0, 10.5f);  // ring 0, column 0: residual +0.5
+    point(0, 11.0f, 1);  // its second return: not a first return, ignored
+    point(5, 9.0f, 0, 0.004);  // ring 1, column 1 fired 4 ms late: still nearest its own beam (gap 12.5 ms)
+    point(4 * 7 + 2, 10.0f);  // ring 2, column 7
+    point(4 * 7 + 2, 10.0f);  // the same beam again: unmatched
+    point(4 * 4 + 2, 10.0f, 0, 0, 2 * kDeg);  // ring 2, column 4's time, but 2° off its direction: unmatched
+    LidarPoint stray = pointOn(pattern[0], 10);
+    stray.ring = 9;  // no such ring
+    rec.push_back(stray);
+    t.add(ex, rec, 1);
+    EXPECT_EQ(t.unmatched(), 3);
+    const LidarTally::Fold& f = t.fold(1);
+    EXPECT_EQ(std::accumulate(f.clear.begin(), f.clear.end(), 0u), 24u);
+    EXPECT_EQ(std::accumulate(f.missed.begin(), f.missed.end(), 0u), 21u);
+    EXPECT_EQ(f.missed[0], 0u);
+    EXPECT_EQ(f.missed[5], 0u);
+    EXPECT_EQ(f.missed[30], 0u);
+    ASSERT_EQ(f.residual_m[0].size(), 1u);
+    EXPECT_FLOAT_EQ(f.residual_m[0][0], 0.5f);
+    EXPECT_FLOAT_EQ(f.residual_m[1][0], -1.0f);
+    EXPECT_EQ(std::accumulate(t.fold(0).clear.begin(), t.fold(0).clear.end(), 0u), 0u);
+}
+
+TEST(LidarTally, RangeOffsetResidualIsTheResidualLessTheOffsetsInSd)
+{
+    const detail::RangeOffsetResidual on(0.10, 0.02, true), off(0.10, 0.02, false);
+    const double x[2] = {0.03, 0.05};
+    double r = 0;
+    on(x, &r);
+    EXPECT_NEAR(r, (0.10 - 0.03 - 0.05) / 0.02, 1e-12);
+    off(x, &r);
+    EXPECT_NEAR(r, (0.10 - 0.03) / 0.02, 1e-12);
+}
+
+TEST(LidarDiagnosis, CleanTalliesNameNothingBeyondTheLevel)
+{
+    // 60 independent clean runs at level 0.05: each is a false alarm with probability at most
+    // 0.05 (three tests at 0.05/3); 60 runs name a cause in more than 9 with probability < 0.5 %.
+    Synthetic s;
+    s.pattern = spinPattern(16, 180);
+    s.drop = [](size_t) { return 0.02; };  // the recorder's own misses, the same everywhere
+    int alarms = 0;
+    std::vector<double> z_bias;
+    for (uint64_t seed = 1; seed <= 60; ++seed) {
+        LidarDiagnosisConfig cfg;
+        cfg.level = 0.05;
+        cfg.min_dropout = 0;  // no floors: the tests' own false-alarm rate
+        cfg.min_bias_sd = 0;
+        const LidarDiagnosis d = diagnoseLidar(s.tally(4, seed), 0.03, cfg);
+        alarms += d.verdict != "none";
+        const LidarFinding& b = triedOf(d, LidarCause::BiasedChannel);
+        ASSERT_TRUE(b.tested);
+        z_bias.push_back(b.effect / b.effect_se);
+    }
+    EXPECT_LE(alarms, 9);
+    // The held-out bias of a channel chosen on the other frames is unbiased with its stated se.
+    EXPECT_NEAR(sdOf(z_bias), 1.0, 0.25);
+}
+
+TEST(LidarDiagnosis, ADroppingChannelIsFoundWithItsRingAndItsShareHasUnitPulls)
+{
+    Synthetic s;
+    s.pattern = spinPattern(16, 180);
+    // Ring 11 loses 30 % of its returns, the others 2 %.
+    s.drop = [&](size_t i) { return s.pattern[i].channel == 11 ? 0.30 : 0.02; };
+    std::vector<double> pulls;
+    for (uint64_t seed = 1; seed <= 40; ++seed) {
+        const LidarDiagnosis d = diagnoseLidar(s.tally(4, seed), 0.03);
+        const LidarFinding& f = triedOf(d, LidarCause::DroppingChannel);
+        ASSERT_TRUE(f.named) << seed;
+        EXPECT_EQ(f.ring, 11);
+        pulls.push_back((f.effect - 0.28) / f.effect_se);
+        EXPECT_EQ(d.verdict, "dropping_channel") << seed;
+    }
+    const double mean = std::accumulate(pulls.begin(), pulls.end(), 0.0) / double(pulls.size());
+    EXPECT_NEAR(mean, 0, 0.4);
+    EXPECT_NEAR(sdOf(pulls), 1.0, 0.25);
+}
+
+TEST(LidarDiagnosis, ASmudgeOnTheWindowIsFoundAsASectorAroundIt)
+{
+    // Planted as a smooth smudge (dropout 0.7·exp(−½((az − 40°)/8°)²)), not the sector of
+    // constant dropout the cause assumes: the sector found must hold the smudge's centre and
+    // lie within its 3 sd.
+    Synthetic s;
+    s.pattern = spinPattern(16, 180);
+    s.drop = [&](size_t i) {
+        const double u = (s.pattern[i].azimuth_rad / kDeg - 40) / 8;
+        return 0.02 + 0.7 * std::exp(-0.5 * u * u);
+    };
+    for (uint64_t seed = 1; seed <= 10; ++seed) {
+        const LidarDiagnosis d = diagnoseLidar(s.tally(4, seed), 0.03);
+        const LidarFinding& f = triedOf(d, LidarCause::WindowSector);
+        ASSERT_TRUE(f.named) << seed;
+        EXPECT_LE(f.from_deg, 40);
+        EXPECT_GE(f.to_deg, 40);
+        EXPECT_GE(f.from_deg, 40 - 24);
+        EXPECT_LE(f.to_deg, 40 + 24);
+        EXPECT_FALSE(triedOf(d, LidarCause::DroppingChannel).named) << seed;
+        EXPECT_FALSE(triedOf(d, LidarCause::BiasedChannel).named) << seed;
+    }
+}
+
+TEST(LidarDiagnosis, ABiasedChannelIsFoundWithItsRingAndItsBiasHasUnitPulls)
+{
+    Synthetic s;
+    s.pattern = spinPattern(16, 180);
+    s.bias = [&](size_t i) { return s.pattern[i].channel == 4 ? 0.05 : 0.0; };
+    std::vector<double> pulls;
+    for (uint64_t seed = 1; seed <= 40; ++seed) {
+        const LidarDiagnosis d = diagnoseLidar(s.tally(4, seed), 0.03);
+        const LidarFinding& f = triedOf(d, LidarCause::BiasedChannel);
+        ASSERT_TRUE(f.named) << seed;
+        EXPECT_EQ(f.ring, 4);
+        pulls.push_back((f.effect - 0.05) / f.effect_se);
+        EXPECT_EQ(d.verdict, "biased_channel") << seed;
+    }
+    const double mean = std::accumulate(pulls.begin(), pulls.end(), 0.0) / double(pulls.size());
+    EXPECT_NEAR(mean, 0, 0.4);
+    EXPECT_NEAR(sdOf(pulls), 1.0, 0.25);
+}
+
+TEST(LidarDiagnosis, EffectsUnderTheirFloorsAreNotNamed)
+{
+    // A 1 cm bias (a third of the range sd of 3 cm) and a 5 % dropout are real and significant on
+    // this many beams, but under the floors (1 sd, 0.1): tested, not named.
+    Synthetic s;
+    s.pattern = spinPattern(16, 720);
+    s.bias = [&](size_t i) { return s.pattern[i].channel == 4 ? 0.01 : 0.0; };
+    s.drop = [&](size_t i) { return s.pattern[i].channel == 9 ? 0.07 : 0.02; };
+    const LidarDiagnosis d = diagnoseLidar(s.tally(8, 3), 0.03);
+    const LidarFinding& b = triedOf(d, LidarCause::BiasedChannel);
+    const LidarFinding& c = triedOf(d, LidarCause::DroppingChannel);
+    EXPECT_EQ(b.ring, 4);
+    EXPECT_LT(b.p_value, 1e-6);
+    EXPECT_FALSE(b.named);
+    EXPECT_EQ(c.ring, 9);
+    EXPECT_LT(c.p_value, 1e-6);
+    EXPECT_FALSE(c.named);
+    EXPECT_EQ(d.verdict, "none");
+}
+
+TEST(LidarDiagnosis, AFoldWithoutClearBeamsIsRefused)
+{
+    Synthetic s;
+    s.pattern = spinPattern(4, 8);
+    EXPECT_NE(test::errorOf([&] { diagnoseLidar(s.tally(1, 1), 0.03); }).find("odd frames have no beam"),
+              std::string::npos);
+}
+
+TEST(FrameIndex, BadLinesAreOneLineErrorsNamingTheLine)
+{
+    std::string head = frameIndexHeader();
+    const std::string pose = "0,0,0,1,0,0,0";
+    const std::string good =
+        head + "0,a.pcd,0,0.1," + pose + "," + pose + "\n" + "1,b.pcd,0.1,0.2," + pose + "," + pose + "\n";
+    const std::vector<FrameIndexEntry> e = parseFrameIndex(good, "f.csv");
+    ASSERT_EQ(e.size(), 2u);
+    EXPECT_EQ(e[1].file, "b.pcd");
+    EXPECT_DOUBLE_EQ(e[1].start_s, 0.1);
+    auto err = [&](const std::string& text) { return test::errorOf([&] { parseFrameIndex(text, "f.csv"); }); };
+    EXPECT_NE(err("frame,file\n").find("f.csv:1: the header"), std::string::npos);
+    EXPECT_NE(err("").find("f.csv: is empty"), std::string::npos);
+    EXPECT_NE(err(head + "0,a.pcd,0,0.1\n").find("f.csv:2: 4 fields"), std::string::npos);
+    EXPECT_NE(err(head + "0,../a.pcd,0,0.1," + pose + "," + pose + "\n").find("inside the folder"), std::string::npos);
+    EXPECT_NE(err(head + "0,a.pcd,nan,0.1," + pose + "," + pose + "\n").find("f.csv:2"), std::string::npos);
+    EXPECT_NE(err(head + "0,a.pcd,0.2,0.1," + pose + "," + pose + "\n").find("precedes"), std::string::npos);
+    EXPECT_NE(err(good + "2,c.pcd,0.1,0.3," + pose + "," + pose + "\n").find("f.csv:4: start_s"), std::string::npos);
+    EXPECT_NE(err(good + "2,a.pcd,0.3,0.3," + pose + "," + pose + "\n").find("listed twice"), std::string::npos);
+    EXPECT_NE(err(head + "0,a.pcd,0,0.1,0,0,0,2,0,0,0," + pose + "\n").find("norm 1"), std::string::npos);
+    EXPECT_NE(err(head + "-1,a.pcd,0,0.1," + pose + "," + pose + "\n").find("frame index"), std::string::npos);
+}
+
+namespace {
+
+/// A VLP-16 driving through the factory as smoke fills it: six frames from 38 s (the smoke hides
+/// most of the hall: about one beam in eight is clear), kept in memory (one simulation for every
+/// plant below).
+const std::vector<LidarFrame>& factoryFrames()
+{
+    static const std::vector<LidarFrame> frames = [] {
+        const Scene scene = loadScene("factory_smoke");
+        LidarRunConfig c;
+        c.sensor = "vlp16";
+        c.from_s = 38;
+        c.to_s = 38.55;
+        c.seed = 7;
+        return LidarRun(scene, c).collect();
+    }();
+    return frames;
+}
+
+/// The frames with `plant` applied to each, written as `smokescan scan --points` writes them.
+std::string writeFrames(const std::string& name, const std::function<void(LidarFrame&, KeyedRng&)>& plant)
+{
+    const std::filesystem::path dir = scratch("lidar_diagnosis_" + name);
+    std::ofstream index(dir / "frames.csv");
+    index << frameIndexHeader();
+    for (LidarFrame f : factoryFrames()) {
+        KeyedRng rng(99, f.index);
+        plant(f, rng);
+        const std::string file = std::to_string(f.index) + ".pcd";
+        writePcd((dir / file).string(), f);
+        index << frameIndexRow(f, file);
+    }
+    return dir.string();
+}
+
+LidarDiagnosis diagnoseFrames(const std::string& dir)
+{
+    LidarDiagnoseRunConfig cfg;
+    cfg.scene = "factory_smoke";
+    cfg.points = dir;
+    cfg.sensor.sensor = "vlp16";
+    return runLidarDiagnosis(cfg).diagnosis;
+}
+
+/// The ring with the most clear beams in the clean run (a plant there has beams to show on).
+int busiestRing(const LidarDiagnosis& d)
+{
+    size_t best = 0;
+    for (size_t c = 1; c < d.rings.size(); ++c)
+        if (d.rings[c].clear > d.rings[best].clear) best = c;
+    return int(best);
+}
+
+void removeIf(LidarFrame& f, const std::function<bool(const LidarPoint&)>& gone)
+{
+    f.points.erase(std::remove_if(f.points.begin(), f.points.end(), gone), f.points.end());
+}
+
+}  // namespace
+
+TEST(LidarDiagnosisRun, SimulatedFramesInSmokeNameNothingAndMatchTheirReplay)
+{
+    const LidarDiagnosis d = diagnoseFrames(writeFrames("clean", [](LidarFrame&, KeyedRng&) {}));
+    EXPECT_EQ(d.verdict, "none");
+    EXPECT_EQ(d.frames, 6u);
+    EXPECT_EQ(d.beams, 6 * 16 * 1808);  // the preset's 1808 columns a turn at 10 Hz
+    EXPECT_GT(d.clear, d.beams / 10);  // the hall's walls, machines and floor, out of the smoke
+    EXPECT_LT(d.clear, d.beams / 5);  // the rest hidden or blurred by it
+    EXPECT_EQ(d.unmatched_points, 0);
+    EXPECT_LT(d.pose_mismatch_m, 1e-9);
+    EXPECT_LT(d.pose_mismatch_deg, 1e-6);
+    // The clear beams' residuals are the preset's range noise (VLP-16: 1.5 cm, the datasheet's
+    // ±3 cm as 2 sd) and nearly all certain echoes were recorded.
+    EXPECT_NEAR(d.range_sd_m, 0.015, 0.004);
+    long long missed = 0;
+    for (const LidarGroupStats& g : d.rings) missed += g.missed;
+    EXPECT_LT(double(missed) / double(d.clear), 0.01);
+}
+
+TEST(LidarDiagnosisRun, ChannelWindowAndBiasPlantedInThePointCloudsAreFoundWithTheirTargets)
+{
+    const LidarDiagnosis clean = diagnoseFrames(writeFrames("clean_ref", [](LidarFrame&, KeyedRng&) {}));
+    const int ring = busiestRing(clean);
+    float minRange = 1e9f, maxRange = 0;
+    for (const LidarFrame& f : factoryFrames())
+        for (const LidarPoint& p : f.points)
+            if (p.ring == ring) minRange = std::min(minRange, p.range_m), maxRange = std::max(maxRange, p.range_m);
+    // A weak channel: its faint returns (under the ring's median intensity) lost more often than
+    // its bright ones (70 % against 20 %), where the cause assumes one rate a ring.
+    {
+        const LidarDiagnosis d = diagnoseFrames(writeFrames("weak_channel", [&](LidarFrame& f, KeyedRng& rng) {
+            std::vector<float> in;
+            for (const LidarPoint& p : f.points)
+                if (p.ring == ring) in.push_back(p.intensity);
+            std::nth_element(in.begin(), in.begin() + long(in.size() / 2), in.end());
+            const float median = in[in.size() / 2];
+            removeIf(f, [&](const LidarPoint& p) {
+                return p.ring == ring && rng.uniform() < (p.intensity < median ? 0.7 : 0.2);
+            });
+        }));
+        EXPECT_EQ(d.verdict, "dropping_channel");
+        EXPECT_EQ(triedOf(d, LidarCause::DroppingChannel).ring, ring);
+        EXPECT_NEAR(triedOf(d, LidarCause::DroppingChannel).effect, 0.45, 0.1);
+    }
+    // Soot on the window: every ring's points behind a smudge (dropout 0.8 at azimuth `at` in the
+    // sensor frame, falling off as a Gaussian of 6°), by the point's own direction; `at` where the
+    // clean run's clear beams are densest over 30° (the smoke hides the rest).
+    {
+        const size_t bins = clean.sectors.size();
+        size_t densest = 0;
+        long long most = -1;
+        for (size_t b = 0; b < bins; ++b) {
+            long long n = 0;
+            for (int k = -2; k <= 2; ++k) n += clean.sectors[(b + bins + size_t(k)) % bins].clear;
+            if (n > most) most = n, densest = b;
+        }
+        const double at = -180 + (double(densest) + 0.5) * clean.sector_deg;
+        const LidarDiagnosis d = diagnoseFrames(writeFrames("smudge", [&](LidarFrame& f, KeyedRng& rng) {
+            removeIf(f, [&](const LidarPoint& p) {
+                const double u = std::remainder(std::atan2(p.y, p.x) / kDeg - at, 360.0) / 6;
+                return rng.uniform() < 0.8 * std::exp(-0.5 * u * u);
+            });
+        }));
+        EXPECT_EQ(d.verdict, "window_sector");
+        const LidarFinding& w = triedOf(d, LidarCause::WindowSector);
+        // The sector holds the smudge's centre and lies within its 3 sd (no sector across ±180°
+        // here: the densest bins are not there).
+        ASSERT_LT(std::abs(at), 150) << "the smudge's centre";
+        EXPECT_LE(w.from_deg, at);
+        EXPECT_GE(w.to_deg, at);
+        EXPECT_GE(w.from_deg, at - 18);
+        EXPECT_LE(w.to_deg, at + 18);
+    }
+    // A channel whose ranges are stretched by 4 % (a clock error), not offset by a constant.
+    {
+        const LidarDiagnosis d = diagnoseFrames(writeFrames("stretched", [&](LidarFrame& f, KeyedRng&) {
+            for (LidarPoint& p : f.points)
+                if (p.ring == ring) {
+                    p.x *= 1.04f;
+                    p.y *= 1.04f;
+                    p.z *= 1.04f;
+                }
+        }));
+        EXPECT_EQ(d.verdict, "biased_channel");
+        const LidarFinding& b = triedOf(d, LidarCause::BiasedChannel);
+        EXPECT_EQ(b.ring, ring);
+        // 4 % of the ring's ranges: between 4 % of its nearest and of its farthest clear return.
+        EXPECT_GT(b.effect, 0.04 * minRange);
+        EXPECT_LT(b.effect, 0.04 * maxRange);
+    }
+}
+
+TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
+{
+    const std::string dir = writeFrames("refused", [](LidarFrame&, KeyedRng&) {});
+    LidarDiagnoseRunConfig cfg;
+    cfg.scene = "factory_smoke";
+    cfg.points = dir;
+    cfg.sensor.sensor = "hdl32e";  // another lidar's pattern: its rings and times do not match
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("match no beam of the hdl32e"), std::string::npos)
+        << test::errorOf([&] { runLidarDiagnosis(cfg); });
+    cfg.sensor.sensor = "vlp16";
+    cfg.points = (scratch("lidar_diagnosis_empty")).string();
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("frames.csv"), std::string::npos);
+}
