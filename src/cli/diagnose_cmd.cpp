@@ -49,13 +49,9 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
     say("verdict: %s\n", d.verdict.c_str());
     for (const LidarFinding& f : d.tried) {
         if (!f.named) continue;
-        if (f.cause == LidarCause::WindowSector)
-            say("  %s at azimuth %.1f..%.1f deg: missed share +%.3f +/- %.2g;", lidarCauseName(f.cause), f.from_deg,
-                f.to_deg, f.effect, f.effect_se);
-        else
-            say("  %s on ring %d: %s %.4g +/- %.2g%s;", lidarCauseName(f.cause), f.ring,
-                f.cause == LidarCause::BiasedChannel ? "range bias" : "missed share +", f.effect, f.effect_se,
-                f.cause == LidarCause::BiasedChannel ? " m" : "");
+        say("  %s on %s: %s %+.4g +/- %.2g%s;", lidarCauseName(f.cause), lidarFindingTarget(d, f).c_str(),
+            f.cause == LidarCause::BiasedChannel ? "range bias" : "share", f.effect, f.effect_se,
+            f.cause == LidarCause::BiasedChannel ? " m" : "");
         say(" held-out gain %.4g nats, p = %.2g\n", f.gain_nats, f.p_value);
     }
     say("%zu frames, %lld clear beams compared; recorded poses within %.3g m and %.3g deg of the scene's\n", d.frames,

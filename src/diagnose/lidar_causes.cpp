@@ -222,6 +222,55 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
     return f;
 }
 
+/// An outcome's recorded count against its chance: the excess share, its se, z.
+void testOutcomes(const LidarOutcomes& o, LidarFinding& f)
+{
+    f.tested = o.beams > 0 && o.variance > 0;
+    if (!f.tested) return;
+    const double z = (o.observed - o.expected) / std::sqrt(o.variance);
+    f.effect = (o.observed - o.expected) / double(o.beams);
+    f.effect_se = std::sqrt(o.variance) / double(o.beams);
+    f.gain_nats = 0.5 * z * z;
+    f.p_value = 0.5 * std::erfc(z / std::sqrt(2.0));  // one-sided, more than its chance
+}
+
+/// Smoke echoes taken as first returns: more short returns than the replay's chances, over every
+/// frame (nothing is chosen, so nothing needs holding out).
+LidarFinding smokeFirstReturns(const LidarTally& t, const LidarDiagnosisConfig& cfg)
+{
+    LidarFinding f;
+    f.cause = LidarCause::SmokeFirstReturns;
+    f.floor = cfg.min_dropout;
+    LidarOutcomes o = t.fold(0).short_returns;
+    o += t.fold(1).short_returns;
+    testOutcomes(o, f);
+    return f;
+}
+
+/// A surface's threshold: the surface whose returns stand furthest from their chance on fold 0
+/// (in their own error, 20 beams at least), tested on fold 1, two-sided.
+LidarFinding surfaceThreshold(const LidarTally& t, const LidarDiagnosisConfig& cfg)
+{
+    LidarFinding f;
+    f.cause = LidarCause::SurfaceThreshold;
+    f.floor = cfg.min_dropout;
+    double best = 0;
+    for (const auto& [surface, o] : t.fold(0).surface_returns) {
+        if (o.beams < 20 || !(o.variance > 0)) continue;
+        const double z = std::abs(o.observed - o.expected) / std::sqrt(o.variance);
+        if (z > best) best = z, f.surface = surface;
+    }
+    if (f.surface < 0) return f;
+    const auto held = t.fold(1).surface_returns.find(f.surface);
+    if (held == t.fold(1).surface_returns.end()) return f;
+    testOutcomes(held->second, f);
+    if (f.tested) {
+        const double z = f.effect / f.effect_se;
+        f.p_value = std::erfc(std::abs(z) / std::sqrt(2.0));
+    }
+    return f;
+}
+
 /// Both folds' stats of the beams `in` selects.
 template <typename In>
 LidarGroupStats groupStats(const LidarTally& t, In in)
@@ -248,6 +297,10 @@ const char* lidarCauseName(LidarCause c)
         return "window_sector";
     case LidarCause::BiasedChannel:
         return "biased_channel";
+    case LidarCause::SmokeFirstReturns:
+        return "smoke_first_returns";
+    case LidarCause::SurfaceThreshold:
+        return "surface_threshold";
     }
     return "?";
 }
@@ -288,7 +341,7 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
         g.median_residual_m = NAN;  // residuals are kept by channel
         d.sectors.push_back(g);
     }
-    const double each = cfg.level / 3;  // Bonferroni over the three causes
+    const double each = cfg.level / 5;  // Bonferroni over the five causes
     auto judge = [&](LidarFinding& f) { f.named = f.tested && f.p_value < each && std::abs(f.effect) >= f.floor; };
     int start = -1, width = 0;
     LidarFinding window = windowSector(t, cfg, start, width);
@@ -297,7 +350,13 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
     judge(channel);
     LidarFinding bias = biasedChannel(t, range_sigma_m, cfg);
     judge(bias);
-    d.tried = {channel, window, bias};
+    LidarFinding smoke = smokeFirstReturns(t, cfg);
+    judge(smoke);
+    LidarFinding surface = surfaceThreshold(t, cfg);
+    judge(surface);
+    d.tried = {channel, window, bias, smoke, surface};
+    for (int k = 0; k < 2; ++k)
+        for (const auto& [s, o] : t.fold(k).surface_returns) d.surfaces[s] += o;
     for (const LidarFinding& f : d.tried)
         if (f.named) d.verdict += (d.verdict.empty() ? "" : ", ") + std::string(lidarCauseName(f.cause));
     if (d.verdict.empty()) d.verdict = "none";

@@ -19,11 +19,28 @@ nlohmann::json groupJson(const LidarGroupStats& g)
             {"median_residual_m", g.matched > 0 ? num(g.median_residual_m) : nullptr}};
 }
 
-std::string targetText(const LidarFinding& f)
+std::string surfaceName(const LidarDiagnosis& d, int s)
 {
-    if (f.cause == LidarCause::WindowSector) return fmt("azimuth %.1f..%.1f deg", f.from_deg, f.to_deg);
-    return f.ring >= 0 ? fmt("ring %d", f.ring) : std::string("-");
+    return s >= 0 && size_t(s) < d.surface_names.size() ? d.surface_names[size_t(s)] : "surface " + std::to_string(s);
 }
+
+}  // namespace
+
+std::string lidarFindingTarget(const LidarDiagnosis& d, const LidarFinding& f)
+{
+    switch (f.cause) {
+    case LidarCause::WindowSector:
+        return f.from_deg == f.to_deg ? std::string("-") : fmt("azimuth %.1f..%.1f deg", f.from_deg, f.to_deg);
+    case LidarCause::SurfaceThreshold:
+        return f.surface >= 0 ? surfaceName(d, f.surface) : std::string("-");
+    case LidarCause::SmokeFirstReturns:
+        return "every beam in smoke";
+    default:
+        return f.ring >= 0 ? fmt("ring %d", f.ring) : std::string("-");
+    }
+}
+
+namespace {
 
 const char* effectUnit(const LidarFinding& f) { return f.cause == LidarCause::BiasedChannel ? "m" : "share"; }
 
@@ -55,7 +72,9 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
         if (f.cause == LidarCause::WindowSector) {
             t["from_deg"] = num(f.from_deg);
             t["to_deg"] = num(f.to_deg);
-        } else {
+        } else if (f.cause == LidarCause::SurfaceThreshold) {
+            t["surface"] = f.surface >= 0 ? nlohmann::json(surfaceName(d, f.surface)) : nlohmann::json(nullptr);
+        } else if (f.cause != LidarCause::SmokeFirstReturns) {
             t["ring"] = f.ring;
         }
         tried.push_back(t);
@@ -76,6 +95,14 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
     }
     j["rings"] = rings;
     j["sectors"] = sectors;
+    nlohmann::json surfaces = nlohmann::json::array();
+    for (const auto& [sf, o] : d.surfaces)
+        surfaces.push_back({{"surface", surfaceName(d, sf)},
+                            {"beams", o.beams},
+                            {"returned", o.observed},
+                            {"chance_sum", num(o.expected)},
+                            {"sd", num(std::sqrt(o.variance))}});
+    j["surfaces_in_smoke"] = surfaces;
     return j.dump(2) + "\n";
 }
 
@@ -93,7 +120,7 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
     s += "|---|---|---|---|---|---|---|---|\n";
     for (const LidarFinding& f : d.tried)
         s += fmt("| %s | %s | %.4g %s | %.2g | %.3g | %.4g | %s | %s |\n", lidarCauseName(f.cause),
-                 targetText(f).c_str(), f.effect, effectUnit(f), f.effect_se, f.floor, f.gain_nats,
+                 lidarFindingTarget(d, f).c_str(), f.effect, effectUnit(f), f.effect_se, f.floor, f.gain_nats,
                  f.tested ? fmt("%.2g", f.p_value).c_str() : "-", f.named ? "yes" : "no");
     s += "\n## Channels\n\n| ring | clear | missed share | median residual [m] |\n|---|---|---|---|\n";
     for (size_t c = 0; c < d.rings.size(); ++c) {
@@ -101,6 +128,11 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
         s += fmt("| %zu | %lld | %.4f | %s |\n", c, g.clear, g.clear ? double(g.missed) / double(g.clear) : 0.0,
                  g.matched ? fmt("%.4f", g.median_residual_m).c_str() : "-");
     }
+    s += "\n## Surfaces in smoke (beams that are not clear)\n\n| surface | beams | returned | chance | sd |\n"
+         "|---|---|---|---|---|\n";
+    for (const auto& [sf, o] : d.surfaces)
+        s += fmt("| %s | %lld | %.0f | %.1f | %.1f |\n", surfaceName(d, sf).c_str(), o.beams, o.observed, o.expected,
+                 std::sqrt(o.variance));
     s += "\n## Azimuth sectors (sensor frame)\n\n| from [deg] | to [deg] | clear | missed share |\n|---|---|---|---|\n";
     for (size_t b = 0; b < d.sectors.size(); ++b) {
         const LidarGroupStats& g = d.sectors[b];

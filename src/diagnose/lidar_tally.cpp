@@ -8,8 +8,10 @@
 
 namespace smokescan {
 
-LidarTally::LidarTally(const std::vector<PatternBeam>& pattern, int channels) : pattern_(pattern), channels_(channels)
+LidarTally::LidarTally(const std::vector<PatternBeam>& pattern, int channels, double tolerance_m)
+    : pattern_(pattern), channels_(channels), tolerance_m_(tolerance_m)
 {
+    if (!(tolerance_m_ > 0)) throw Error("lidar diagnosis", "the return tolerance must be > 0");
     if (channels_ <= 0 || pattern_.empty()) throw Error("lidar diagnosis", "the sensor's pattern has no beams");
     by_ring_.resize(size_t(channels_));
     for (size_t i = 0; i < pattern_.size(); ++i) {
@@ -74,7 +76,10 @@ void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vecto
     }
     Fold& f = fold_[fold];
     for (size_t i = 0; i < n; ++i) {
-        if (!expected[i].clear) continue;
+        if (!expected[i].clear) {
+            addOutcomes(expected[i], std::isnan(got[i]) ? 0.0 : double(got[i]), f);
+            continue;
+        }
         ++f.clear[i];
         if (std::isnan(got[i]))
             ++f.missed[i];
@@ -82,6 +87,34 @@ void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vecto
             f.residual_m[size_t(pattern_[i].channel)].push_back(got[i] - expected[i].range_m);
     }
     ++frames_;
+}
+
+namespace {
+
+/// One beam's outcome into the sums: p, its chance, is a share of `draws` noise draws (unbiased);
+/// its variance is taken at (p·draws + ½)/(draws + 1), off 0 and 1 (a chance under 1/draws is seen
+/// as 0 by the draws but not by the recorder), with the draws' own error beside the beam's.
+void count(LidarOutcomes& o, bool happened, double p, double draws)
+{
+    const double q = (p * draws + 0.5) / (draws + 1);
+    o.observed += happened;
+    o.expected += p;
+    o.variance += q * (1 - q) * (1 + 1 / draws);
+    ++o.beams;
+}
+
+}  // namespace
+
+void LidarTally::addOutcomes(const ExpectedBeam& x, double recorded_m, Fold& f) const
+{
+    if (x.p_none >= 1) return;  // nothing the noise could lift over the threshold
+    const ReturnClass c = classifyReturn(recorded_m, x.surface_range_m, tolerance_m_);
+    count(f.short_returns, c == ReturnClass::Short, x.p_short, kOutcomeDraws);
+    // The surface's returns given the first return is not short (a smoke echo before it, which
+    // the short returns' own test speaks for).
+    if (x.surface < 0 || c == ReturnClass::Short || x.p_short >= 1) return;
+    count(f.surface_returns[x.surface], c == ReturnClass::Surface, x.p_surface / (1 - x.p_short),
+          kOutcomeDraws * (1 - x.p_short));
 }
 
 }  // namespace smokescan

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
@@ -71,10 +72,14 @@ double refinedLead(const Waveform& f, const WaveformEcho& e, double peak)
 
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
 {
-    const PhysicalParams& p = spec.receiver;
     // Two samples per pulse σ: the peak and the leading edge each from a log-parabola through the
     // samples around them, exact for a lone Gaussian pulse.
-    Waveform f = pulsedWaveform(spec.range_max_m, p, s, 2);
+    return receiveEchoes(spec, s, pulsedWaveform(spec.range_max_m, spec.receiver, s, 2), rng);
+}
+
+std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, Waveform f, KeyedRng* rng)
+{
+    const PhysicalParams& p = spec.receiver;
     std::vector<LidarEcho> out;
     if (f.w.empty()) return out;
     if (rng)
@@ -157,6 +162,7 @@ struct LidarScanner::FrameSetup {
     double start_s = 0, end_s = 0;
     Pose start_pose, end_pose;
     SmokeField field;
+    uint64_t key = 0;  ///< the start time's bits: keys the replay's noise draws
 };
 
 LidarScanner::FrameSetup LidarScanner::setup(double start_s) const
@@ -166,49 +172,108 @@ LidarScanner::FrameSetup LidarScanner::setup(double start_s) const
     f.end_pose = scene_.sensorAt(mount_, f.end_s).pose;
     f.field = SmokeField::at(scene_.volumes, 0.5 * (f.start_s + f.end_s));
     f.field.prepare(spec_.wavelength_nm);
+    std::memcpy(&f.key, &start_s, sizeof f.key);
     return f;
 }
 
-BeamSignal LidarScanner::signal(const FrameSetup& f, size_t i) const
+BeamSignal LidarScanner::signal(const FrameSetup& f, size_t i, SurfaceHit* hit) const
 {
     const Pose pose = mount_.robot >= 0 ? scene_.sensorAt(mount_, f.start_s + pattern_[i].time_s).pose : f.start_pose;
     const Ray ray{pose.t, pose.rotate(local_[i]).normalized()};
-    return traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_, surfaces_, f.field,
-                           nullptr, nullptr);
+    return traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_, surfaces_, f.field, hit,
+                           nullptr);
+}
+
+double returnTolerance_m(const LidarSpec& spec)
+{
+    return 0.5 * 2.354820045 * pulseSigma_m(spec.receiver) + 4 * spec.range_sigma_m;
+}
+
+ReturnClass classifyReturn(double range_m, double surface_range_m, double tolerance_m)
+{
+    if (!(range_m > 0)) return ReturnClass::None;
+    if (range_m < surface_range_m - tolerance_m) return ReturnClass::Short;
+    if (range_m <= surface_range_m + tolerance_m) return ReturnClass::Surface;
+    return ReturnClass::Beyond;
+}
+
+namespace {
+
+/// The first kept return's class in `draws` noisy receptions of the beam: the shares of none,
+/// short and at the surface.
+void outcomeShares(const LidarSpec& spec, ReturnMode mode, const BeamSignal& sig, const Waveform& base, uint64_t key,
+                   size_t beam, ExpectedBeam& x)
+{
+    const double tol = returnTolerance_m(spec);
+    int count[4] = {0, 0, 0, 0};
+    for (int k = 0; k < kOutcomeDraws; ++k) {
+        KeyedRng rng(kOutcomeSeed, key, uint64_t(beam), uint64_t(k));
+        const std::vector<LidarEcho> e = receiveEchoes(spec, sig, base, &rng);
+        const std::vector<size_t> kept = selectReturns(e, mode, spec.dual_second_strongest);
+        ++count[int(classifyReturn(kept.empty() ? 0.0 : e[kept.front()].range_m, x.surface_range_m, tol))];
+    }
+    x.p_none = float(count[int(ReturnClass::None)]) / kOutcomeDraws;
+    x.p_short = float(count[int(ReturnClass::Short)]) / kOutcomeDraws;
+    x.p_surface = float(count[int(ReturnClass::Surface)]) / kOutcomeDraws;
+}
+
+}  // namespace
+
+ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i) const
+{
+    const PhysicalParams& p = spec_.receiver;
+    SurfaceHit hit;
+    const BeamSignal sig = signal(f, i, &hit);
+    ExpectedBeam x;
+    const Waveform base = pulsedWaveform(spec_.range_max_m, p, sig, 2);
+    // What the receiver could see with the noise: its echoes at a threshold kClearMarginSd sd lower.
+    const std::vector<LidarEcho> faint = receiveEchoes(low, sig, base, nullptr);
+    const double pulse_m = 2.354820045 * pulseSigma_m(p);
+    if (hit.hit && hit.t_m <= spec_.range_max_m) {
+        x.surface = hit.surface;
+        x.surface_range_m = float(hit.t_m);
+        // Where its echo reads: the faint surface echo nearest the hit, within a pulse's length.
+        double best = pulse_m;
+        for (const LidarEcho& e : faint)
+            if (e.source == EchoSource::Surface && std::abs(e.range_m - hit.t_m) < best)
+                best = std::abs(e.range_m - hit.t_m), x.surface_range_m = float(e.range_m);
+    }
+    const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, base, nullptr);
+    const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
+    if (!kept.empty()) {
+        const LidarEcho& e = echoes[kept.front()];
+        x.range_m = float(e.range_m);
+        x.margin_sd = float((e.peak - p.threshold_snr * p.noise_floor) / p.noise_floor);
+        x.source = uint8_t(e.source);
+        // The echo must still stand on its own at the lower threshold (not merged into a run that
+        // starts in the blind zone, e.g. the near field's smoke) and no other source may speak.
+        const bool alone = std::any_of(faint.begin(), faint.end(), [&](const LidarEcho& g) {
+            return g.source == EchoSource::Surface && std::abs(g.range_m - e.range_m) < pulse_m;
+        });
+        x.clear = e.source == EchoSource::Surface && x.margin_sd >= kClearMarginSd && alone &&
+            std::none_of(faint.begin(), faint.end(),
+                         [](const LidarEcho& g) { return g.source != EchoSource::Surface; });
+    }
+    if (x.clear) {
+        const ReturnClass c = classifyReturn(x.range_m, x.surface_range_m, returnTolerance_m(spec_));
+        x.p_none = 0;
+        x.p_short = c == ReturnClass::Short;
+        x.p_surface = c == ReturnClass::Surface;
+    } else if (!waveformEchoes(base, low.receiver.threshold_snr * p.noise_floor, 1).empty()) {
+        // Some run the noise could lift over the threshold (or merge with the blind zone's, and so
+        // lose an echo): the chances from draws of the noise.
+        outcomeShares(spec_, mode_, sig, base, f.key, i, x);
+    }
+    return x;
 }
 
 std::vector<ExpectedBeam> LidarScanner::expected(double start_s) const
 {
     const FrameSetup f = setup(start_s);
-    const PhysicalParams& p = spec_.receiver;
-    const double threshold = p.threshold_snr * p.noise_floor;
-    // The receiver with its threshold kClearMarginSd noise sd lower: a smoke echo it sees could
-    // cross the real threshold with the noise.
     LidarSpec low = spec_;
-    low.receiver.threshold_snr = std::max(0.0, p.threshold_snr - kClearMarginSd);
+    low.receiver.threshold_snr = std::max(0.0, spec_.receiver.threshold_snr - kClearMarginSd);
     std::vector<ExpectedBeam> out(pattern_.size());
-    tbb::parallel_for(size_t(0), pattern_.size(), [&](size_t i) {
-        const BeamSignal sig = signal(f, i);
-        const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, nullptr);
-        const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
-        if (kept.empty()) return;
-        const LidarEcho& e = echoes[kept.front()];
-        ExpectedBeam& x = out[i];
-        x.range_m = float(e.range_m);
-        x.margin_sd = float((e.peak - threshold) / p.noise_floor);
-        x.source = uint8_t(e.source);
-        if (e.source != EchoSource::Surface || x.margin_sd < kClearMarginSd) return;
-        // At the lower threshold the echo must still stand on its own (not merged into a run that
-        // starts in the blind zone, e.g. the near field's smoke) and no other source may speak.
-        const std::vector<LidarEcho> faint = receiveEchoes(low, sig, nullptr);
-        const double pulse_m = 2.354820045 * pulseSigma_m(p);
-        const bool alone = std::any_of(faint.begin(), faint.end(), [&](const LidarEcho& f) {
-            return f.source == EchoSource::Surface && std::abs(f.range_m - e.range_m) < pulse_m;
-        });
-        x.clear = alone && std::none_of(faint.begin(), faint.end(), [](const LidarEcho& f) {
-                      return f.source != EchoSource::Surface;
-                  });
-    });
+    tbb::parallel_for(size_t(0), pattern_.size(), [&](size_t i) { out[i] = expectedBeam(f, low, i); });
     return out;
 }
 
@@ -230,7 +295,7 @@ LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
         const PatternBeam& b = pattern_[i];
         const Vec3& local = local_[i];
-        const BeamSignal sig = signal(f, i);
+        const BeamSignal sig = signal(f, i, nullptr);
         KeyedRng rng(seed_, index, uint64_t(i));
         const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
         const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);

@@ -19,6 +19,17 @@ bool hasField(const PointCloudFile& pc, const char* a, const char* b = nullptr)
                        [&](const std::string& f) { return f == a || (b && f == b); });
 }
 
+/// Refuses frames whose points mostly match no beam of the sensor (checked as they come).
+void checkMatched(long long unmatched, long long first_returns, const std::string& points, const std::string& sensor)
+{
+    if (2 * unmatched > first_returns)
+        throw Error(points,
+                    std::to_string(unmatched) + " of " + std::to_string(first_returns) +
+                        " points match no beam of the " + sensor +
+                        " (by ring, firing time and direction): are these its frames, at its rate and "
+                        "columns?");
+}
+
 }  // namespace
 
 LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, const RunControl& control)
@@ -44,7 +55,7 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
                         limits::count(double(scanner.pattern().size())) + " beams would keep " +
                         limits::count(readings) + " readings (at most " + std::to_string(limits::kKeptReadings) +
                         "; fewer frames)");
-    LidarTally tally(scanner.pattern(), run.spec().channels());
+    LidarTally tally(scanner.pattern(), run.spec().channels(), returnTolerance_m(run.spec()));
     LidarDiagnoseRunResult out;
     out.sensor = run.spec().name;
     double mismatch_m = 0, mismatch_deg = 0;
@@ -60,18 +71,16 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
                         "firing time");
         for (const LidarPoint& p : pc.points) first_returns += p.return_index == 0;
         tally.add(scanner.expected(e.start_s), pc.points, int(k % 2));
+        if (first_returns >= 1000) checkMatched(tally.unmatched(), first_returns, cfg.points, out.sensor);
         const Pose scene_pose = scene.sensorAt(run.mount(), e.start_s).pose;
         mismatch_m = std::max(mismatch_m, (scene_pose.t - e.start_pose.t).norm());
         const double angle = Eigen::AngleAxisd(scene_pose.R.transpose() * e.start_pose.R).angle() * 180 / M_PI;
         mismatch_deg = std::max(mismatch_deg, angle);
         reportProgress(control, (long long)k + 1, (long long)frames.size());
     }
-    if (2 * tally.unmatched() > first_returns)
-        throw Error(cfg.points,
-                    std::to_string(tally.unmatched()) + " of " + std::to_string(first_returns) +
-                        " points match no beam of the " + out.sensor +
-                        " (by ring and firing time): are these its frames, at its rate and columns?");
+    checkMatched(tally.unmatched(), first_returns, cfg.points, out.sensor);
     out.diagnosis = diagnoseLidar(tally, run.spec().range_sigma_m, cfg.diag);
+    for (const Surface& sf : scene.surfaces) out.diagnosis.surface_names.push_back(sf.name);
     out.diagnosis.pose_mismatch_m = mismatch_m;
     out.diagnosis.pose_mismatch_deg = mismatch_deg;
     return out;

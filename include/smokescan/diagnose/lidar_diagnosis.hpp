@@ -16,11 +16,16 @@
 /// | min_dropout   | 0.1     | –    | floor: the smallest excess of missed returns named (a channel, a sector) |
 /// | min_bias_sd   | 1       | –    | floor: the smallest channel range bias named, in the datasheet's range sd |
 ///
-/// Causes (LidarCause): a dropping channel (dead or weak: returns missing on one ring, all
-/// azimuths), a dirty-window sector (returns missing on every ring within a span of azimuth), a
-/// biased channel (one ring's ranges offset from the others'). A cause is named when its held-out
-/// test passes at level/3 and its held-out effect reaches its floor.
+/// Causes (LidarCause), on the clear beams: a dropping channel (dead or weak: returns missing on
+/// one ring, all azimuths), a dirty-window sector (returns missing on every ring within a span of
+/// azimuth), a biased channel (one ring's ranges offset from the others'); on the beams that are
+/// not clear, against the replay's chances under the receiver's noise: smoke echoes taken as first
+/// returns (more short returns than the replay gives, all frames: nothing is searched), a
+/// surface's threshold (a surface returned more or less often than its chance, given the return is
+/// not short). A cause is named when its held-out test passes at level/5 and its held-out effect
+/// reaches its floor (min_dropout for the shares).
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -36,19 +41,22 @@ struct LidarDiagnosisConfig {
     double min_bias_sd = 1;
 };
 
-enum class LidarCause { DroppingChannel, WindowSector, BiasedChannel };
+enum class LidarCause { DroppingChannel, WindowSector, BiasedChannel, SmokeFirstReturns, SurfaceThreshold };
 const char* lidarCauseName(LidarCause c);
 
 /// One cause's candidate, searched on the even frames and tested on the odd ones.
 struct LidarFinding {
     LidarCause cause = LidarCause::DroppingChannel;
     int ring = -1;  ///< the channel (DroppingChannel, BiasedChannel)
+    int surface = -1;  ///< the surface (SurfaceThreshold): Scene::surfaces index
     double from_deg = 0, to_deg = 0;  ///< the sector's azimuths in the sensor frame (WindowSector)
-    double effect = 0, effect_se = 0;  ///< held out: excess missed share, or range bias [m]
+    /// Held out: excess missed share (channel, sector), range bias [m], excess short share (smoke
+    /// first returns), surface returns' share over their chance (surface threshold; < 0: fewer)
+    double effect = 0, effect_se = 0;
     double floor = 0;  ///< the cause's floor in the effect's unit
     double gain_nats = 0;  ///< held-out log-likelihood gain of the candidate over none
-    double p_value = 1;  ///< held-out, one-sided (dropouts) or two-sided (bias)
-    bool named = false;  ///< p < level/3 and effect at least its floor
+    double p_value = 1;  ///< held out; one-sided for dropouts and smoke returns, else two-sided
+    bool named = false;  ///< p < level/5 and |effect| at least its floor
     bool tested = false;  ///< false: no candidate (no beams or no excess on the search fold)
 };
 
@@ -60,6 +68,19 @@ struct LidarGroupStats {
     double median_residual_m = 0;  ///< recorded − replayed range, median (0 when none matched)
 };
 
+/// Recorded outcomes of a kind against the replay's chances of them, over some beams.
+struct LidarOutcomes {
+    double observed = 0;  ///< beams where it happened
+    double expected = 0;  ///< Σ its chance
+    double variance = 0;  ///< Σ p(1 − p)(1 + 1/draws), p taken off 0 and 1 as draws of ½ (lidar_tally.cpp)
+    long long beams = 0;
+    LidarOutcomes& operator+=(const LidarOutcomes& o)
+    {
+        observed += o.observed, expected += o.expected, variance += o.variance, beams += o.beams;
+        return *this;
+    }
+};
+
 /// What the frames say: counts, group tables, each cause's test and the verdict.
 struct LidarDiagnosis {
     size_t frames = 0;
@@ -69,6 +90,9 @@ struct LidarDiagnosis {
     std::vector<LidarGroupStats> sectors;  ///< by azimuth bin from −180°, sector_deg wide
     double sector_deg = 5;
     std::vector<LidarFinding> tried;  ///< one per cause
+    /// Per surface seen (index into surface_names): both folds' surface returns against their chance.
+    std::map<int, LidarOutcomes> surfaces;
+    std::vector<std::string> surface_names;  ///< the scene's surfaces (set by the caller), for reports
     std::string verdict;  ///< "none" or the named causes, comma-separated
     /// The largest difference between a frame's recorded start pose and the scene's pose of the
     /// sensor then (set by the caller that reads the frames): position [m] and angle [deg].
@@ -82,7 +106,8 @@ inline constexpr double kMatchDeg = 1;
 class LidarTally {
 public:
     /// @param pattern the frame's beams (LidarScanner::pattern)
-    LidarTally(const std::vector<PatternBeam>& pattern, int channels);
+    /// @param tolerance_m classifyReturn's tolerance (returnTolerance_m of the sensor)
+    LidarTally(const std::vector<PatternBeam>& pattern, int channels, double tolerance_m);
     /// @brief Adds one frame: the replay's beams (in pattern order) and the recorded points
     /// (ring and time from the frame's start identify a point's beam, its direction within
     /// kMatchDeg confirms it; return_index 0 is its first kept return; any other point is
@@ -90,9 +115,17 @@ public:
     void add(const std::vector<ExpectedBeam>& expected, const std::vector<LidarPoint>& recorded, int fold);
     size_t frames() const { return frames_; }
 
+    using Outcomes = LidarOutcomes;
     struct Fold {
         std::vector<uint32_t> clear, missed;  ///< per beam of the pattern
         std::vector<std::vector<float>> residual_m;  ///< per channel: recorded − replayed range
+        /// Short first returns (smoke before the surface) on beams that are not clear and could
+        /// return something.
+        Outcomes short_returns;
+        /// Per surface (Scene::surfaces index): first returns at the surface, on beams that are
+        /// not clear, whose surface's echo the noise could lift over the threshold and whose
+        /// recorded return is not short; their chance given not short.
+        std::map<int, Outcomes> surface_returns;
     };
     const Fold& fold(int k) const { return fold_[k]; }
     const std::vector<PatternBeam>& pattern() const { return pattern_; }
@@ -100,8 +133,11 @@ public:
     long long unmatched() const { return unmatched_; }
 
 private:
+    void addOutcomes(const ExpectedBeam& x, double recorded_m, Fold& f) const;
+
     std::vector<PatternBeam> pattern_;
     int channels_ = 0;
+    double tolerance_m_ = 0;
     std::vector<std::vector<std::pair<double, uint32_t>>> by_ring_;  ///< (time, beam), by time
     Fold fold_[2];
     size_t frames_ = 0;
@@ -113,6 +149,8 @@ private:
 /// @throw Error when either fold has no clear beam.
 LidarDiagnosis diagnoseLidar(const LidarTally& tally, double range_sigma_m, const LidarDiagnosisConfig& cfg = {});
 
+/// @brief A finding's target as text: "ring 3", "azimuth 10.0..25.0 deg", a surface's name.
+std::string lidarFindingTarget(const LidarDiagnosis& d, const LidarFinding& f);
 /// @brief The diagnosis as JSON text (diagnosis.json of `smokescan diagnose --points`).
 std::string lidarDiagnosisJson(const LidarDiagnosis& d);
 /// @brief The diagnosis as a Markdown report (report.md).

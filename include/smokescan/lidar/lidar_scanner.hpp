@@ -34,6 +34,9 @@ struct LidarEcho {
 /// waveform's runs above threshold_snr × noise (with the receiver's noise when `rng` is given),
 /// within the range window, at most max_echoes; each range with the datasheet noise when `rng` is given.
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& signal, KeyedRng* rng);
+/// @brief The same from the beam's noise-free waveform (pulsedWaveform at 2 samples per σ),
+/// for draws of the noise on one waveform.
+std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& signal, Waveform waveform, KeyedRng* rng);
 
 /// @brief Which of a beam's echoes (indices into `echoes`, in range order) a return mode keeps:
 /// first, last, strongest, or dual (strongest and last, or strongest and second strongest, as the
@@ -61,12 +64,34 @@ struct LidarFrame {
     std::vector<float> range_image;  ///< channels × columns: the first kept return's range, 0 none
 };
 
-/// What a beam's receiver reports without its noise: the replay a diagnosis compares recorded
-/// frames with (diagnose/lidar_diagnosis.hpp).
+/// Where a beam's first kept return lies against the surface its central ray hits.
+enum class ReturnClass { None, Short, Surface, Beyond };
+
+/// @brief A return's class: none (range 0), short (nearer than the surface's echo by more than
+/// the tolerance: smoke, or something in front), at the surface (within it), beyond.
+/// @param surface_range_m where the surface's echo reads (+inf: no surface in range)
+ReturnClass classifyReturn(double range_m, double surface_range_m, double tolerance_m);
+/// @brief The tolerance classifyReturn takes for a sensor: half its pulse's FWHM in range and 4
+/// range sd.
+double returnTolerance_m(const LidarSpec& spec);
+
+/// Noise draws per uncertain beam in LidarScanner::expected, and their seed.
+inline constexpr int kOutcomeDraws = 32;
+inline constexpr uint64_t kOutcomeSeed = 0x6f7574636f6d65ULL;
+
+/// What a beam's receiver reports without its noise, and the chances of each kind of first
+/// return with it: the replay a diagnosis compares recorded frames with
+/// (diagnose/lidar_diagnosis.hpp).
 struct ExpectedBeam {
-    float range_m = 0;  ///< the return mode's first kept echo [m]; 0: none
+    float range_m = 0;  ///< the return mode's first kept echo without noise [m]; 0: none
     float margin_sd = 0;  ///< that echo's peak above the detection threshold, in noise sd
     uint8_t source = 0;  ///< that echo's EchoSource
+    int surface = -1;  ///< the surface the central ray hits within range (Scene::surfaces), -1 none
+    float surface_range_m = INFINITY;  ///< where that surface's echo reads [m]
+    /// With the receiver's noise, the chance that the first kept return is none, short or at the
+    /// surface (classifyReturn): exact for a clear beam or one whose waveform has no run within
+    /// kClearMarginSd noise sd of the threshold, else the shares of kOutcomeDraws draws.
+    float p_none = 1, p_short = 0, p_surface = 0;
     /// A surface echo at least kClearMarginSd noise sd above the threshold, and no smoke or
     /// mirror echo even with the threshold kClearMarginSd noise sd lower: the receiver's noise can
     /// neither lose the echo nor add another.
@@ -110,8 +135,10 @@ private:
     /// The frame's timing, poses and smoke (frame() and expected() share them).
     struct FrameSetup;
     FrameSetup setup(double start_s) const;
-    /// Beam i's signal in the frame `f`.
-    BeamSignal signal(const FrameSetup& f, size_t i) const;
+    /// Beam i's signal in the frame `f`; the central ray's hit into `hit` (may be null).
+    BeamSignal signal(const FrameSetup& f, size_t i, SurfaceHit* hit) const;
+    /// Beam i of the frame `f` replayed; `low` is the spec with the threshold kClearMarginSd lower.
+    ExpectedBeam expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i) const;
 };
 
 }  // namespace smokescan
