@@ -16,6 +16,7 @@
 #include "smokescan/pipeline/calibrate_run.hpp"
 #include "smokescan/pipeline/diagnose_run.hpp"
 #include "smokescan/pipeline/fit_run.hpp"
+#include "smokescan/pipeline/lidar_diagnose_run.hpp"
 #include "smokescan/pipeline/saturation_run.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
 
@@ -357,6 +358,41 @@ void bindAnalysis(py::module_& m)
         "in rects/polygons (\"NAME=x,y,w,h\", \"NAME=x1,y1,...\" px) on image_topic; tolerance_m, max_range_m and "
         "floor_z_m are the omnicam's classes (sensor_type=\"omnicam\"). progress(done, total) counts each round's "
         "candidates");
+
+    m.def(
+        "diagnose_lidar",
+        [](const py::object& scene, const py::object& points, const std::string& sensor, const std::string& returns,
+           int columns, double rate_hz, double alpha, const py::object& out, py::object progress) {
+            LidarDiagnoseRunConfig cfg;
+            cfg.scene = pathArg(scene, "scene");
+            cfg.points = pathArg(points, "--points");
+            if (sensor.empty()) throw Error("--sensor", "names the lidar whose frames points= holds");
+            cfg.sensor.sensor = sensor;
+            cfg.sensor.returns = returns;
+            if (columns < 0) throw Error("--columns", "must be > 0 (0: the preset's)");
+            cfg.sensor.columns = columns;
+            cfg.sensor.rate_hz = finiteArg(rate_hz, "--rate");
+            if (!(alpha >= 1e-9 && alpha <= 0.5)) throw Error("--alpha", "must lie in [1e-9, 0.5]");
+            cfg.diag.level = alpha;
+            const std::string folder = pathArg(out, "--out");
+            PyControl pc(std::move(progress));
+            const std::string json = released(pc, [&](const RunControl& c) {
+                std::unique_ptr<AtomicFolder> dir;
+                if (!folder.empty()) dir = std::make_unique<AtomicFolder>(folder, "the diagnosis folder", "--out");
+                const LidarDiagnoseRunResult r = runLidarDiagnosis(cfg, c);
+                if (dir) writeLidarDiagnosisFolder(*dir, r);
+                return lidarDiagnosisJson(r.diagnosis);
+            });
+            return reportOf(json);
+        },
+        py::arg("scene"), py::kw_only(), py::arg("points"), py::arg("sensor"), py::arg("returns") = "",
+        py::arg("columns") = 0, py::arg("rate_hz") = 0.0, py::arg("alpha") = 0.05, py::arg("out") = py::none(),
+        py::arg("progress") = py::none(),
+        "`smokescan diagnose --points`: a 3D lidar's recorded frames (points=, a folder as scan --points "
+        "writes it) against their replay in the scene: a dropping channel, a dirty-window sector, a biased "
+        "channel, smoke echoes taken as first returns, a surface's threshold. Returns a Report with "
+        "diagnosis.json's fields (docs/diagnosis.md, \"A 3D lidar's frames\"); out= also writes diagnosis.json "
+        "and report.md, whole or not at all. progress(done, total) counts frames");
 }
 
 }  // namespace smokescan::python

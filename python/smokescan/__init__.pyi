@@ -134,6 +134,22 @@ def calibrate(
     scene's own frames, fitted with Ceres; a Report with the calibration JSON's fields
     (docs/calibration.md). json.dump(report.to_dict(), f) writes a calibration fit and diagnose read."""
 
+def diagnose_lidar(
+    scene: PathLike,
+    *,
+    points: PathLike,
+    sensor: str,
+    returns: str = "",
+    columns: int = 0,
+    rate_hz: float = 0.0,
+    alpha: float = 0.05,
+    out: Optional[PathLike] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Report:
+    """`smokescan diagnose --points`: a 3D lidar's recorded frames (a folder as scan --points writes
+    it) against their replay in the scene (docs/diagnosis.md, "A 3D lidar's frames"); a Report with
+    diagnosis.json's fields. out= also writes diagnosis.json and report.md, whole or not at all."""
+
 def diagnose(
     scene: PathLike,
     *,

@@ -227,6 +227,54 @@ def test_diagnose_refuses_bad_input_in_one_line_and_writes_nothing(planted_run, 
     assert os.listdir(tmp_path / "taken") == ["mine.txt"]
 
 
+def weaken_ring(folder, ring, keep_every):
+    """Rewrites each PCD of a `scan --points` folder (binary, x y z intensity ring return_index time
+    source) without most of one ring's points: an independent writer of the files smokescan reads."""
+    dtype = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("intensity", "<f4"), ("ring", "<u2"),
+                      ("return_index", "u1"), ("time", "<f4"), ("source", "u1")])
+    for pcd in sorted(folder.glob("*.pcd")):
+        raw = pcd.read_bytes()
+        head_end = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
+        head, points = raw[:head_end].decode(), np.frombuffer(raw[head_end:], dtype=dtype)
+        assert head.split("FIELDS ")[1].split("\n")[0] == " ".join(dtype.names)
+        on_ring = np.flatnonzero(points["ring"] == ring)
+        kept = np.ones(len(points), bool)
+        kept[on_ring] = False
+        kept[on_ring[::keep_every]] = True
+        points = points[kept]
+        lines = [f"WIDTH {len(points)}" if l.startswith("WIDTH ") else f"POINTS {len(points)}"
+                 if l.startswith("POINTS ") else l for l in head.splitlines()]
+        pcd.write_bytes(("\n".join(lines) + "\n").encode() + points.tobytes())
+
+
+def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_channel_is_found(tmp_path):
+    frames = tmp_path / "frames"
+    cli("scan", "factory_smoke", "--sensor", "vlp16", "--from", "20", "--to", "20.35", "--points", str(frames))
+    weaken_ring(frames, ring=4, keep_every=3)  # two thirds of ring 4's returns gone
+    cli("diagnose", "--scene", "factory_smoke", "--points", str(frames), "--sensor", "vlp16", "--out",
+        str(tmp_path / "cli"))
+    ticks = []
+    d = smokescan.diagnose_lidar("factory_smoke", points=frames, sensor="vlp16", out=tmp_path / "py",
+                                 progress=lambda done, total: ticks.append((done, total)))
+    assert ticks[-1] == (4, 4)
+    assert d.to_dict() == json.load(open(tmp_path / "cli" / "diagnosis.json"))
+    assert (tmp_path / "py" / "report.md").read_text() == (tmp_path / "cli" / "report.md").read_text()
+    assert d.verdict == "dropping_channel"
+    channel = [t for t in d.tried if t["cause"] == "dropping_channel"][0]
+    assert channel["ring"] == 4 and channel["named"]
+    # Two thirds lost on ring 4's clear beams, none elsewhere (within the test's error).
+    assert abs(channel["effect"] - 2 / 3) < 4 * channel["effect_se"] + 0.02
+    assert d.rings[4]["missed"] > 0.6 * d.rings[4]["clear"]
+    # Refused in one line, nothing written.
+    with pytest.raises(smokescan.Error, match=r"frames\.csv: "):
+        smokescan.diagnose_lidar("factory_smoke", points=tmp_path, sensor="vlp16", out=tmp_path / "never")
+    with pytest.raises(smokescan.Error, match=r"^--sensor: "):
+        smokescan.diagnose_lidar("factory_smoke", points=frames, sensor="", out=tmp_path / "never")
+    with pytest.raises(smokescan.Error, match=r"^--alpha: "):
+        smokescan.diagnose_lidar("factory_smoke", points=frames, sensor="vlp16", alpha=0.9, out=tmp_path / "never")
+    assert not (tmp_path / "never").exists()
+
+
 def volume_info(path):
     out = subprocess.run([CLI, "volume", "info", str(path)], check=True, capture_output=True, text=True).stdout
     return out

@@ -10,7 +10,7 @@
 ///
 /// | field         | default | unit | meaning                                                        |
 /// |---------------|---------|------|----------------------------------------------------------------|
-/// | level         | 0.01    | –    | false-alarm level of the whole diagnosis (Bonferroni over the causes) |
+/// | level         | 0.05    | –    | false-alarm level of the whole diagnosis (Bonferroni over the causes; `--alpha`) |
 /// | sector_deg    | 5       | deg  | azimuth bins of the window's sector search                     |
 /// | max_sector_deg| 90      | deg  | the widest sector tried                                        |
 /// | min_dropout   | 0.1     | –    | floor: the smallest excess of missed returns named (a channel, a sector) |
@@ -34,7 +34,7 @@
 namespace smokescan {
 
 struct LidarDiagnosisConfig {
-    double level = 0.01;
+    double level = 0.05;
     double sector_deg = 5;
     double max_sector_deg = 90;
     double min_dropout = 0.1;
