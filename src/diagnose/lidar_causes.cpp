@@ -2,6 +2,7 @@
 // (diagnose/lidar_diagnosis.hpp, docs/diagnosis.md "A 3D lidar's frames").
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "ceres_fit.hpp"
 #include "range_offset_residual.hpp"
@@ -150,11 +151,12 @@ double median(std::vector<float> v)
     return double(v[h]);
 }
 
-/// 1.4826 · the median absolute deviation of every channel's residuals in a fold.
-double robustSd(const LidarTally::Fold& f)
+/// 1.4826 · the median absolute deviation of every channel's residuals in the folds.
+double robustSd(std::initializer_list<const LidarTally::Fold*> folds)
 {
     std::vector<float> all;
-    for (const auto& r : f.residual_m) all.insert(all.end(), r.begin(), r.end());
+    for (const LidarTally::Fold* f : folds)
+        for (const auto& r : f->residual_m) all.insert(all.end(), r.begin(), r.end());
     const double m = median(all);
     for (float& x : all) x = float(std::abs(double(x) - m));
     return 1.4826 * median(std::move(all));
@@ -178,7 +180,7 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
     f.cause = LidarCause::BiasedChannel;
     f.floor = cfg.min_bias_sd * range_sigma_m;
     const LidarTally::Fold& a = t.fold(0);
-    const double sd0 = robustSd(a);
+    const double sd0 = robustSd({&a});
     std::vector<float> all;
     for (const auto& r : a.residual_m) all.insert(all.end(), r.begin(), r.end());
     const double med0 = median(std::move(all));
@@ -191,7 +193,7 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
     }
     const LidarTally::Fold& b = t.fold(1);
     if (f.ring < 0 || b.residual_m[size_t(f.ring)].size() < 10) return f;
-    const double sd = std::max(robustSd(b), 1e-6);
+    const double sd = std::max(robustSd({&b}), 1e-6);
     // At most 2e5 residuals on each side: the rest's offset is then known far better than the channel's.
     constexpr size_t kCap = 200'000;
     std::vector<float> rest;
@@ -209,13 +211,17 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
     addAll(b.residual_m[size_t(f.ring)], true);
     addAll(rest, false);
     ceres::Solver::Summary summary;
-    double C[4];
-    if (!detail::solveQuiet(problem, detail::denseOptions(100, 1e-10), summary) ||
-        !detail::blockCovariance(problem, x, C) || !(C[3] > 0))
-        return f;
+    if (!detail::solveQuiet(problem, detail::denseOptions(100, 1e-10), summary)) return f;
+    // The sandwich (each residual its own cluster): the Huber fit's model-based covariance holds
+    // for Gaussian residuals only, and a lidar's have tails (mixed pixels at edges, multipath).
+    std::vector<long long> each(size_t(problem.NumResidualBlocks()));
+    std::iota(each.begin(), each.end(), 0LL);
+    const detail::ClusterCovariance cov =
+        detail::clusterRobustCovariance(problem, {x}, each, detail::ClusterCount::WithData);
+    if (!(cov.robust(1, 1) > 0)) return f;
     f.tested = true;
     f.effect = x[1];
-    f.effect_se = std::sqrt(C[3]);
+    f.effect_se = std::sqrt(cov.robust(1, 1));
     const double z = f.effect / f.effect_se;
     f.gain_nats = 0.5 * z * z;
     f.p_value = std::erfc(std::abs(z) / std::sqrt(2.0));
@@ -308,8 +314,9 @@ const char* lidarCauseName(LidarCause c)
 LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const LidarDiagnosisConfig& cfg)
 {
     if (!(cfg.level > 0 && cfg.level < 1)) throw Error("lidar diagnosis", "the level must lie in (0, 1)");
-    if (!(cfg.sector_deg >= 0.5 && cfg.sector_deg <= 90))
-        throw Error("lidar diagnosis", "the sector bins must be 0.5 to 90 degrees wide");
+    if (!(cfg.sector_deg >= 0.5 && cfg.sector_deg <= 90) ||
+        std::abs(360 / cfg.sector_deg - std::round(360 / cfg.sector_deg)) > 1e-9)
+        throw Error("lidar diagnosis", "the sector bins must be 0.5 to 90 degrees wide and divide 360");
     if (!(cfg.max_sector_deg >= cfg.sector_deg && cfg.max_sector_deg <= 180))
         throw Error("lidar diagnosis", "the widest sector must be one bin to 180 degrees");
     LidarDiagnosis d;
@@ -327,7 +334,7 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
                             "range): nothing to compare");
         d.clear += clear;
     }
-    d.range_sd_m = robustSd(t.fold(1));
+    d.range_sd_m = robustSd({&t.fold(0), &t.fold(1)});
     const int bins = int(std::lround(360 / cfg.sector_deg));
     for (int c = 0; c < t.channels(); ++c) {
         LidarGroupStats g = groupStats(t, [&](size_t i) { return t.pattern()[i].channel == c; });
@@ -346,7 +353,9 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
     int start = -1, width = 0;
     LidarFinding window = windowSector(t, cfg, start, width);
     judge(window);
-    LidarFinding channel = droppingChannel(t, cfg, window.named ? start : -1, window.named ? width : 0);
+    // The channel's search and test leave out the window's candidate sector, named or not (whether
+    // it is named is the odd frames' word, which the even frames' search must not hear).
+    LidarFinding channel = droppingChannel(t, cfg, start, width);
     judge(channel);
     LidarFinding bias = biasedChannel(t, range_sigma_m, cfg);
     judge(bias);
