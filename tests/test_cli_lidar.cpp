@@ -2,8 +2,11 @@
 // user can give it (one line, exit != 0, no folder left behind).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli_run.hpp"
@@ -139,4 +142,43 @@ TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(fs::exists(fs::path(pts) / "keep.txt"));
     EXPECT_FALSE(fs::exists(fs::path(pts) / "000000.pcd"));
+}
+
+TEST(LidarCli, DiagnosePointsWritesItsFolderAndRefusesOtherRunsOptions)
+{
+    const fs::path pts = dir() / "diag_points", out = dir() / "diag_points_out";
+    fs::remove_all(pts);
+    fs::remove_all(out);
+    ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --from 38 --to 38.15 --points " + pts.string()).status, 0);
+    const std::string base = "diagnose --scene factory_smoke --points " + pts.string() + " --sensor vlp16 ";
+    // Another run's options, the lidar's without --points, no --sensor, --out inside the frames:
+    // one line each, nothing written.
+    for (const auto& [args, says] : std::vector<std::pair<std::string, std::string>>{
+             {base + "--unit m --out " + out.string(), "--unit: is not an option of a 3D lidar's diagnosis"},
+             {base + "--seed 3 --out " + out.string(), "--seed: is not an option of a 3D lidar's diagnosis"},
+             {"diagnose --scene bocas --laser x.log --returns dual --out " + out.string(),
+              "--returns: is a 3D lidar's option"},
+             {"diagnose --scene factory_smoke --points " + pts.string() + " --out " + out.string(),
+              "--sensor: names the lidar"},
+             {base + "--out " + (pts / "diag").string(), "lies in the frames' folder"},
+             {base + "--returns dual --out " + out.string(), "--returns: dual, but the frames"}}) {
+        const CliRun r = cli(args);
+        EXPECT_NE(r.status, 0) << args;
+        EXPECT_NE(r.err.find(says), std::string::npos) << args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << args;
+        EXPECT_FALSE(fs::exists(pts / "diag")) << args;
+    }
+    const CliRun r = cli(base + "--out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("0.00 % of them unanswered; 0 points matched no beam"), std::string::npos) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(slurp(out / "diagnosis.json"));
+    EXPECT_EQ(j["verdict"], "none");
+    EXPECT_EQ(j["sensor"], "vlp16");
+    EXPECT_EQ(j["returns"], "strongest");
+    EXPECT_EQ(j["frames"], 2);
+    EXPECT_EQ(j["tried"].size(), 5u);
+    EXPECT_EQ(j["rings"].size(), 16u);
+    EXPECT_NE(slurp(out / "report.md").find("Verdict: **none**"), std::string::npos);
 }

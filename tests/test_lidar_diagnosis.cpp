@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -521,7 +522,7 @@ void removeIf(LidarFrame& f, const std::function<bool(const LidarPoint&)>& gone)
 TEST(LidarDiagnosisRun, SimulatedFramesInSmokeNameNothingAndMatchTheirReplay)
 {
     const std::string dir = writeFrames("clean", [](LidarFrame&, KeyedRng&) {});
-    // Frame 3's recorded start pose 0.3 m east of the scene's and turned by 2° about its z axis:
+    // Frame 3's recorded start pose 5 cm east of the scene's and turned by 0.5° about its z axis:
     // reported as the poses' difference (the replay keeps the scene's).
     {
         std::ifstream in(dir + "/frames.csv");
@@ -531,10 +532,10 @@ TEST(LidarDiagnosisRun, SimulatedFramesInSmokeNameNothingAndMatchTheirReplay)
         std::stringstream row(lines[4]);
         for (std::string cell; std::getline(row, cell, ',');) f.push_back(cell);
         ASSERT_EQ(f.size(), 18u);
-        f[4] = std::to_string(std::stod(f[4]) + 0.3);
+        f[4] = std::to_string(std::stod(f[4]) + 0.05);
         const Eigen::Quaterniond q =
             Eigen::Quaterniond(std::stod(f[7]), std::stod(f[8]), std::stod(f[9]), std::stod(f[10])) *
-            Eigen::Quaterniond(Eigen::AngleAxisd(2 * kDeg, Vec3::UnitZ()));
+            Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * kDeg, Vec3::UnitZ()));
         char buf[160];
         std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g", q.w(), q.x(), q.y(), q.z());
         lines[4].clear();
@@ -556,8 +557,8 @@ TEST(LidarDiagnosisRun, SimulatedFramesInSmokeNameNothingAndMatchTheirReplay)
     EXPECT_GT(d.clear, d.beams / 10);  // the hall's walls, machines and floor, out of the smoke
     EXPECT_LT(d.clear, d.beams / 5);  // the rest hidden or blurred by it
     EXPECT_EQ(d.unmatched_points, 0);
-    EXPECT_NEAR(d.pose_mismatch_m, 0.3, 1e-5);
-    EXPECT_NEAR(d.pose_mismatch_deg, 2, 1e-5);
+    EXPECT_NEAR(d.pose_mismatch_m, 0.05, 1e-5);
+    EXPECT_NEAR(d.pose_mismatch_deg, 0.5, 1e-5);
     // The clear beams' residuals are the preset's range noise (VLP-16: 1.5 cm, the datasheet's
     // ±3 cm as 2 sd) and nearly all certain echoes were recorded.
     EXPECT_NEAR(d.range_sd_m, 0.015, 0.004);
@@ -589,7 +590,10 @@ TEST(LidarDiagnosisRun, ChannelWindowAndBiasPlantedInThePointCloudsAreFoundWithT
         });
         EXPECT_EQ(d.verdict, "dropping_channel");
         EXPECT_EQ(triedOf(d, LidarCause::DroppingChannel).ring, ring);
-        EXPECT_NEAR(triedOf(d, LidarCause::DroppingChannel).effect, 0.45, 0.1);
+        // Between the bright returns' loss and the faint ones' (the clear beams are mostly bright).
+        EXPECT_GT(triedOf(d, LidarCause::DroppingChannel).effect,
+                  0.2 - 4 * triedOf(d, LidarCause::DroppingChannel).effect_se);
+        EXPECT_LT(triedOf(d, LidarCause::DroppingChannel).effect, 0.7);
     }
     // Soot on the window: every ring's points behind a smudge (dropout 0.8 at azimuth `at` in the
     // sensor frame, falling off as a Gaussian of 6°), by the point's own direction; `at` where the
@@ -708,18 +712,45 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
     LidarDiagnoseRunConfig cfg;
     cfg.scene = "factory_smoke";
     cfg.points = dir;
-    cfg.sensor.sensor = "hdl32e";  // another lidar's pattern: its rings and times do not match
-    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("match no beam of the hdl32e"), std::string::npos)
-        << test::errorOf([&] { runLidarDiagnosis(cfg); });
-    // The VLP-16's own frames at 20 Hz (half the columns, twice the step) diagnosed as at 10 Hz:
-    // the firing times agree, the directions do not.
+    // Another lidar's pattern: its frame spans another time.
+    cfg.sensor.sensor = "hdl32e";
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("where the hdl32e's frame spans"), std::string::npos);
+    // The VLP-16's own frames at 20 Hz (half the columns) diagnosed as at 10 Hz; at their rate, accepted.
     cfg.sensor.sensor = "vlp16";
     cfg.points = writeFrames(
         "refused_rate", [](LidarFrame&, KeyedRng&) {}, simulate(loadScene("factory_smoke"), "vlp16", 38, "", 20));
-    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("match no beam of the vlp16"), std::string::npos);
-    cfg.sensor.rate_hz = 20;  // at their rate: diagnosed
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("another rate or column count"), std::string::npos);
+    cfg.sensor.rate_hz = 20;
     EXPECT_EQ(runLidarDiagnosis(cfg).diagnosis.unmatched_points, 0);
     cfg.sensor.rate_hz = 0;
+    // The same span and times, but each point turned 3° about z (another numbering of the
+    // columns): no point lies along its beam.
+    cfg.points = writeFrames("refused_turned", [](LidarFrame& f, KeyedRng&) {
+        const double c = std::cos(3 * kDeg), sn = std::sin(3 * kDeg);
+        for (LidarPoint& p : f.points) {
+            const float x = p.x, y = p.y;
+            p.x = float(c * x - sn * y);
+            p.y = float(sn * x + c * y);
+        }
+    });
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("match no beam of the vlp16"), std::string::npos);
+    // A recorded pose 0.3 m off the scene's: refused, naming the frame.
+    {
+        std::ifstream in(dir + "/frames.csv");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const size_t row = text.find("\n2,") + 1,
+                     x = text.find(',', text.find(',', text.find(',', text.find(',', row) + 1) + 1) + 1) + 1;
+        const size_t end = text.find(',', x);
+        text.replace(x, end - x, std::to_string(std::stod(text.substr(x, end - x)) + 0.3));
+        std::ofstream(dir + "/frames.csv") << text;
+    }
+    cfg.points = dir;
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("2.pcd: its recorded start pose is 0.3 m"),
+              std::string::npos)
+        << test::errorOf([&] { runLidarDiagnosis(cfg); });
+    // Frames with no points at all: most certain beams unanswered.
+    cfg.points = writeFrames("refused_empty", [](LidarFrame& f, KeyedRng&) { f.points.clear(); });
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("have no recorded return"), std::string::npos);
     cfg.points = (scratch("lidar_diagnosis_empty")).string();
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("frames.csv"), std::string::npos);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <set>
 
@@ -38,6 +39,13 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
     files.input(cfg.points + "/frames.csv", "--points");
     files.input(cfg.sensor.sensor, "--sensor");
     files.outputFolder(a.out, "--out");
+    // The frames' folder is an input: nothing is written into it.
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path inside = fs::weakly_canonical(fs::absolute(a.out), ec)
+                                .lexically_relative(fs::weakly_canonical(fs::absolute(cfg.points), ec));
+    if (!ec && !inside.empty() && *inside.begin() != "..")
+        throw Error("--out", a.out + " lies in the frames' folder " + cfg.points + " (an input)");
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
     cfg.on_scene = [&](const Scene& scene) { recordSceneInputs(files, cfg.scene, scene); };
     Progress bar("diagnose", "frames");
@@ -54,8 +62,13 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
             f.cause == LidarCause::BiasedChannel ? " m" : "");
         say(" held-out gain %.4g nats, p = %.2g\n", f.gain_nats, f.p_value);
     }
-    say("%zu frames, %lld clear beams compared; recorded poses within %.3g m and %.3g deg of the scene's\n", d.frames,
-        d.clear, d.pose_mismatch_m, d.pose_mismatch_deg);
+    long long missed = 0;
+    for (const LidarGroupStats& g : d.rings) missed += g.missed;
+    auto tidy = [](double v) { return std::abs(v) < 1e-9 ? 0.0 : v; };
+    say("%zu frames, %lld clear beams compared, %.2f %% of them unanswered; %lld points matched no beam; recorded "
+        "poses within %.3g m and %.3g deg of the scene's\n",
+        d.frames, d.clear, d.clear ? 100.0 * double(missed) / double(d.clear) : 0.0, d.unmatched_points,
+        tidy(d.pose_mismatch_m), tidy(d.pose_mismatch_deg));
     say("wrote %s/diagnosis.json and %s/report.md\n", a.out.c_str(), a.out.c_str());
     return 0;
 }

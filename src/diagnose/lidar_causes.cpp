@@ -157,6 +157,7 @@ double robustSd(std::initializer_list<const LidarTally::Fold*> folds)
     std::vector<float> all;
     for (const LidarTally::Fold* f : folds)
         for (const auto& r : f->residual_m) all.insert(all.end(), r.begin(), r.end());
+    if (all.empty()) return NAN;
     const double m = median(all);
     for (float& x : all) x = float(std::abs(double(x) - m));
     return 1.4826 * median(std::move(all));

@@ -10,6 +10,12 @@ namespace {
 
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
+/// Rounding's residue (a rotation's 3e-15 deg) as 0.
+double tidy(double v) { return std::abs(v) < 1e-9 ? 0.0 : v; }
+
+/// a / b as a table cell, "-" where b is 0.
+std::string shareCell(long long a, long long b) { return b > 0 ? fmt("%.4f", double(a) / double(b)) : "-"; }
+
 nlohmann::json groupJson(const LidarGroupStats& g)
 {
     return {{"clear", g.clear},
@@ -50,14 +56,17 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
 {
     nlohmann::json j;
     j["verdict"] = d.verdict;
+    j["sensor"] = d.sensor;
+    j["returns"] = d.returns;
+    j["scene"] = d.scene;
     j["frames"] = d.frames;
     j["beams"] = d.beams;
     j["clear_beams"] = d.clear;
     j["unmatched_points"] = d.unmatched_points;
     j["range_sd_m"] = num(d.range_sd_m);
     j["sector_deg"] = d.sector_deg;
-    j["pose_mismatch_m"] = num(d.pose_mismatch_m);
-    j["pose_mismatch_deg"] = num(d.pose_mismatch_deg);
+    j["pose_mismatch_m"] = num(tidy(d.pose_mismatch_m));
+    j["pose_mismatch_deg"] = num(tidy(d.pose_mismatch_deg));
     nlohmann::json tried = nlohmann::json::array();
     for (const LidarFinding& f : d.tried) {
         nlohmann::json t = {{"cause", lidarCauseName(f.cause)},
@@ -70,12 +79,13 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
                             {"held_out_gain_nats", num(f.gain_nats)},
                             {"p", f.tested ? num(f.p_value) : nullptr}};
         if (f.cause == LidarCause::WindowSector) {
-            t["from_deg"] = num(f.from_deg);
-            t["to_deg"] = num(f.to_deg);
+            const bool none = f.from_deg == f.to_deg;
+            t["from_deg"] = none ? nlohmann::json(nullptr) : num(f.from_deg);
+            t["to_deg"] = none ? nlohmann::json(nullptr) : num(f.to_deg);
         } else if (f.cause == LidarCause::SurfaceThreshold) {
             t["surface"] = f.surface >= 0 ? nlohmann::json(surfaceName(d, f.surface)) : nlohmann::json(nullptr);
         } else if (f.cause != LidarCause::SmokeFirstReturns) {
-            t["ring"] = f.ring;
+            t["ring"] = f.ring >= 0 ? nlohmann::json(f.ring) : nlohmann::json(nullptr);
         }
         tried.push_back(t);
     }
@@ -109,12 +119,13 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
 std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& sensor)
 {
     std::string s = "# Diagnosis of a " + sensor + "'s frames\n\nVerdict: **" + d.verdict + "**\n\n";
+    s += "Scene " + d.scene + ", " + d.returns + " returns.\n\n";
     s +=
         fmt("%zu frames, %lld beams, %lld of them clear (the replay's certain surface echoes); %lld recorded points "
             "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",
             d.frames, d.beams, d.clear, d.unmatched_points, d.range_sd_m);
     s += fmt("The frames' recorded start poses differ from the scene's by %.3g m and %.3g deg at most.\n\n",
-             d.pose_mismatch_m, d.pose_mismatch_deg);
+             tidy(d.pose_mismatch_m), tidy(d.pose_mismatch_deg));
     s += "Each cause's candidate was searched on the even frames and tested on the odd ones.\n\n";
     s += "| cause | target | effect | se | floor | held-out gain [nats] | p | named |\n";
     s += "|---|---|---|---|---|---|---|---|\n";
@@ -125,7 +136,7 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
     s += "\n## Channels\n\n| ring | clear | missed share | median residual [m] |\n|---|---|---|---|\n";
     for (size_t c = 0; c < d.rings.size(); ++c) {
         const LidarGroupStats& g = d.rings[c];
-        s += fmt("| %zu | %lld | %.4f | %s |\n", c, g.clear, g.clear ? double(g.missed) / double(g.clear) : 0.0,
+        s += fmt("| %zu | %lld | %s | %s |\n", c, g.clear, shareCell(g.missed, g.clear).c_str(),
                  g.matched ? fmt("%.4f", g.median_residual_m).c_str() : "-");
     }
     s += "\n## Surfaces in smoke (beams that are not clear)\n\n| surface | beams | returned | chance | sd |\n"
@@ -136,8 +147,8 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
     s += "\n## Azimuth sectors (sensor frame)\n\n| from [deg] | to [deg] | clear | missed share |\n|---|---|---|---|\n";
     for (size_t b = 0; b < d.sectors.size(); ++b) {
         const LidarGroupStats& g = d.sectors[b];
-        s += fmt("| %.1f | %.1f | %lld | %.4f |\n", -180 + double(b) * d.sector_deg,
-                 -180 + double(b + 1) * d.sector_deg, g.clear, g.clear ? double(g.missed) / double(g.clear) : 0.0);
+        s += fmt("| %.1f | %.1f | %lld | %s |\n", -180 + double(b) * d.sector_deg, -180 + double(b + 1) * d.sector_deg,
+                 g.clear, shareCell(g.missed, g.clear).c_str());
     }
     return s;
 }

@@ -8,8 +8,8 @@
 
 namespace smokescan {
 
-LidarTally::LidarTally(const std::vector<PatternBeam>& pattern, int channels, double tolerance_m)
-    : pattern_(pattern), channels_(channels), tolerance_m_(tolerance_m)
+LidarTally::LidarTally(const std::vector<PatternBeam>& pattern, int channels, double tolerance_m, double max_range_m)
+    : pattern_(pattern), channels_(channels), tolerance_m_(tolerance_m), max_range_m_(max_range_m)
 {
     if (!(tolerance_m_ > 0)) throw Error("lidar diagnosis", "the return tolerance must be > 0");
     if (channels_ <= 0 || pattern_.empty()) throw Error("lidar diagnosis", "the sensor's pattern has no beams");
@@ -68,7 +68,8 @@ void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vecto
     for (const LidarPoint& p : recorded) {
         if (p.return_index != 0) continue;
         const long b = p.ring < channels_ ? nearestBeam(by_ring_[p.ring], double(p.time_s)) : -1;
-        if (b < 0 || !std::isnan(got[size_t(b)]) || !alongBeam(pattern_[size_t(b)], p)) {
+        const bool in_range = std::isfinite(p.range_m) && p.range_m <= 1.01 * max_range_m_;
+        if (b < 0 || !in_range || !std::isnan(got[size_t(b)]) || !alongBeam(pattern_[size_t(b)], p)) {
             ++unmatched_;
             continue;
         }

@@ -1,6 +1,7 @@
 #include "smokescan/lidar/frame_index.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -67,9 +68,11 @@ std::vector<FrameIndexEntry> parseFrameIndex(const std::string& text, const std:
             continue;
         }
         if (line.empty()) continue;
+        // Counted before splitting: a line of millions of commas is refused, not split.
+        const size_t fields = size_t(std::count(line.begin(), line.end(), ',')) + 1;
+        if (fields != kFields)
+            throw Error(where, std::to_string(fields) + " fields (frames.csv has " + std::to_string(kFields) + ")");
         const std::vector<std::string> f = splitFields(line);
-        if (f.size() != kFields)
-            throw Error(where, std::to_string(f.size()) + " fields (frames.csv has " + std::to_string(kFields) + ")");
         if (out.size() >= size_t(limits::kFrames))
             throw Error(where, "more than " + std::to_string(limits::kFrames) + " frames");
         FrameIndexEntry e;

@@ -24,6 +24,7 @@
 /// surface's threshold (a surface returned more or less often than its chance, given the return is
 /// not short). A cause is named when its held-out test passes at level/5 and its held-out effect
 /// reaches its floor (min_dropout for the shares).
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -85,7 +86,7 @@ struct LidarOutcomes {
 struct LidarDiagnosis {
     size_t frames = 0;
     long long beams = 0, clear = 0, unmatched_points = 0;  ///< unmatched: no beam of that ring near its time
-    double range_sd_m = 0;  ///< the clear beams' residuals' robust sd (1.4826·MAD) [m]
+    double range_sd_m = NAN;  ///< the clear beams' residuals' robust sd (1.4826·MAD) [m]; NaN: none
     std::vector<LidarGroupStats> rings;  ///< by channel
     std::vector<LidarGroupStats> sectors;  ///< by azimuth bin from −180°, sector_deg wide
     double sector_deg = 5;
@@ -97,6 +98,7 @@ struct LidarDiagnosis {
     /// The largest difference between a frame's recorded start pose and the scene's pose of the
     /// sensor then (set by the caller that reads the frames): position [m] and angle [deg].
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;
+    std::string sensor, returns, scene;  ///< what was diagnosed (set by the caller), for reports
 };
 
 /// A recorded point is its beam's when it lies within this angle of the beam's direction [deg].
@@ -107,7 +109,9 @@ class LidarTally {
 public:
     /// @param pattern the frame's beams (LidarScanner::pattern)
     /// @param tolerance_m classifyReturn's tolerance (returnTolerance_m of the sensor)
-    LidarTally(const std::vector<PatternBeam>& pattern, int channels, double tolerance_m);
+    /// @param max_range_m the sensor's range: a point beyond it (or at no finite range) is no beam's
+    LidarTally(const std::vector<PatternBeam>& pattern, int channels, double tolerance_m,
+               double max_range_m = INFINITY);
     /// @brief Adds one frame: the replay's beams (in pattern order) and the recorded points
     /// (ring and time from the frame's start identify a point's beam, its direction within
     /// kMatchDeg confirms it; return_index 0 is its first kept return; any other point is
@@ -137,7 +141,7 @@ private:
 
     std::vector<PatternBeam> pattern_;
     int channels_ = 0;
-    double tolerance_m_ = 0;
+    double tolerance_m_ = 0, max_range_m_ = INFINITY;
     std::vector<std::vector<std::pair<double, uint32_t>>> by_ring_;  ///< (time, beam), by time
     Fold fold_[2];
     size_t frames_ = 0;
