@@ -52,9 +52,11 @@ void checkListing(const std::vector<FrameIndexEntry>& frames, const std::string&
 /// file's own start time, the recorded start pose against the scene's.
 void checkFrame(const PointCloudFile& pc, const FrameIndexEntry& e, const Pose& scene_pose, const std::string& path)
 {
-    for (const auto& [field, also] : {std::pair{"ring", ""}, std::pair{"time", "t"}})
-        if (std::none_of(pc.fields.begin(), pc.fields.end(),
-                         [&](const std::string& f) { return f == field || (*also && f == also); }))
+    const auto has = [&](const char* a, const char* b) {
+        return std::any_of(pc.fields.begin(), pc.fields.end(), [&](const std::string& f) { return f == a || f == b; });
+    };
+    for (const char* field : {"ring", "time"})
+        if (!has(field, field[0] == 't' ? "t" : field))
             throw Error(path,
                         std::string("has no ") + field +
                             " field: the diagnosis tells a point's beam by its ring and firing time");
