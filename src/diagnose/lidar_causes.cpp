@@ -115,7 +115,7 @@ LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, 
 }
 
 /// A channel dropping returns: the ring whose missed returns most exceed the others' on fold 0,
-/// tested on fold 1; beams in `skip` bins (a named window sector) left out of both.
+/// tested on fold 1; the beams in the window's candidate run of bins (start, width) left out of both.
 LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cfg, int start, int width)
 {
     LidarFinding f;
