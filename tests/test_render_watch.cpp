@@ -69,15 +69,17 @@ TEST(RenderWatch, AStopFromAnotherThreadEndsTheFrameEarly)
 
 TEST(RenderWatch, AStopEndsTheFrameWithinAPixelNotATile)
 {
-    // One tile of 16 × 16 px at 4096 samples a pixel in smoke (seconds of work): a stop after
-    // 200 ms leaves the tile unfinished, some pixels rendered and the rest not, the ids all made.
+    // One tile of 16 × 16 px at 4096 samples a pixel in smoke (15 s of work here, 45 s with the
+    // sanitizers; a pixel 60 to 170 ms): a stop after 1.5 s leaves the tile unfinished, some
+    // pixels rendered and the rest not, the ids all made. (200 ms was too short for a sanitized
+    // build beside another test: no pixel done.)
     const Scene scene = loadScene("bocas");
     const SurfaceSet surfaces(scene);
     RenderWatch watch;
     RenderConfig cfg = smallFrame(16, 16, 4096);
     cfg.watch = &watch;
     std::thread stopper([&] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
         watch.stop = true;
     });
     const RenderResult r = render(scene, surfaces, cfg);

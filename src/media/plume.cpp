@@ -64,7 +64,12 @@ std::vector<DensityGrid::Blob> plumeBlobs(const PlumeConfig& c, double t)
         const double age = t - birth;
         if (age < 0 || age >= c.lifetime_s || birth > c.stop_s) continue;
         KeyedRng rng(c.seed, uint64_t(k), 0x706c756dull);
-        const Vec3 v_own(rng.normal(), rng.normal(), rng.normal());
+        // Drawn z, y, x, one statement each: as arguments of one call their order was the
+        // compiler's (gcc's right to left), and clang's builds made other plumes.
+        const double vz = rng.normal();
+        const double vy = rng.normal();
+        const double vx = rng.normal();
+        const Vec3 v_own(vx, vy, vz);
         const Vec3 vel = c.wind_m_s + Vec3(0, 0, c.rise_m_s) + c.spread_m_s * v_own;
         const double sigma = c.radius_m + c.growth_m_s * age;
         // Mass conserved while the puff grows; a smooth fade over the last fifth of its life.

@@ -434,7 +434,11 @@ RenderResult renderWithMedium(const Scene& scene, const SurfaceSet& surfaces, co
                         KeyedRng rng(cfg.seed, pix, uint64_t(s));
                         Ray ray;
                         Rgb v = Rgb::Zero();
-                        if (camera.generateRay(x + rng.uniform(), y + rng.uniform(), ray)) v = radiance(ctx, ray, rng);
+                        // y's jitter drawn first, in its own statement (as arguments of one call
+                        // the order was the compiler's; gcc's, right to left, kept).
+                        const double jy = rng.uniform();
+                        const double jx = rng.uniform();
+                        if (camera.generateRay(x + jx, y + jy, ray)) v = radiance(ctx, ray, rng);
                         if (!v.allFinite()) v.setZero();  // a numerical failure must not poison the pixel
                         sum += v;
                         sum2 += v * v;

@@ -251,9 +251,15 @@ BeamResult amcwRead(const LrfSpec& spec, const PhysicalParams& p, const BeamSign
 
 BeamResult amcwBeam(const LrfSpec& spec, const PhysicalParams& p, const BeamSignal& s, KeyedRng& rng)
 {
-    // The receiver's noise is complex Gaussian on each phasor (drawn in this order: lo, hi).
-    const std::complex<double> n_lo(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
-    const std::complex<double> n_hi(p.noise_floor * rng.normal(), p.noise_floor * rng.normal());
+    // The receiver's noise is complex Gaussian on each phasor, drawn in this order: lo's imaginary
+    // and real parts, then hi's (each in its own statement: as arguments of one call their order
+    // was the compiler's; gcc's, right to left, kept).
+    const double lo_im = rng.normal();
+    const double lo_re = rng.normal();
+    const double hi_im = rng.normal();
+    const double hi_re = rng.normal();
+    const std::complex<double> n_lo(p.noise_floor * lo_re, p.noise_floor * lo_im);
+    const std::complex<double> n_hi(p.noise_floor * hi_re, p.noise_floor * hi_im);
     const AmcwPhasors z = amcwPhasors(p, s, n_lo, n_hi);
     const double ds_noise = rng.normal();
     return amcwRead(spec, p, s, z, ds_noise);
