@@ -7,6 +7,7 @@
 #include "ceres_fit.hpp"
 #include "range_offset_residual.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/order_stats.hpp"
 #include "smokescan/diagnose/lidar_diagnosis.hpp"
 
 namespace smokescan {
@@ -143,13 +144,8 @@ LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cf
     return f;
 }
 
-double median(std::vector<float> v)
-{
-    if (v.empty()) return 0;
-    const size_t h = v.size() / 2;
-    std::nth_element(v.begin(), v.begin() + long(h), v.end());
-    return double(v[h]);
-}
+/// The library's median (core/order_stats) of float residuals.
+double median(const std::vector<float>& v) { return smokescan::median(std::vector<double>(v.begin(), v.end())); }
 
 /// 1.4826 · the median absolute deviation of every channel's residuals in the folds.
 double robustSd(std::initializer_list<const LidarTally::Fold*> folds)

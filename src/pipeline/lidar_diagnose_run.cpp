@@ -50,7 +50,16 @@ void checkListing(const std::vector<FrameIndexEntry>& frames, const std::string&
 
 /// One frame's file against its listing and the scene: the fields that tell a point's beam, the
 /// file's own start time, the recorded start pose against the scene's.
-void checkFrame(const PointCloudFile& pc, const FrameIndexEntry& e, const Pose& scene_pose, const std::string& path)
+/// A recorded pose's distance from the scene's: position [m] and angle [deg].
+std::pair<double, double> poseOffset(const Pose& scene_pose, const Pose& recorded)
+{
+    return {(scene_pose.t - recorded.t).norm(),
+            Eigen::AngleAxisd(scene_pose.R.transpose() * recorded.R).angle() * 180 / M_PI};
+}
+
+/// @return the recorded start pose's offset from the scene's (poseOffset)
+std::pair<double, double> checkFrame(const PointCloudFile& pc, const FrameIndexEntry& e, const Pose& scene_pose,
+                                     const std::string& path)
 {
     const auto has = [&](const char* a, const char* b) {
         return std::any_of(pc.fields.begin(), pc.fields.end(), [&](const std::string& f) { return f == a || f == b; });
@@ -62,13 +71,13 @@ void checkFrame(const PointCloudFile& pc, const FrameIndexEntry& e, const Pose& 
                             " field: the diagnosis tells a point's beam by its ring and firing time");
     if (std::isfinite(pc.start_s) && std::abs(pc.start_s - e.start_s) > kTimeTolerance_s)
         throw Error(path, fmt("starts at %.9g s by its header, at %.9g s by frames.csv", pc.start_s, e.start_s));
-    const double off_m = (scene_pose.t - e.start_pose.t).norm();
-    const double off_deg = Eigen::AngleAxisd(scene_pose.R.transpose() * e.start_pose.R).angle() * 180 / M_PI;
+    const auto [off_m, off_deg] = poseOffset(scene_pose, e.start_pose);
     if (off_m > kMaxPoseOff_m || off_deg > kMaxPoseOff_deg)
         throw Error(path,
                     fmt("its recorded start pose is %.3g m and %.3g deg from the scene's (at most %g m and %g "
                         "deg): the replay would not fire the beams the recorder fired",
                         off_m, off_deg, kMaxPoseOff_m, kMaxPoseOff_deg));
+    return {off_m, off_deg};
 }
 
 /// Refuses a frame whose first returns match no beam of the sensor in more than a tenth.
@@ -134,17 +143,15 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
         const FrameIndexEntry& e = frames[k];
         const std::string path = cfg.points + "/" + e.file;
         const PointCloudFile pc = readPointCloud(path);
-        const Pose scene_pose = scene.sensorAt(run.mount(), e.start_s).pose;
-        checkFrame(pc, e, scene_pose, path);
+        const auto [off_m, off_deg] = checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path);
         long long frame_first = 0;
         for (const LidarPoint& p : pc.points) (p.return_index == 0 ? frame_first : second) += 1;
         first += frame_first;
         const long long before = tally.unmatched();
         tally.add(scanner.expected(e.start_s), pc.points, int(k % 2));
         checkMatched(tally.unmatched() - before, frame_first, path, sensor);
-        mismatch_m = std::max(mismatch_m, (scene_pose.t - e.start_pose.t).norm());
-        mismatch_deg =
-            std::max(mismatch_deg, Eigen::AngleAxisd(scene_pose.R.transpose() * e.start_pose.R).angle() * 180 / M_PI);
+        mismatch_m = std::max(mismatch_m, off_m);
+        mismatch_deg = std::max(mismatch_deg, off_deg);
         reportProgress(control, (long long)k + 1, (long long)frames.size());
     }
     out.diagnosis = diagnoseLidar(tally, run.spec().range_sigma_m, cfg.diag);
