@@ -54,6 +54,28 @@ void testDropout(const Split& s, LidarFinding& f)
     f.p_value = f.tested ? 0.5 * std::erfc(z / std::sqrt(2.0)) : 1;
 }
 
+/// What a test leaves out: the beams of stronger candidates among the clear beams' groupings
+/// (a sector, a ring, a surface), chosen on the search fold alone so that the held-out fold
+/// only tests.
+struct Excluded {
+    std::vector<char> beam;  ///< per beam of the pattern: left out whole (a sector's or a ring's)
+    std::vector<int> surfaces;  ///< the clear beams on these surfaces left out
+};
+
+/// Beam i's clear beams and misses in fold f less those `ex` leaves out: {clear, missed}.
+std::pair<double, double> clearOf(const LidarTally::Fold& f, size_t i, const Excluded& ex)
+{
+    if (ex.beam[i]) return {0, 0};
+    double n = f.clear[i], m = f.missed[i];
+    for (int s : ex.surfaces) {
+        const auto on = f.clear_on.find(s);
+        if (on == f.clear_on.end()) continue;
+        n -= on->second[i];
+        m -= f.missed_on.at(s)[i];
+    }
+    return {n, m};
+}
+
 int sectorBin(double azimuth_rad, int bins)
 {
     const double deg = azimuth_rad * 180 / M_PI;
@@ -61,15 +83,16 @@ int sectorBin(double azimuth_rad, int bins)
     return std::min(bins - 1, int(std::floor((u < 0 ? u + 360 : u) / (360.0 / bins))));
 }
 
-/// Counts of a fold by sector bin.
-std::vector<Split> binCounts(const LidarTally& t, int fold, int bins)
+/// Counts of a fold by sector bin, less what `ex` leaves out.
+std::vector<Split> binCounts(const LidarTally& t, int fold, int bins, const Excluded& ex)
 {
     std::vector<Split> out(static_cast<size_t>(bins));
     const LidarTally::Fold& f = t.fold(fold);
     for (size_t i = 0; i < t.pattern().size(); ++i) {
         Split& s = out[size_t(sectorBin(t.pattern()[i].azimuth_rad, bins))];
-        s.n_in += f.clear[i];
-        s.m_in += f.missed[i];
+        const auto [n, m] = clearOf(f, i, ex);
+        s.n_in += n;
+        s.m_in += m;
     }
     return out;
 }
@@ -90,15 +113,16 @@ Split runSplit(const std::vector<Split>& bin, int start, int width)
 }
 
 /// The window's sector: the run of bins whose missed returns most exceed the rest's on fold 0
-/// (a scan statistic), tested on fold 1.
-LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, int& start, int& width)
+/// (a scan statistic; its z into `search_z`), tested on fold 1.
+LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, const Excluded& ex, int& start,
+                          int& width, double& search_z)
 {
     LidarFinding f;
     f.cause = LidarCause::WindowSector;
     f.floor = cfg.min_dropout;
     const int bins = int(std::lround(360 / cfg.sector_deg));
     const int widest = std::max(1, std::min(bins - 1, int(std::lround(cfg.max_sector_deg / cfg.sector_deg))));
-    const std::vector<Split> search = binCounts(t, 0, bins);
+    const std::vector<Split> search = binCounts(t, 0, bins, ex);
     double best = 0;
     start = -1;
     width = 0;
@@ -107,38 +131,46 @@ LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, 
             const double z = signedRoot(runSplit(search, s, w));
             if (z > best) best = z, start = s, width = w;
         }
+    search_z = best;
     if (start < 0) return f;
     f.from_deg = -180 + start * cfg.sector_deg;
     f.to_deg = f.from_deg + width * cfg.sector_deg;
     if (f.to_deg > 180) f.to_deg -= 360;  // a sector across 180°: from > to
-    testDropout(runSplit(binCounts(t, 1, bins), start, width), f);
+    testDropout(runSplit(binCounts(t, 1, bins, ex), start, width), f);
     return f;
 }
 
-/// A channel dropping returns: the ring whose missed returns most exceed the others' on fold 0,
-/// tested on fold 1; the beams in the window's candidate run of bins (start, width) left out of both.
-LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cfg, int start, int width)
+/// The clear beams of a fold in a group (`in` of a beam, and of a surface or −1 for every
+/// surface) against the rest, less what `ex` leaves out.
+template <typename In>
+Split groupSplit(const LidarTally& t, int fold, const Excluded& ex, In in)
+{
+    Split s;
+    const LidarTally::Fold& f = t.fold(fold);
+    for (size_t i = 0; i < t.pattern().size(); ++i) {
+        const auto [n, m] = clearOf(f, i, ex);
+        (in(i) ? s.n_in : s.n_out) += n;
+        (in(i) ? s.m_in : s.m_out) += m;
+    }
+    return s;
+}
+
+/// A channel dropping returns: the ring whose missed returns most exceed the others' on fold 0
+/// (its z into `search_z`), tested on fold 1.
+LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cfg, const Excluded& ex, double& search_z)
 {
     LidarFinding f;
     f.cause = LidarCause::DroppingChannel;
     f.floor = cfg.min_dropout;
-    const int bins = int(std::lround(360 / cfg.sector_deg));
     auto ringSplit = [&](int fold, int ring) {
-        Split s;
-        const LidarTally::Fold& fo = t.fold(fold);
-        for (size_t i = 0; i < t.pattern().size(); ++i) {
-            if (width > 0 && inRun(sectorBin(t.pattern()[i].azimuth_rad, bins), start, width, bins)) continue;
-            const bool in = t.pattern()[i].channel == ring;
-            (in ? s.n_in : s.n_out) += fo.clear[i];
-            (in ? s.m_in : s.m_out) += fo.missed[i];
-        }
-        return s;
+        return groupSplit(t, fold, ex, [&](size_t i) { return t.pattern()[i].channel == ring; });
     };
     double best = 0;
     for (int c = 0; c < t.channels(); ++c) {
         const double z = signedRoot(ringSplit(0, c));
         if (z > best) best = z, f.ring = c;
     }
+    search_z = best;
     if (f.ring < 0) return f;
     testDropout(ringSplit(1, f.ring), f);
     return f;
@@ -169,35 +201,54 @@ std::vector<float> strided(const std::vector<float>& v, size_t cap)
     return out;
 }
 
+/// Fold f's residuals by channel, without those on `skip` (a surface whose echoes the search
+/// fold found missing: its ranges are as suspect as its returns; −1: none).
+std::vector<std::vector<float>> residualsBut(const LidarTally::Fold& f, int skip)
+{
+    std::vector<std::vector<float>> out(f.residual_m.size());
+    for (size_t c = 0; c < out.size(); ++c)
+        for (size_t k = 0; k < f.residual_m[c].size(); ++k)
+            if (f.residual_surface[c][k] != skip || skip < 0) out[c].push_back(f.residual_m[c][k]);
+    return out;
+}
+
+/// 1.4826 · the median absolute deviation of residuals by channel.
+double robustSdOf(const std::vector<std::vector<float>>& by_channel)
+{
+    LidarTally::Fold f;
+    f.residual_m = by_channel;
+    return robustSd({&f});
+}
+
 /// A channel's range bias: the ring whose median residual stands furthest from the others' on
-/// fold 0, fitted on fold 1 beside an offset common to all (Huber loss, Ceres' covariance).
-LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const LidarDiagnosisConfig& cfg)
+/// fold 0, fitted on fold 1 beside an offset common to all (Huber loss, Ceres' covariance); the
+/// residuals on surface `skip` left out of both (−1: none).
+LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const LidarDiagnosisConfig& cfg, int skip)
 {
     LidarFinding f;
     f.cause = LidarCause::BiasedChannel;
     f.floor = cfg.min_bias_sd * range_sigma_m;
-    const LidarTally::Fold& a = t.fold(0);
-    const double sd0 = robustSd({&a});
+    const std::vector<std::vector<float>> a = residualsBut(t.fold(0), skip), b = residualsBut(t.fold(1), skip);
+    const double sd0 = robustSdOf(a);
     std::vector<float> all;
-    for (const auto& r : a.residual_m) all.insert(all.end(), r.begin(), r.end());
+    for (const auto& r : a) all.insert(all.end(), r.begin(), r.end());
     const double med0 = median(std::move(all));
     double best = 0;
     for (int c = 0; c < t.channels(); ++c) {
-        const auto& r = a.residual_m[size_t(c)];
+        const auto& r = a[size_t(c)];
         if (r.size() < 10 || !(sd0 > 0)) continue;
         const double z = std::abs(median(r) - med0) / (1.2533 * sd0 / std::sqrt(double(r.size())));
         if (z > best) best = z, f.ring = c;
     }
-    const LidarTally::Fold& b = t.fold(1);
-    if (f.ring < 0 || b.residual_m[size_t(f.ring)].size() < 10) return f;
-    const double sd = std::max(robustSd({&b}), 1e-6);
+    if (f.ring < 0 || b[size_t(f.ring)].size() < 10) return f;
+    const double sd = std::max(robustSdOf(b), 1e-6);
     // At most 2e5 residuals on each side: the rest's offset is then known far better than the channel's.
     constexpr size_t kCap = 200'000;
     std::vector<float> rest;
     for (int c = 0; c < t.channels(); ++c)
-        if (c != f.ring) rest.insert(rest.end(), b.residual_m[size_t(c)].begin(), b.residual_m[size_t(c)].end());
+        if (c != f.ring) rest.insert(rest.end(), b[size_t(c)].begin(), b[size_t(c)].end());
     if (rest.size() < 10) return f;
-    double x[2] = {median(rest), median(b.residual_m[size_t(f.ring)]) - median(rest)};
+    double x[2] = {median(rest), median(b[size_t(f.ring)]) - median(rest)};
     ceres::Problem problem;
     auto addAll = [&](const std::vector<float>& v, bool on) {
         for (float r : strided(v, kCap))
@@ -205,7 +256,7 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
                                          new detail::RangeOffsetResidual(double(r), sd, on)),
                                      new ceres::HuberLoss(3.0), x);
     };
-    addAll(b.residual_m[size_t(f.ring)], true);
+    addAll(b[size_t(f.ring)], true);
     addAll(rest, false);
     ceres::Solver::Summary summary;
     if (!detail::solveQuiet(problem, detail::denseOptions(100, 1e-10), summary)) return f;
@@ -250,27 +301,70 @@ LidarFinding smokeFirstReturns(const LidarTally& t, const LidarDiagnosisConfig& 
     return f;
 }
 
-/// A surface's threshold: the surface whose returns stand furthest from their chance on fold 0
-/// (in their own error, 20 beams at least), tested on fold 1, two-sided.
+/// The clear beams on `surface` against the other clear beams of a fold.
+Split surfaceMissSplit(const LidarTally& t, int fold, int surface)
+{
+    const LidarTally::Fold& f = t.fold(fold);
+    Split s;
+    for (size_t i = 0; i < t.pattern().size(); ++i) s.n_out += f.clear[i], s.m_out += f.missed[i];
+    const auto on = f.clear_on.find(surface);
+    if (on == f.clear_on.end()) return s;
+    const std::vector<uint32_t>& missed = f.missed_on.at(surface);
+    for (size_t i = 0; i < t.pattern().size(); ++i) {
+        s.n_in += on->second[i], s.m_in += missed[i];
+        s.n_out -= on->second[i], s.m_out -= missed[i];
+    }
+    return s;
+}
+
+/// A surface's threshold or reflectance off: the surface whose returns stand furthest from what
+/// the replay expects on fold 0 — its uncertain beams' returns against their chance (in their own
+/// error, 20 beams at least), or its clear beams missing beyond the other clear beams' — tested
+/// on fold 1, two-sided, both parts in one z (Stouffer's: they count different beams); the
+/// effect is the uncertain beams' share of returns over their chance (< 0: fewer), else the
+/// clear beams' share of returns below the others'.
 LidarFinding surfaceThreshold(const LidarTally& t, const LidarDiagnosisConfig& cfg)
 {
     LidarFinding f;
     f.cause = LidarCause::SurfaceThreshold;
     f.floor = cfg.min_dropout;
+    auto outcomes = [&](int fold, int surface) -> const LidarOutcomes* {
+        const auto it = t.fold(fold).surface_returns.find(surface);
+        const bool usable =
+            it != t.fold(fold).surface_returns.end() && it->second.beams >= 20 && it->second.variance > 0;
+        return usable ? &it->second : nullptr;
+    };
+    std::vector<int> surfaces;
+    for (const auto& [s, o] : t.fold(0).surface_returns) surfaces.push_back(s);
+    for (const auto& [s, on] : t.fold(0).clear_on) surfaces.push_back(s);
     double best = 0;
-    for (const auto& [surface, o] : t.fold(0).surface_returns) {
-        if (o.beams < 20 || !(o.variance > 0)) continue;
-        const double z = std::abs(o.observed - o.expected) / std::sqrt(o.variance);
-        if (z > best) best = z, f.surface = surface;
+    for (int s : surfaces) {
+        const LidarOutcomes* o = outcomes(0, s);
+        const double z_out = o ? std::abs(o->observed - o->expected) / std::sqrt(o->variance) : 0.0;
+        const double z = std::max(z_out, signedRoot(surfaceMissSplit(t, 0, s)));
+        if (z > best) best = z, f.surface = s;
     }
     if (f.surface < 0) return f;
-    const auto held = t.fold(1).surface_returns.find(f.surface);
-    if (held == t.fold(1).surface_returns.end()) return f;
-    testOutcomes(held->second, f);
-    if (f.tested) {
-        const double z = f.effect / f.effect_se;
-        f.p_value = std::erfc(std::abs(z) / std::sqrt(2.0));
+    const LidarOutcomes* o = outcomes(1, f.surface);
+    const Split miss = surfaceMissSplit(t, 1, f.surface);
+    const bool by_misses = miss.n_in > 0 && miss.n_out > 0;
+    double z = 0;
+    if (o) {
+        testOutcomes(*o, f);
+        z = f.effect / f.effect_se;
     }
+    if (by_misses) {
+        const double z_miss = -signedRoot(miss);  // fewer returns: < 0, as the outcomes' z
+        if (!o) {
+            testDropout(miss, f);
+            f.effect = -f.effect;
+        }
+        z = o ? (z + z_miss) / std::sqrt(2.0) : z_miss;
+        f.tested = true;
+    }
+    if (!f.tested) return f;
+    f.gain_nats = 0.5 * z * z;
+    f.p_value = std::erfc(std::abs(z) / std::sqrt(2.0));
     return f;
 }
 
@@ -347,19 +441,29 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
     }
     const double each = cfg.level / 5;  // Bonferroni over the five causes
     auto judge = [&](LidarFinding& f) { f.named = f.tested && f.p_value < each && std::abs(f.effect) >= f.floor; };
+    // A surface darker than the scene says loses its certain echoes too (the replay was sure of
+    // them at the scene's reflectance), and reads them at other ranges: in a sector or a ring they
+    // would pass for a dirty window or a channel. The surface candidate (chosen on the even
+    // frames) is the suspect: its clear beams are left out of the sector's, the channel's and the
+    // bias's search and test, named or not (whether it is named is the odd frames' word, which
+    // the even frames' search must not hear).
+    LidarFinding surface = surfaceThreshold(t, cfg);
+    judge(surface);
+    Excluded ex{std::vector<char>(t.pattern().size(), 0), {}};
+    if (surface.surface >= 0) ex.surfaces.push_back(surface.surface);
     int start = -1, width = 0;
-    LidarFinding window = windowSector(t, cfg, start, width);
+    double z = 0;
+    LidarFinding window = windowSector(t, cfg, ex, start, width, z);
     judge(window);
-    // The channel's search and test leave out the window's candidate sector, named or not (whether
-    // it is named is the odd frames' word, which the even frames' search must not hear).
-    LidarFinding channel = droppingChannel(t, cfg, start, width);
+    // The channel's search and test also leave out the window's candidate sector, named or not.
+    for (size_t i = 0; i < t.pattern().size(); ++i)
+        if (width > 0 && inRun(sectorBin(t.pattern()[i].azimuth_rad, bins), start, width, bins)) ex.beam[i] = 1;
+    LidarFinding channel = droppingChannel(t, cfg, ex, z);
     judge(channel);
-    LidarFinding bias = biasedChannel(t, range_sigma_m, cfg);
+    LidarFinding bias = biasedChannel(t, range_sigma_m, cfg, surface.surface);
     judge(bias);
     LidarFinding smoke = smokeFirstReturns(t, cfg);
     judge(smoke);
-    LidarFinding surface = surfaceThreshold(t, cfg);
-    judge(surface);
     d.tried = {channel, window, bias, smoke, surface};
     for (int k = 0; k < 2; ++k)
         for (const auto& [s, o] : t.fold(k).surface_returns) d.surfaces[s] += o;

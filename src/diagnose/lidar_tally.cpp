@@ -25,6 +25,7 @@ LidarTally::LidarTally(const std::vector<PatternBeam>& pattern, int channels, do
         f.clear.assign(pattern_.size(), 0);
         f.missed.assign(pattern_.size(), 0);
         f.residual_m.resize(size_t(channels_));
+        f.residual_surface.resize(size_t(channels_));
     }
 }
 
@@ -82,10 +83,20 @@ void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vecto
             continue;
         }
         ++f.clear[i];
-        if (std::isnan(got[i]))
+        const int surface = expected[i].surface;
+        if (surface >= 0) {
+            std::vector<uint32_t>& on = f.clear_on[surface];
+            if (on.empty()) on.assign(n, 0), f.missed_on[surface].assign(n, 0);
+            ++on[i];
+        }
+        if (std::isnan(got[i])) {
             ++f.missed[i];
-        else
-            f.residual_m[size_t(pattern_[i].channel)].push_back(got[i] - expected[i].range_m);
+            if (surface >= 0) ++f.missed_on[surface][i];
+        } else {
+            const size_t c = size_t(pattern_[i].channel);
+            f.residual_m[c].push_back(got[i] - expected[i].range_m);
+            f.residual_surface[c].push_back(surface);
+        }
     }
     ++frames_;
 }

@@ -8,6 +8,7 @@
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
+#include "smokescan/lidar/waveform_peaks.hpp"
 
 namespace smokescan {
 namespace {
@@ -27,30 +28,45 @@ EchoSource dominantSource(const BeamSignal& s, const WaveformEcho& e, double rea
     return EchoSource(int(std::max_element(power, power + 3) - power));
 }
 
-/// The echo's peak from the log-parabola through its largest sample and their neighbours (exact
-/// for a lone Gaussian pulse); the largest sample when one of them is not positive.
-double refinedPeak(const Waveform& f, const WaveformEcho& e)
+/// The source of a peak that rose `height` out of another's run: a surface or mirror when their
+/// echoes within its span (the pulse's reach around it) sent at least half of that rise, else the
+/// smoke (a denser stretch of it).
+EchoSource risingSource(const BeamSignal& s, const WaveformEcho& e, double reach_m, double height)
+{
+    double power[3] = {0, 0, 0};
+    for (const Echo& x : s.echoes)
+        if (x.range_m >= e.lead_m - reach_m && x.range_m <= e.trail_m + reach_m) power[int(x.source)] += x.power;
+    const double surface = power[int(EchoSource::Surface)], mirror = power[int(EchoSource::Mirror)];
+    if (surface + mirror < 0.5 * height) return EchoSource::Smoke;
+    return surface >= mirror ? EchoSource::Surface : EchoSource::Mirror;
+}
+
+/// The echo's height above `pedestal` from the log-parabola through its largest sample and their
+/// neighbours less the pedestal (exact for a lone Gaussian pulse on a flat pedestal); the largest
+/// sample's when one of them is not above the pedestal.
+double refinedPeak(const Waveform& f, const WaveformEcho& e, double pedestal)
 {
     const long k = std::lround((e.peak_m - f.lo) / f.dr);
-    if (k < 1 || size_t(k + 1) >= f.w.size()) return e.peak;
-    const double a = f.w[size_t(k - 1)], b = f.w[size_t(k)], c = f.w[size_t(k + 1)];
-    if (!(a > 0 && b > 0 && c > 0)) return e.peak;
+    if (k < 1 || size_t(k + 1) >= f.w.size()) return e.peak - pedestal;
+    const double a = f.w[size_t(k - 1)] - pedestal, b = f.w[size_t(k)] - pedestal, c = f.w[size_t(k + 1)] - pedestal;
+    if (!(a > 0 && b > 0 && c > 0)) return e.peak - pedestal;
     const double la = std::log(a), lb = std::log(b), lc = std::log(c), curv = la - 2 * lb + lc;
-    if (!(curv < 0)) return e.peak;
+    if (!(curv < 0)) return e.peak - pedestal;
     const double delta = 0.5 * (la - lc) / curv;
     return std::exp(lb - 0.25 * (la - lc) * delta);
 }
 
-/// Where the echo's leading edge crosses half its peak: on the log-parabola through the samples
-/// around the crossing (exact for a lone Gaussian pulse); the linear crossing when one of them is
-/// not positive or the parabola does not cross there.
-double refinedLead(const Waveform& f, const WaveformEcho& e, double peak)
+/// Where the echo's leading edge crosses half its height above `pedestal`: on the log-parabola
+/// through the samples around the crossing less the pedestal (exact for a lone Gaussian pulse on a
+/// flat pedestal); the linear crossing when one of them is not above the pedestal or the parabola
+/// does not cross there.
+double refinedLead(const Waveform& f, const WaveformEcho& e, double height, double pedestal)
 {
     const long j = long(std::ceil((e.lead_m - f.lo) / f.dr));
     if (j < 1 || size_t(j + 1) >= f.w.size()) return e.lead_m;
-    const double y0 = f.w[size_t(j - 1)], y1 = f.w[size_t(j)], y2 = f.w[size_t(j + 1)];
+    const double y0 = f.w[size_t(j - 1)] - pedestal, y1 = f.w[size_t(j)] - pedestal, y2 = f.w[size_t(j + 1)] - pedestal;
     if (!(y0 > 0 && y1 > 0 && y2 > 0)) return e.lead_m;
-    const double A = std::log(y1) - std::log(0.5 * peak), B = 0.5 * (std::log(y2) - std::log(y0)),
+    const double A = std::log(y1) - std::log(0.5 * height), B = 0.5 * (std::log(y2) - std::log(y0)),
                  C = 0.5 * (std::log(y2) + std::log(y0)) - std::log(y1);
     // A + B·t + C·t² = 0 for t in [−1, 1] (t in samples from j), the root nearest the linear one.
     const double t_lin = (e.lead_m - f.lo) / f.dr - double(j);
@@ -84,18 +100,25 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
     if (f.w.empty()) return out;
     if (rng)
         for (double& w : f.w) w += p.noise_floor * rng->normalZiggurat();
-    const double fwhm = 2.354820045 * f.sig_p;
-    for (const WaveformEcho& e : waveformEchoes(f, p.threshold_snr * p.noise_floor, spec.max_echoes)) {
-        // An echo whose leading edge the waveform does not hold (nearer than half the pulse's
-        // length) has no measurable range: the blind zone every pulsed lidar has.
-        if (f.lo <= 0 && e.lead_m <= f.lo) continue;
+    const double fwhm = 2.354820045 * f.sig_p, threshold = p.threshold_snr * p.noise_floor;
+    // A peak must rise out of the signal before it by as much as an echo must rise out of the noise.
+    for (const WaveformPeak& w : waveformPeaks(f, threshold, threshold)) {
+        const WaveformEcho& e = w.echo;
+        // A run whose leading edge the waveform does not hold (nearer than half the pulse's
+        // length) has no measurable range: the blind zone every pulsed lidar has. Its first peak
+        // is not an echo; a peak that rises out of it later is (a wall behind the near smoke).
+        if (w.opens_run && f.lo <= 0 && e.lead_m <= f.lo) continue;
         LidarEcho x;
-        x.peak = refinedPeak(f, e);
-        x.range_m = refinedLead(f, e, x.peak) + 0.5 * fwhm + (rng ? spec.range_sigma_m * rng->normalZiggurat() : 0.0);
+        x.peak = refinedPeak(f, e, w.pedestal);
+        x.pedestal = w.pedestal;
+        x.standout = w.opens_run ? x.peak : std::min(x.peak, w.fall);
+        x.range_m = refinedLead(f, e, x.peak, w.pedestal) + 0.5 * fwhm +
+            (rng ? spec.range_sigma_m * rng->normalZiggurat() : 0.0);
         if (!(x.range_m >= spec.range_min_m && x.range_m <= spec.range_max_m)) continue;
         x.intensity = std::min(255.0, 100 * x.peak * x.range_m * x.range_m / std::max(1e-9, p.overlap(x.range_m)));
-        x.source = dominantSource(s, e, 2 * f.sig_p);
+        x.source = w.opens_run ? dominantSource(s, e, 2 * f.sig_p) : risingSource(s, e, 2 * f.sig_p, x.peak);
         out.push_back(x);
+        if (int(out.size()) == spec.max_echoes) break;
     }
     return out;
 }
@@ -243,14 +266,19 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
     if (!kept.empty()) {
         const LidarEcho& e = echoes[kept.front()];
         x.range_m = float(e.range_m);
-        x.margin_sd = float((e.peak - p.threshold_snr * p.noise_floor) / p.noise_floor);
+        // Over the threshold in noise sd: for a peak out of another's run, of the rise and the
+        // fall around its valley, each the difference of two noisy samples (√2 sd).
+        x.margin_sd =
+            float((e.standout - p.threshold_snr * p.noise_floor) / p.noise_floor / (e.pedestal > 0 ? M_SQRT2 : 1.0));
         x.source = uint8_t(e.source);
-        // The echo must still stand on its own at the lower threshold (not merged into a run that
-        // starts in the blind zone, e.g. the near field's smoke) and no other source may speak.
+        // The echo must still be found at the lower threshold (a peak that no longer stands out
+        // of the run it rises from there is lost to it) and no other source may speak.
         const bool alone = std::any_of(faint.begin(), faint.end(), [&](const LidarEcho& g) {
             return g.source == EchoSource::Surface && std::abs(g.range_m - e.range_m) < pulse_m;
         });
-        x.clear = e.source == EchoSource::Surface && x.margin_sd >= kClearMarginSd && alone &&
+        // And one surface only: a footprint across an edge mixes two, whose echoes the scene's
+        // reflectances weigh (a wall's base: the floor's beam loses its echo if the wall is darker).
+        x.clear = e.source == EchoSource::Surface && !sig.mixed_surfaces && x.margin_sd >= kClearMarginSd && alone &&
             std::none_of(faint.begin(), faint.end(),
                          [](const LidarEcho& g) { return g.source != EchoSource::Surface; });
     }

@@ -66,6 +66,8 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
         blocked[j] = hits[j].endOr(reach);
         t_end = std::max(t_end, blocked[j]);
         if (hits[j].hit && hits[j].t_m <= range_max_m) sig.surface_in_range = true;
+        if (hits[j].hit != hits[0].hit || (hits[j].hit && hits[j].surface != hits[0].surface))
+            sig.mixed_surfaces = true;
     }
     if (central_hit) *central_hit = hits[0];
 

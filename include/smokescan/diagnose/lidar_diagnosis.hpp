@@ -122,7 +122,10 @@ public:
     using Outcomes = LidarOutcomes;
     struct Fold {
         std::vector<uint32_t> clear, missed;  ///< per beam of the pattern
+        /// The same per surface the clear beam's central ray hits (Scene::surfaces index), per beam.
+        std::map<int, std::vector<uint32_t>> clear_on, missed_on;
         std::vector<std::vector<float>> residual_m;  ///< per channel: recorded − replayed range
+        std::vector<std::vector<int>> residual_surface;  ///< per channel: each residual's surface
         /// Short first returns (smoke before the surface) on beams that are not clear and could
         /// return something.
         Outcomes short_returns;

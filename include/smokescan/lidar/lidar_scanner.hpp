@@ -25,14 +25,22 @@ class KeyedRng;
 /// One echo a beam's receiver resolved.
 struct LidarEcho {
     double range_m = 0;  ///< leading edge at half maximum plus half the pulse's width [m]
-    double peak = 0;  ///< the echo's peak (normalised power: a white Lambertian target at 1 m = 1)
+    double peak = 0;  ///< the echo's peak (normalised power: a white Lambertian target at 1 m = 1) above its pedestal
+    /// The signal it rose out of (normalised power): 0 for the first peak of a run above the
+    /// threshold, the valley before it for a peak that stood out of another's run (waveform_peaks.hpp).
+    double pedestal = 0;
+    /// What stands out for the noise to undo: the peak for a run's first, else the smaller of its
+    /// height and the fall from the previous peak to the valley (normalised power).
+    double standout = 0;
     double intensity = 0;  ///< calibrated reflectivity [%]: 100·peak·R²/O(R), at most 255
     EchoSource source = EchoSource::Surface;  ///< what sent most of the echo's power
 };
 
 /// @brief The echoes a lidar's receiver resolves in a beam's signal, in order of range: the
-/// waveform's runs above threshold_snr × noise (with the receiver's noise when `rng` is given),
-/// within the range window, at most max_echoes; each range with the datasheet noise when `rng` is given.
+/// waveform's peaks (waveform_peaks.hpp) in its runs above threshold_snr × noise, each standing
+/// out of the signal before it by as much (with the receiver's noise when `rng` is given), the
+/// first peak of a run that starts in the blind zone left out; within the range window, at most
+/// max_echoes; each range with the datasheet noise when `rng` is given.
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& signal, KeyedRng* rng);
 /// @brief The same from the beam's noise-free waveform (pulsedWaveform at 2 samples per σ),
 /// for draws of the noise on one waveform.

@@ -40,6 +40,9 @@ struct BeamSignal {
     std::vector<Echo> echoes;  ///< sorted by range
     double surface_power = 0, smoke_power = 0, mirror_power = 0;
     bool surface_in_range = false;  ///< some sub-ray hit a surface within the sensor's range
+    /// The footprint's sub-rays did not all meet the same surface (an edge, a corner, a gap):
+    /// the echo mixes what they met.
+    bool mixed_surfaces = false;
     /// The smoke's backscatter power on points k·c, c = smoke_cell_m, when the sensor sums it on a
     /// grid (PhysicalParams::smoke_cell_m > 0): each piece of the path between two points shared
     /// between them so that its centre stays; empty otherwise, and the smoke is in `echoes`.
