@@ -443,10 +443,10 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
     auto judge = [&](LidarFinding& f) { f.named = f.tested && f.p_value < each && std::abs(f.effect) >= f.floor; };
     // A surface darker than the scene says loses its certain echoes too (the replay was sure of
     // them at the scene's reflectance), and reads them at other ranges: in a sector or a ring they
-    // would pass for a dirty window or a channel. The surface candidate (chosen on the even
-    // frames) is the suspect: its clear beams are left out of the sector's, the channel's and the
-    // bias's search and test, named or not (whether it is named is the odd frames' word, which
-    // the even frames' search must not hear).
+    // would pass for a dirty window or a channel's bias. The surface candidate (chosen on the even
+    // frames) is the suspect: its clear beams are left out of the sector's and the bias's search
+    // and test, named or not (whether it is named is the odd frames' word, which the even frames'
+    // search must not hear).
     LidarFinding surface = surfaceThreshold(t, cfg);
     judge(surface);
     Excluded ex{std::vector<char>(t.pattern().size(), 0), {}};
@@ -455,7 +455,11 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
     double z = 0;
     LidarFinding window = windowSector(t, cfg, ex, start, width, z);
     judge(window);
-    // The channel's search and test also leave out the window's candidate sector, named or not.
+    // The channel's search and test leave out the window's candidate sector, named or not, but
+    // keep the surface's clear beams: a ring sees many surfaces and a wall many rings, so that a
+    // ring's misses among all its beams stay the ring's (a dark wall's, spread over the rings that
+    // see it, stay under a channel's floor), where a wall seen within a few degrees is a sector.
+    ex.surfaces.clear();
     for (size_t i = 0; i < t.pattern().size(); ++i)
         if (width > 0 && inRun(sectorBin(t.pattern()[i].azimuth_rad, bins), start, width, bins)) ex.beam[i] = 1;
     LidarFinding channel = droppingChannel(t, cfg, ex, z);
