@@ -129,3 +129,21 @@ TEST(WaveformPeaks, WigglesThatDoNotStandOutByTheProminenceDoNotSplit)
     ASSERT_EQ(waveformPeaks(plateau, 0.01, prom).size(), 1u);
     EXPECT_TRUE(waveformPeaks(plateau, 0.5, prom).empty());
 }
+
+TEST(WaveformPeaks, AValleyBelowTheThresholdEndsTheRunAndAZeroProminenceIsRefused)
+{
+    // Two pulses whose valley dips under the threshold: two runs, each peak a run's first, the
+    // second read from zero (its half-height at half its peak, not half-way up from the valley).
+    const Waveform f = pulses({{5.0, 1.0}, {5.0 + 5 * kSigma, 0.4}});
+    const std::vector<WaveformPeak> p = waveformPeaks(f, 0.2, 0.01);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_TRUE(p[1].opens_run);
+    EXPECT_EQ(p[1].pedestal, 0.0);
+    // A peak on the last sample is read there.
+    Waveform edge = pulses({{20.0, 1.0}});
+    const std::vector<WaveformPeak> last = waveformPeaks(edge, 0.1, 0.1);
+    ASSERT_EQ(last.size(), 1u);
+    EXPECT_EQ(last[0].echo.peak_m, edge.lo + double(edge.w.size() - 1) * edge.dr);
+    EXPECT_THROW(waveformPeaks(f, 0.0, 0.0), std::invalid_argument);
+    EXPECT_TRUE(waveformPeaks(Waveform{}, 0.1, 0.1).empty());
+}

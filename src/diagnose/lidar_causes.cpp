@@ -319,7 +319,7 @@ Split surfaceMissSplit(const LidarTally& t, int fold, int surface)
 
 /// A surface's threshold or reflectance off: the surface whose returns stand furthest from what
 /// the replay expects on fold 0 — its uncertain beams' returns against their chance (in their own
-/// error, 20 beams at least), or its clear beams missing beyond the other clear beams' — tested
+/// error, 20 beams at least), or its clear beams (20 at least) missing beyond the other clear beams' — tested
 /// on fold 1, two-sided, both parts in one z (Stouffer's: they count different beams); the
 /// effect is the uncertain beams' share of returns over their chance (< 0: fewer), else the
 /// clear beams' share of returns below the others'.
@@ -337,16 +337,22 @@ LidarFinding surfaceThreshold(const LidarTally& t, const LidarDiagnosisConfig& c
     std::vector<int> surfaces;
     for (const auto& [s, o] : t.fold(0).surface_returns) surfaces.push_back(s);
     for (const auto& [s, on] : t.fold(0).clear_on) surfaces.push_back(s);
+    // Like the uncertain beams, the clear ones count from 20 beams on (a surface seen by a few
+    // beams would otherwise be named on a miss or two).
+    auto misses = [&](int fold, int surface) {
+        Split s = surfaceMissSplit(t, fold, surface);
+        return s.n_in >= 20 ? s : Split{};
+    };
     double best = 0;
     for (int s : surfaces) {
         const LidarOutcomes* o = outcomes(0, s);
         const double z_out = o ? std::abs(o->observed - o->expected) / std::sqrt(o->variance) : 0.0;
-        const double z = std::max(z_out, signedRoot(surfaceMissSplit(t, 0, s)));
+        const double z = std::max(z_out, signedRoot(misses(0, s)));
         if (z > best) best = z, f.surface = s;
     }
     if (f.surface < 0) return f;
     const LidarOutcomes* o = outcomes(1, f.surface);
-    const Split miss = surfaceMissSplit(t, 1, f.surface);
+    const Split miss = misses(1, f.surface);
     const bool by_misses = miss.n_in > 0 && miss.n_out > 0;
     double z = 0;
     if (o) {

@@ -101,8 +101,10 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
     if (rng)
         for (double& w : f.w) w += p.noise_floor * rng->normalZiggurat();
     const double fwhm = 2.354820045 * f.sig_p, threshold = p.threshold_snr * p.noise_floor;
-    // A peak must rise out of the signal before it by as much as an echo must rise out of the noise.
-    for (const WaveformPeak& w : waveformPeaks(f, threshold, threshold)) {
+    // A peak must rise out of the signal before it by as much as an echo must rise out of the
+    // noise, and by one noise sd at least (a receiver asked for its faint echoes at a threshold
+    // of 0 would otherwise split its runs at every pair of equal samples).
+    for (const WaveformPeak& w : waveformPeaks(f, threshold, std::max(threshold, p.noise_floor))) {
         const WaveformEcho& e = w.echo;
         // A run whose leading edge the waveform does not hold (nearer than half the pulse's
         // length) has no measurable range: the blind zone every pulsed lidar has. Its first peak

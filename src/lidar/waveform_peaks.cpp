@@ -1,5 +1,7 @@
 #include "smokescan/lidar/waveform_peaks.hpp"
 
+#include <stdexcept>
+
 namespace smokescan {
 namespace {
 
@@ -72,6 +74,7 @@ void runPeaks(const Waveform& f, int k0, int k1, double prominence, std::vector<
 
 std::vector<WaveformPeak> waveformPeaks(const Waveform& f, double threshold, double prominence)
 {
+    if (!(prominence > 0)) throw std::invalid_argument("waveformPeaks: the prominence must be > 0");
     std::vector<WaveformPeak> out;
     const std::vector<double>& w = f.w;
     const int n = int(w.size());

@@ -9,6 +9,9 @@
 /// A peak *stands out* when the signal rises at least `prominence` above the lowest point since
 /// the previous peak, after having fallen at least `prominence` below that previous peak (a
 /// hysteresis on the waveform, so that the receiver's noise on a smooth slope does not split it).
+/// A valley that dips below the threshold ends the run instead: the peak after it is then a run's
+/// first, read from zero — a weak peak after a valley just above the threshold needs the
+/// prominence over it, one after a valley just below it only the threshold.
 #include <vector>
 
 #include "smokescan/sensors/physical_model.hpp"
@@ -33,7 +36,7 @@ struct WaveformPeak {
 /// A run without such a valley is one peak whose WaveformEcho is waveformEchoes' for the run.
 /// @param f the waveform, @param threshold the detection threshold (normalised power)
 /// @param prominence how far a peak must stand above the valley before it, and the peak before
-/// that above the valley (normalised power, > 0)
+/// that above the valley (normalised power, > 0) @throw std::invalid_argument when it is not > 0
 std::vector<WaveformPeak> waveformPeaks(const Waveform& f, double threshold, double prominence);
 
 }  // namespace smokescan
