@@ -275,35 +275,42 @@ namespace {
 /// rings 8–15 in smoke, their first return none, short or at their surface (ring % 4) with the
 /// replay's chances 0.3, 0.2, 0.5; recorded with those chances, or surface 2's returns at
 /// `surface2` instead of 0.5 (the rest none).
-LidarTally mixedTally(uint64_t seed, double surface2 = 0.5)
+/// Four frames of a 16-ring pattern (even frames fold 0), each beam's replay and recorded
+/// points made by `beam(i, replay, rng, recorded)`.
+template <typename Beam>
+LidarTally tallyOf(const std::vector<PatternBeam>& pattern, uint64_t seed, Beam beam)
 {
-    const std::vector<PatternBeam> pattern = spinPattern(16, 180);
     LidarTally t(pattern, 16, 0.5);
     for (int fr = 0; fr < 4; ++fr) {
         std::vector<ExpectedBeam> ex(pattern.size());
         std::vector<LidarPoint> rec;
         KeyedRng rng(seed, uint64_t(fr));
-        for (size_t i = 0; i < pattern.size(); ++i) {
-            ExpectedBeam& x = ex[i];
-            x.surface = pattern[i].channel % 4;
-            x.surface_range_m = 10;
-            x.range_m = 10;
-            if (pattern[i].channel < 8) {
-                x.clear = true;
-                x.p_none = 0, x.p_surface = 1;
-                if (rng.uniform() >= 0.02) rec.push_back(pointOn(pattern[i], 10 + 0.03 * rng.normal()));
-                continue;
-            }
-            x.p_none = 0.3f, x.p_short = 0.2f, x.p_surface = 0.5f;
-            const double u = rng.uniform(), at_surface = x.surface == 2 ? surface2 : 0.5;
-            if (u < 0.2)
-                rec.push_back(pointOn(pattern[i], 4));  // a smoke echo 6 m short
-            else if (u < 0.2 + at_surface)
-                rec.push_back(pointOn(pattern[i], 10 + 0.03 * rng.normal()));
-        }
+        for (size_t i = 0; i < pattern.size(); ++i) beam(i, ex[i], rng, rec);
         t.add(ex, rec, fr % 2);
     }
     return t;
+}
+
+LidarTally mixedTally(uint64_t seed, double surface2 = 0.5)
+{
+    const std::vector<PatternBeam> pattern = spinPattern(16, 180);
+    return tallyOf(pattern, seed, [&](size_t i, ExpectedBeam& x, KeyedRng& rng, std::vector<LidarPoint>& rec) {
+        x.surface = pattern[i].channel % 4;
+        x.surface_range_m = 10;
+        x.range_m = 10;
+        if (pattern[i].channel < 8) {
+            x.clear = true;
+            x.p_none = 0, x.p_surface = 1;
+            if (rng.uniform() >= 0.02) rec.push_back(pointOn(pattern[i], 10 + 0.03 * rng.normal()));
+            return;
+        }
+        x.p_none = 0.3f, x.p_short = 0.2f, x.p_surface = 0.5f;
+        const double u = rng.uniform(), at_surface = x.surface == 2 ? surface2 : 0.5;
+        if (u < 0.2)
+            rec.push_back(pointOn(pattern[i], 4));  // a smoke echo 6 m short
+        else if (u < 0.2 + at_surface)
+            rec.push_back(pointOn(pattern[i], 10 + 0.03 * rng.normal()));
+    });
 }
 
 }  // namespace
@@ -333,21 +340,15 @@ TEST(LidarDiagnosis, ASurfaceWhoseCertainEchoesGoMissingIsFoundByNameNotAsASecto
         return deg >= 30 && deg <= 60 && pattern[i].channel < 10;
     };
     for (uint64_t seed : {1, 2, 3}) {
-        LidarTally t(pattern, 16, 0.5);
-        for (int fr = 0; fr < 4; ++fr) {
-            std::vector<ExpectedBeam> ex(pattern.size());
-            std::vector<LidarPoint> rec;
-            KeyedRng rng(seed, uint64_t(fr));
-            for (size_t i = 0; i < pattern.size(); ++i) {
-                ex[i].clear = true;
-                ex[i].range_m = ex[i].surface_range_m = 10;
-                ex[i].p_none = 0, ex[i].p_surface = 1;
-                ex[i].surface = onWall(i) ? 3 : 1;
+        const LidarTally t =
+            tallyOf(pattern, seed, [&](size_t i, ExpectedBeam& x, KeyedRng& rng, std::vector<LidarPoint>& rec) {
+                x.clear = true;
+                x.range_m = x.surface_range_m = 10;
+                x.p_none = 0, x.p_surface = 1;
+                x.surface = onWall(i) ? 3 : 1;
                 if (rng.uniform() >= (onWall(i) ? 0.40 : 0.01))
                     rec.push_back(pointOn(pattern[i], 10 + 0.03 * rng.normal()));
-            }
-            t.add(ex, rec, fr % 2);
-        }
+            });
         const LidarDiagnosis d = diagnoseLidar(t, 0.03);
         const LidarFinding& f = triedOf(d, LidarCause::SurfaceThreshold);
         EXPECT_EQ(d.verdict, "surface_threshold") << seed;
