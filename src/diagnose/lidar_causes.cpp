@@ -54,9 +54,9 @@ void testDropout(const Split& s, LidarFinding& f)
     f.p_value = f.tested ? 0.5 * std::erfc(z / std::sqrt(2.0)) : 1;
 }
 
-/// What a test leaves out: the beams of stronger candidates among the clear beams' groupings
-/// (a sector, a ring, a surface), chosen on the search fold alone so that the held-out fold
-/// only tests.
+/// What a test leaves out: the clear beams of other causes' candidates (the surface's from the
+/// sector's test, the sector's from the channel's), chosen on the search fold alone so that the
+/// held-out fold only tests.
 struct Excluded {
     std::vector<char> beam;  ///< per beam of the pattern: left out whole (a sector's or a ring's)
     std::vector<int> surfaces;  ///< the clear beams on these surfaces left out
@@ -113,9 +113,9 @@ Split runSplit(const std::vector<Split>& bin, int start, int width)
 }
 
 /// The window's sector: the run of bins whose missed returns most exceed the rest's on fold 0
-/// (a scan statistic; its z into `search_z`), tested on fold 1.
+/// (a scan statistic), tested on fold 1.
 LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, const Excluded& ex, int& start,
-                          int& width, double& search_z)
+                          int& width)
 {
     LidarFinding f;
     f.cause = LidarCause::WindowSector;
@@ -131,7 +131,6 @@ LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, 
             const double z = signedRoot(runSplit(search, s, w));
             if (z > best) best = z, start = s, width = w;
         }
-    search_z = best;
     if (start < 0) return f;
     f.from_deg = -180 + start * cfg.sector_deg;
     f.to_deg = f.from_deg + width * cfg.sector_deg;
@@ -140,8 +139,8 @@ LidarFinding windowSector(const LidarTally& t, const LidarDiagnosisConfig& cfg, 
     return f;
 }
 
-/// The clear beams of a fold in a group (`in` of a beam, and of a surface or −1 for every
-/// surface) against the rest, less what `ex` leaves out.
+/// The clear beams of a fold in a group (the beams `in` selects) against the rest, less what `ex`
+/// leaves out.
 template <typename In>
 Split groupSplit(const LidarTally& t, int fold, const Excluded& ex, In in)
 {
@@ -155,9 +154,9 @@ Split groupSplit(const LidarTally& t, int fold, const Excluded& ex, In in)
     return s;
 }
 
-/// A channel dropping returns: the ring whose missed returns most exceed the others' on fold 0
-/// (its z into `search_z`), tested on fold 1.
-LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cfg, const Excluded& ex, double& search_z)
+/// A channel dropping returns: the ring whose missed returns most exceed the others' on fold 0,
+/// tested on fold 1.
+LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cfg, const Excluded& ex)
 {
     LidarFinding f;
     f.cause = LidarCause::DroppingChannel;
@@ -170,7 +169,6 @@ LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cf
         const double z = signedRoot(ringSplit(0, c));
         if (z > best) best = z, f.ring = c;
     }
-    search_z = best;
     if (f.ring < 0) return f;
     testDropout(ringSplit(1, f.ring), f);
     return f;
@@ -201,8 +199,8 @@ std::vector<float> strided(const std::vector<float>& v, size_t cap)
     return out;
 }
 
-/// Fold f's residuals by channel, without those on `skip` (a surface whose echoes the search
-/// fold found missing: its ranges are as suspect as its returns; −1: none).
+/// Fold f's residuals by channel, without those on surface `skip` (the surface's candidate: its
+/// ranges are as suspect as its returns; −1: none).
 std::vector<std::vector<float>> residualsBut(const LidarTally::Fold& f, int skip)
 {
     std::vector<std::vector<float>> out(f.residual_m.size());
@@ -458,8 +456,7 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
     Excluded ex{std::vector<char>(t.pattern().size(), 0), {}};
     if (surface.surface >= 0) ex.surfaces.push_back(surface.surface);
     int start = -1, width = 0;
-    double z = 0;
-    LidarFinding window = windowSector(t, cfg, ex, start, width, z);
+    LidarFinding window = windowSector(t, cfg, ex, start, width);
     judge(window);
     // The channel's search and test leave out the window's candidate sector, named or not, but
     // keep the surface's clear beams: a ring sees many surfaces and a wall many rings, so that a
@@ -468,7 +465,7 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
     ex.surfaces.clear();
     for (size_t i = 0; i < t.pattern().size(); ++i)
         if (width > 0 && inRun(sectorBin(t.pattern()[i].azimuth_rad, bins), start, width, bins)) ex.beam[i] = 1;
-    LidarFinding channel = droppingChannel(t, cfg, ex, z);
+    LidarFinding channel = droppingChannel(t, cfg, ex);
     judge(channel);
     LidarFinding bias = biasedChannel(t, range_sigma_m, cfg, surface.surface);
     judge(bias);
