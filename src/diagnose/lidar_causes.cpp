@@ -177,12 +177,12 @@ LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cf
 /// The library's median (core/order_stats) of float residuals.
 double median(const std::vector<float>& v) { return smokescan::median(std::vector<double>(v.begin(), v.end())); }
 
-/// 1.4826 · the median absolute deviation of every channel's residuals in the folds.
-double robustSd(std::initializer_list<const LidarTally::Fold*> folds)
+/// 1.4826 · the median absolute deviation of every channel's residuals in the sets (each by channel).
+double robustSd(std::initializer_list<const std::vector<std::vector<float>>*> sets)
 {
     std::vector<float> all;
-    for (const LidarTally::Fold* f : folds)
-        for (const auto& r : f->residual_m) all.insert(all.end(), r.begin(), r.end());
+    for (const auto* by_channel : sets)
+        for (const auto& r : *by_channel) all.insert(all.end(), r.begin(), r.end());
     if (all.empty()) return NAN;
     const double m = median(all);
     for (float& x : all) x = float(std::abs(double(x) - m));
@@ -210,14 +210,6 @@ std::vector<std::vector<float>> residualsBut(const LidarTally::Fold& f, int skip
     return out;
 }
 
-/// 1.4826 · the median absolute deviation of residuals by channel.
-double robustSdOf(const std::vector<std::vector<float>>& by_channel)
-{
-    LidarTally::Fold f;
-    f.residual_m = by_channel;
-    return robustSd({&f});
-}
-
 /// A channel's range bias: the ring whose median residual stands furthest from the others' on
 /// fold 0, fitted on fold 1 beside an offset common to all (Huber loss, Ceres' covariance); the
 /// residuals on surface `skip` left out of both (−1: none).
@@ -227,7 +219,7 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
     f.cause = LidarCause::BiasedChannel;
     f.floor = cfg.min_bias_sd * range_sigma_m;
     const std::vector<std::vector<float>> a = residualsBut(t.fold(0), skip), b = residualsBut(t.fold(1), skip);
-    const double sd0 = robustSdOf(a);
+    const double sd0 = robustSd({&a});
     std::vector<float> all;
     for (const auto& r : a) all.insert(all.end(), r.begin(), r.end());
     const double med0 = median(std::move(all));
@@ -239,7 +231,7 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
         if (z > best) best = z, f.ring = c;
     }
     if (f.ring < 0 || b[size_t(f.ring)].size() < 10) return f;
-    const double sd = std::max(robustSdOf(b), 1e-6);
+    const double sd = std::max(robustSd({&b}), 1e-6);
     // At most 2e5 residuals on each side: the rest's offset is then known far better than the channel's.
     constexpr size_t kCap = 200'000;
     std::vector<float> rest;
@@ -429,7 +421,7 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
                             "range): nothing to compare");
         d.clear += clear;
     }
-    d.range_sd_m = robustSd({&t.fold(0), &t.fold(1)});
+    d.range_sd_m = robustSd({&t.fold(0).residual_m, &t.fold(1).residual_m});
     const int bins = int(std::lround(360 / cfg.sector_deg));
     for (int c = 0; c < t.channels(); ++c) {
         LidarGroupStats g = groupStats(t, [&](size_t i) { return t.pattern()[i].channel == c; });

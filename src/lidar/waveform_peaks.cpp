@@ -5,28 +5,6 @@
 namespace smokescan {
 namespace {
 
-/// The peak at sample kp rising from `pedestal` within samples [from, to]: its half-height
-/// crossings (linear between samples), the leading one no earlier than `from`, the trailing one
-/// no later than `to`.
-WaveformEcho peakAt(const Waveform& f, int kp, double pedestal, int from, int to)
-{
-    const std::vector<double>& w = f.w;
-    WaveformEcho e;
-    e.peak = w[size_t(kp)];
-    e.peak_m = f.lo + kp * f.dr;
-    const double half = pedestal + 0.5 * (e.peak - pedestal);
-    int a = kp;
-    while (a > from && w[size_t(a - 1)] >= half) --a;
-    e.lead_m = f.lo + a * f.dr;
-    if (a > 0 && w[size_t(a - 1)] < half) e.lead_m -= f.dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
-    int b = kp;
-    while (b < to && w[size_t(b + 1)] >= half) ++b;
-    e.trail_m = f.lo + b * f.dr;
-    if (b < int(w.size()) - 1 && w[size_t(b + 1)] < half)
-        e.trail_m += f.dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
-    return e;
-}
-
 /// The peaks of the run [k0, k1] (every sample ≥ the threshold) into `out`.
 void runPeaks(const Waveform& f, int k0, int k1, double prominence, std::vector<WaveformPeak>& out)
 {
@@ -61,7 +39,7 @@ void runPeaks(const Waveform& f, int k0, int k1, double prominence, std::vector<
     found.push_back({kp, pedestal, fall, from, n - 1});  // the last peak's half-height may lie past the run
     for (size_t i = 0; i < found.size(); ++i) {
         WaveformPeak p;
-        p.echo = peakAt(f, found[i].kp, found[i].pedestal, found[i].from, found[i].valley);
+        p.echo = waveformPeakAt(f, found[i].kp, found[i].pedestal, found[i].from, found[i].valley);
         p.pedestal = found[i].pedestal;
         p.fall = found[i].fall;
         p.opens_run = i == 0;

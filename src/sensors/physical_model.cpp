@@ -436,25 +436,30 @@ std::vector<WaveformEcho> waveformEchoes(const Waveform& f, double thr, int max_
                 kp = k1;
             }
         }
-        WaveformEcho e;
-        e.peak = peak;
-        e.peak_m = f.lo + kp * f.dr;
-        // Half-maximum crossings around the peak (linear interpolation between samples).
-        const double half = 0.5 * peak, lo = f.lo, dr = f.dr;
-        int a = kp;
-        while (a > k0 && w[size_t(a - 1)] >= half) --a;
-        e.lead_m = lo + a * dr;
-        if (a > 0 && w[size_t(a - 1)] < half)
-            e.lead_m -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
-        int b = kp;
-        while (b < n - 1 && w[size_t(b + 1)] >= half) ++b;
-        e.trail_m = lo + b * dr;
-        if (b < n - 1 && w[size_t(b + 1)] < half)
-            e.trail_m += dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
-        out.push_back(e);
+        // Half-maximum crossings around the peak.
+        out.push_back(waveformPeakAt(f, kp, 0.0, k0, n - 1));
         k0 = k1 + 1;
     }
     return out;
+}
+
+WaveformEcho waveformPeakAt(const Waveform& f, int kp, double pedestal, int from, int to)
+{
+    const std::vector<double>& w = f.w;
+    WaveformEcho e;
+    e.peak = w[size_t(kp)];
+    e.peak_m = f.lo + kp * f.dr;
+    const double half = pedestal + 0.5 * (e.peak - pedestal), lo = f.lo, dr = f.dr;
+    int a = kp;
+    while (a > from && w[size_t(a - 1)] >= half) --a;
+    e.lead_m = lo + a * dr;
+    if (a > 0 && w[size_t(a - 1)] < half) e.lead_m -= dr * (w[size_t(a)] - half) / (w[size_t(a)] - w[size_t(a - 1)]);
+    int b = kp;
+    while (b < to && w[size_t(b + 1)] >= half) ++b;
+    e.trail_m = lo + b * dr;
+    if (b < int(w.size()) - 1 && w[size_t(b + 1)] < half)
+        e.trail_m += dr * (w[size_t(b)] - half) / (w[size_t(b)] - w[size_t(b + 1)]);
+    return e;
 }
 
 namespace {

@@ -178,6 +178,10 @@ struct WaveformEcho {
 /// @brief The echoes of a waveform in order of range, at most `max_echoes`: each run of samples
 /// at or above `threshold`, its peak and the half-maximum crossings around the peak.
 std::vector<WaveformEcho> waveformEchoes(const Waveform& f, double threshold, int max_echoes);
+/// @brief The echo peaking at sample kp of waveform f over `pedestal`: its half-height crossings
+/// (half-way from the pedestal to the peak, linear between samples), the leading one searched no
+/// earlier than sample `from`, the trailing one no later than sample `to`.
+WaveformEcho waveformPeakAt(const Waveform& f, int kp, double pedestal, int from, int to);
 
 /// @brief LMS200: the waveform (Gaussian pulse ⊗ echoes + noise), first echo above threshold,
 /// range at its half-maximum leading edge plus half the pulse width. Codes: 8183 no echo,
