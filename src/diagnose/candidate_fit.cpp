@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 
+#include "causes.hpp"
 #include "ceres_fit.hpp"
 
 namespace smokescan::detail {
@@ -60,6 +61,20 @@ private:
     const std::vector<Obs>& obs_;
 };
 
+/// Ends a fit whose θ has walked below the row's nil_below (a width or share sliding to zero).
+class StopWhenNil : public ceres::IterationCallback {
+public:
+    StopWhenNil(double below, const double* theta) : below_(below), theta_(theta) {}
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override
+    {
+        return *theta_ < below_ ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    }
+
+private:
+    double below_;
+    const double* theta_;
+};
+
 }  // namespace
 
 ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs,
@@ -68,16 +83,27 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
     ThetaFit f;
     if (obs.empty()) return f;
     ceres::GradientProblem problem(new CandidateNll(r, m, c, obs));
+    // The starts are ranked on every kRankStride-th observation when there are many (every scan
+    // keeps its share of beams): about half of a diagnosis's likelihood passes were spent ranking
+    // starts, and a start only chooses the basin the full fit then descends.
+    constexpr size_t kRankStride = 4, kRankAll = 20000;
+    std::vector<Obs> ranked;
+    if (obs.size() > kRankAll)
+        for (size_t i = 0; i < obs.size(); i += kRankStride) ranked.push_back(obs[i]);
+    ceres::GradientProblem ranking(new CandidateNll(r, m, c, ranked.empty() ? obs : ranked));
     const std::vector<double>& from = starts && !starts->empty() ? *starts : c.starts();
     double theta = from[bestStart(from, [&](double t) {
         double cost = kInf;
-        return problem.Evaluate(&t, &cost, nullptr) ? cost : kInf;
+        return ranking.Evaluate(&t, &cost, nullptr) ? cost : kInf;
     })];
     ceres::GradientProblemSolver::Options opt;
     opt.line_search_direction_type = ceres::LBFGS;
     opt.max_num_iterations = 100;
     opt.function_tolerance = 1e-10;
     opt.gradient_tolerance = 1e-8;
+    StopWhenNil stop(causeRow(c.cause).nil_below, &theta);
+    opt.update_state_every_iteration = true;  // the callback reads θ
+    opt.callbacks.push_back(&stop);
     ceres::GradientProblemSolver::Summary summary;
     ceres::Solve(opt, problem, &theta, &summary);
     if (!summary.IsSolutionUsable() || !std::isfinite(theta) || !c.plausible(r, theta, m)) return f;

@@ -40,6 +40,10 @@ SectorExtension sectorOf(const Candidate& c, double dropout)
     return {from, to, dropout};
 }
 
+/// ln of a width or logit of a share below which it is nil (e^−16 ≈ 1e-7: under 1e-5 of the
+/// floors of 0.05–0.1).
+constexpr double kNilBelow = -16;
+
 const CauseRow kRows[] = {
     {Cause::ClockOffset, "clock_offset", Target::Global,
      [] {  // the likelihood in an offset is rugged (one step per camera frame)
@@ -107,7 +111,10 @@ const CauseRow kRows[] = {
      Shown::ErrorShare,
      [](double theta, const EffectScale&) { return std::exp(theta); },
      0.08,
-     "width [ln column]"},
+     "width [ln column]",
+     false,
+     nullptr,
+     kNilBelow},
 
     {Cause::SurfaceRangeBias,
      "surface_range_bias",
@@ -163,7 +170,10 @@ const CauseRow kRows[] = {
      Shown::ErrorShare,
      [](double theta, const EffectScale&) { return sigmoid(theta); },
      0.05,
-     "share"},
+     "share",
+     false,
+     nullptr,
+     kNilBelow},
 
     {Cause::SectorDropout,
      "sector_dropout",
@@ -179,7 +189,10 @@ const CauseRow kRows[] = {
      Shown::ErrorShare,
      [](double theta, const EffectScale&) { return sigmoid(theta); },
      0.1,
-     "dropout"},
+     "dropout",
+     false,
+     nullptr,
+     kNilBelow},
 
     {Cause::Hysteresis,
      "hysteresis",

@@ -3,6 +3,7 @@
 // what it targets, its parameter θ (the starts of its fit, how θ changes a beam's predictive
 // terms, how it enters the model, its bounds through ModelExtensions', its reported values) and
 // how the report shows it. A new cause is a row here and an entry in the Cause enum.
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,10 @@ struct CauseRow {
     bool jackknife = false;
     /// What θ changes alike for all of scan k's beams (null: nothing shared), for `apply`.
     void (*scan)(const Replay& r, const ReplayModel& m, size_t k, const J& theta, ScanTerms& s) = nullptr;
+    /// θ below which the extension is nil for every purpose (a log width or a logistic share at
+    /// e^θ, under 1e-5 of its floor): a fit whose best is the boundary (no width, no share) walks
+    /// θ towards −∞ with a vanishing gradient, and stops here instead (−∞: never).
+    double nil_below = -INFINITY;
 };
 
 /// @brief The scale candidate c's effect is measured against on the replay (CauseRow::effect):
