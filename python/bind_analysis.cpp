@@ -391,8 +391,9 @@ void bindAnalysis(py::module_& m)
         "`smokescan diagnose --points`: a 3D lidar's recorded frames (points=, a folder as scan --points "
         "writes it) against their replay in the scene: a dropping channel, a dirty-window sector, a biased "
         "channel, smoke echoes taken as first returns, a surface's threshold. Returns a Report with "
-        "diagnosis.json's fields (docs/diagnosis.md, \"A 3D lidar's frames\"); out= also writes diagnosis.json "
-        "and report.md, whole or not at all. progress(done, total) counts frames");
+        "diagnosis.json's fields (docs/diagnosis.md, \"A 3D lidar's frames\"; extended_preset: the preset "
+        "extended by what was named, docs/lidar.md); out= also writes diagnosis.json, report.md and lidar.toml, "
+        "whole or not at all. progress(done, total) counts frames");
 }
 
 }  // namespace smokescan::python

@@ -683,6 +683,72 @@ TEST(LidarDiagnosisRun, ChannelWindowAndBiasPlantedInThePointCloudsAreFoundWithT
     }
 }
 
+TEST(LidarDiagnosisRun, TheExtendedPresetExplainsHeldOutFramesOfTheSameFaults)
+{
+    // Two faults through mechanisms the causes do not assume: a weak channel (its faint returns
+    // lost 70 % of the time, its bright ones 20 %) and another whose ranges stretch by 4 %. The
+    // diagnosis of the frames at 38 s writes the extended preset; six other frames (at 41 s, other
+    // noise) with the same faults are then diagnosed against the preset and against its extension.
+    const LidarDiagnosis clean = diagnoseAgainstReplay(factoryFrames(), [](LidarFrame&, KeyedRng&) {});
+    const int weak = busiestRing(clean), stretched = (weak + 8) % 16;
+    const auto faults = [&](LidarFrame& f, KeyedRng& rng) {
+        std::vector<float> in;
+        for (const LidarPoint& p : f.points)
+            if (p.ring == weak) in.push_back(p.intensity);
+        std::nth_element(in.begin(), in.begin() + long(in.size() / 2), in.end());
+        const float median = in[in.size() / 2];
+        removeIf(f, [&](const LidarPoint& p) {
+            return p.ring == weak && rng.uniform() < (p.intensity < median ? 0.7 : 0.2);
+        });
+        for (LidarPoint& p : f.points)
+            if (p.ring == stretched) p.x *= 1.04f, p.y *= 1.04f, p.z *= 1.04f, p.range_m *= 1.04f;
+    };
+    LidarDiagnoseRunConfig cfg;
+    cfg.scene = "factory_smoke";
+    cfg.points = writeFrames("extend_search", faults);
+    cfg.sensor.sensor = "vlp16";
+    const LidarDiagnoseRunResult found = runLidarDiagnosis(cfg);
+    // (The weak channel's faint returns lost on the beams that are not clear also show as a
+    // surface's threshold where that ring meets one: not an extension yet, named in a comment.)
+    ASSERT_EQ(found.diagnosis.verdict.rfind("dropping_channel, biased_channel", 0), 0u)
+        << found.diagnosis.extended_preset;
+    const std::string preset = (scratch("lidar_extended") / "lidar.toml").string();
+    std::ofstream(preset) << found.diagnosis.extended_preset;
+    const LidarSpec spec = lidarSpec(preset);
+    EXPECT_EQ(spec.name, "vlp16-extended");
+    ASSERT_EQ(spec.extensions.channels.size(), 2u) << found.diagnosis.extended_preset;
+    EXPECT_NEAR(spec.extensions.dropout(weak, 0), triedOf(found.diagnosis, LidarCause::DroppingChannel).effect, 1e-5);
+    EXPECT_NEAR(spec.extensions.rangeOffset_m(stretched), triedOf(found.diagnosis, LidarCause::BiasedChannel).effect,
+                1e-5);
+
+    // Held out: other frames, the same faults.
+    cfg.points = writeFrames("extend_heldout", faults, simulate(loadScene("factory_smoke"), "vlp16", 41));
+    const LidarDiagnosis before = runLidarDiagnosis(cfg).diagnosis;
+    cfg.sensor.sensor = preset;
+    const LidarDiagnosis after = runLidarDiagnosis(cfg).diagnosis;
+    const LidarFinding &b0 = triedOf(before, LidarCause::BiasedChannel),
+                       &b1 = triedOf(after, LidarCause::BiasedChannel);
+    const LidarFinding &d0 = triedOf(before, LidarCause::DroppingChannel),
+                       &d1 = triedOf(after, LidarCause::DroppingChannel);
+    std::printf(
+        "held out, preset: %s; extended: %s\n  dropping ring %d: effect %.3f gain %.0f nats -> ring %d "
+        "effect %.3f gain %.0f\n  biased ring %d: %.3f m gain %.0f nats -> ring %d %.3f m gain %.0f\n",
+        before.verdict.c_str(), after.verdict.c_str(), d0.ring, d0.effect, d0.gain_nats, d1.ring, d1.effect,
+        d1.gain_nats, b0.ring, b0.effect, b0.gain_nats, b1.ring, b1.effect, b1.gain_nats);
+    EXPECT_EQ(before.verdict.rfind("dropping_channel, biased_channel", 0), 0u) << before.verdict;
+    // The extension explains the weak channel (its beams judged by their chances, not as certain)
+    // and the stretched one's bias; neither is named again. (What the extension cannot say, that the
+    // weak channel loses its faint returns more than its bright ones, may still show as a surface's
+    // threshold on the beams that are not clear.)
+    EXPECT_EQ(after.verdict.find("dropping_channel"), std::string::npos) << after.verdict;
+    EXPECT_EQ(after.verdict.find("biased_channel"), std::string::npos) << after.verdict;
+    EXPECT_FALSE(d1.named && d1.ring == weak);
+    EXPECT_LT(b1.gain_nats, 0.05 * b0.gain_nats);
+    // The stretch is not an offset: what is left on the ring is its spread of ranges' share, a
+    // fraction of what the preset left.
+    if (b1.ring == stretched) EXPECT_LT(std::abs(b1.effect), 0.25 * std::abs(b0.effect));
+}
+
 TEST(LidarDiagnosisRun, SmokeEchoesTakenAsFirstReturnsAreFound)
 {
     // The recorder is a VLP-16 that reports each beam's first echo (a preset that offers it),

@@ -69,7 +69,8 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
         "poses within %.3g m and %.3g deg of the scene's\n",
         d.frames, d.clear, d.clear ? 100.0 * double(missed) / double(d.clear) : 0.0, d.unmatched_points,
         tidy(d.pose_mismatch_m), tidy(d.pose_mismatch_deg));
-    say("wrote %s/diagnosis.json and %s/report.md\n", a.out.c_str(), a.out.c_str());
+    say("wrote %s/diagnosis.json, %s/report.md and %s/lidar.toml (the preset extended by what was named)\n",
+        a.out.c_str(), a.out.c_str(), a.out.c_str());
     return 0;
 }
 

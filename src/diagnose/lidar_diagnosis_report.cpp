@@ -56,6 +56,7 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
 {
     nlohmann::json j;
     j["verdict"] = d.verdict;
+    j["extended_preset"] = d.extended_preset;
     j["sensor"] = d.sensor;
     j["returns"] = d.returns;
     j["scene"] = d.scene;

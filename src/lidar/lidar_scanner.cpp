@@ -84,6 +84,9 @@ double refinedLead(const Waveform& f, const WaveformEcho& e, double height, doub
     return f.lo + (double(j) + t) * f.dr;
 }
 
+/// Keys the extensions' dropout draws apart from the receiver's noise.
+constexpr uint64_t kDropoutKey = 0x64726f706f7574ULL;
+
 }  // namespace
 
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
@@ -294,7 +297,26 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
         // lose an echo): the chances from draws of the noise.
         outcomeShares(spec_, mode_, sig, base, f.key, i, x);
     }
+    applyExtensions(spec_.extensions, pattern_[i], x);
     return x;
+}
+
+void applyExtensions(const LidarExtensions& ext, const PatternBeam& b, ExpectedBeam& x)
+{
+    // The channel's offset moves what the replay reads and where the surface's echo reads alike.
+    const double offset = ext.rangeOffset_m(b.channel);
+    if (offset != 0) {
+        if (x.range_m > 0) x.range_m += float(offset);
+        if (std::isfinite(x.surface_range_m)) x.surface_range_m += float(offset);
+    }
+    // A beam that may return nothing is no longer certain: judged by its chances, each kept with 1 − d.
+    const double d = ext.dropout(b.channel, b.azimuth_rad);
+    if (d > 0) {
+        x.clear = false;
+        x.p_none = float(d + (1 - d) * x.p_none);
+        x.p_short = float((1 - d) * x.p_short);
+        x.p_surface = float((1 - d) * x.p_surface);
+    }
 }
 
 std::vector<ExpectedBeam> LidarScanner::expected(double start_s) const
@@ -328,14 +350,20 @@ LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
         const BeamSignal sig = signal(f, i, nullptr);
         KeyedRng rng(seed_, index, uint64_t(i));
         const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
+        // The extensions: a beam lost whole at its channel's and sector's dropout (its own draw,
+        // so that the other beams' noise is the preset's), its channel's offset on each range.
+        const double drop = spec_.extensions.dropout(b.channel, b.azimuth_rad);
+        if (drop > 0 && KeyedRng(seed_ ^ kDropoutKey, index, uint64_t(i)).uniform() < drop) return;
+        const double offset = spec_.extensions.rangeOffset_m(b.channel);
         const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
         for (size_t k = 0; k < kept.size() && k < 2; ++k) {
             const LidarEcho& e = echoes[kept[k]];
             LidarPoint& q = slots[2 * i + k];
-            q.x = float(e.range_m * local.x());
-            q.y = float(e.range_m * local.y());
-            q.z = float(e.range_m * local.z());
-            q.range_m = float(e.range_m);
+            const double range_m = e.range_m + offset;
+            q.x = float(range_m * local.x());
+            q.y = float(range_m * local.y());
+            q.z = float(range_m * local.z());
+            q.range_m = float(range_m);
             q.intensity = float(e.intensity);
             q.ring = uint16_t(b.channel);
             q.return_index = uint8_t(k);

@@ -109,7 +109,123 @@ void readReceiver(TomlTable& t, LidarSpec& s)
     p.smoke_bin_m = 2 * p.smoke_cell_m;
 }
 
+/// The channels a spec's beams carry (a pattern file's own channel column).
+int ringCount(const LidarSpec& s)
+{
+    int n = s.channels();
+    for (const PatternBeam& b : s.file_beams) n = std::max(n, b.channel + 1);
+    return n;
+}
+
+/// [extensions]: its channel and sector tables (lidar_spec.hpp's LidarExtensions table).
+void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
+{
+    const int rings = ringCount(spec);
+    std::vector<TomlTable> channels = t.tables("channel"), sectors = t.tables("sector");
+    if (channels.size() > size_t(lidar_limits::kChannels)) t.error("channel", "has more tables than channels (512)");
+    if (sectors.size() > 64) t.error("sector", "has more than 64 tables");
+    for (TomlTable& c : channels) {
+        LidarChannelExtension x;
+        const long long ring = c.integer("ring", -1);
+        if (!c.has("ring")) c.error("ring", "is missing: name the channel");
+        if (ring < 0 || ring >= rings)
+            c.error("ring", "must be a channel of the sensor, 0–" + std::to_string(rings - 1));
+        for (const LidarChannelExtension& y : e.channels)
+            if (y.ring == ring) c.error("ring", "names a channel already extended (" + std::to_string(ring) + ")");
+        x.ring = int(ring);
+        x.range_offset_m = c.between("range_offset_m", 0, -10, 10);
+        x.dropout = c.between("dropout", 0, 0, 1);
+        c.finish("an [[extensions.channel]] table");
+        e.channels.push_back(x);
+    }
+    for (TomlTable& c : sectors) {
+        LidarSectorExtension x;
+        for (const char* key : {"from_deg", "to_deg", "dropout"})
+            if (!c.has(key)) c.error(key, "is missing");
+        x.from_deg = c.between("from_deg", 0, -180, 180);
+        x.to_deg = c.between("to_deg", 0, -180, 180);
+        if (x.from_deg == x.to_deg) c.error("to_deg", "equals from_deg: the sector is empty");
+        x.dropout = c.between("dropout", 0, 0, 1);
+        c.finish("an [[extensions.sector]] table");
+        e.sectors.push_back(x);
+    }
+    t.finish("a lidar's [extensions]");
+}
+
+/// A preset that extends another: the base's spec under this one's name, with its extensions.
+LidarSpec extendedSpec(TomlTable& t, const std::string& source)
+{
+    const std::string base = t.strReq("base");
+    std::string path = base;
+    if (base.size() > 5 && base.compare(base.size() - 5, 5, ".toml") == 0) {
+        const std::filesystem::path p(base);
+        if (p.is_relative()) path = (std::filesystem::path(source).parent_path() / p).string();
+    } else if (!isLidarName(base)) {
+        t.error("base", "is neither a built-in preset nor a preset file (*.toml)");
+    }
+    // One level only: a base that extends another (or itself) is refused before it is read on.
+    thread_local bool reading_base = false;
+    if (reading_base) t.error("base", "is given in a preset used as a base: a base must be a whole preset");
+    reading_base = true;
+    LidarSpec s;
+    try {
+        s = lidarSpec(path);
+    } catch (...) {
+        reading_base = false;
+        throw;
+    }
+    reading_base = false;
+    if (!s.extensions.empty()) t.error("base", "names a preset that already has [extensions]");
+    s.name = t.strReq("name");
+    s.source = source;
+    s.base = path;
+    if (t.has("extensions")) readExtensions(t.table("extensions"), s, s.extensions);
+    t.finish("a preset that extends another (base): only name and [extensions] may be given");
+    return s;
+}
+
 }  // namespace
+
+bool LidarSectorExtension::contains(double azimuth_rad) const
+{
+    double deg = std::fmod(azimuth_rad * 180 / M_PI + 180, 360.0);
+    deg = (deg < 0 ? deg + 360 : deg) - 180;
+    return from_deg <= to_deg ? deg >= from_deg && deg < to_deg : deg >= from_deg || deg < to_deg;
+}
+
+double LidarExtensions::dropout(int ring, double azimuth_rad) const
+{
+    double keep = 1;
+    for (const LidarChannelExtension& c : channels)
+        if (c.ring == ring) keep *= 1 - c.dropout;
+    for (const LidarSectorExtension& s : sectors)
+        if (s.contains(azimuth_rad)) keep *= 1 - s.dropout;
+    return 1 - keep;
+}
+
+double LidarExtensions::rangeOffset_m(int ring) const
+{
+    for (const LidarChannelExtension& c : channels)
+        if (c.ring == ring) return c.range_offset_m;
+    return 0;
+}
+
+std::string lidarExtensionsToml(const LidarExtensions& e)
+{
+    auto num = [](double x) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.6g", x);
+        return std::string(buf);
+    };
+    std::string o;
+    for (const LidarChannelExtension& c : e.channels)
+        o += "\n[[extensions.channel]]\nring = " + std::to_string(c.ring) +
+            "\nrange_offset_m = " + num(c.range_offset_m) + "\ndropout = " + num(c.dropout) + "\n";
+    for (const LidarSectorExtension& x : e.sectors)
+        o += "\n[[extensions.sector]]\nfrom_deg = " + num(x.from_deg) + "\nto_deg = " + num(x.to_deg) +
+            "\ndropout = " + num(x.dropout) + "\n";
+    return o;
+}
 
 const char* returnModeName(ReturnMode m)
 {
@@ -142,6 +258,7 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
 {
     const toml::table root = parseToml(text, source);
     TomlTable t(root, source, "");
+    if (t.has("base")) return extendedSpec(t, source);
     LidarSpec s;
     s.source = source;
     s.name = t.strReq("name");
@@ -202,6 +319,7 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
         s.max_column_rate_hz = t.nonneg("max_column_rate_hz", 0);
         configureLidar(s, s.rate_hz, 0, source);
     }
+    if (t.has("extensions")) readExtensions(t.table("extensions"), s, s.extensions);
     t.finish("a lidar preset");
     return s;
 }

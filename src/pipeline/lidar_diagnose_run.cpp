@@ -110,6 +110,24 @@ void checkWhole(const LidarDiagnosis& d, long long first, long long second, Retu
                         100.0 * double(missed) / double(clear), 100 * kMaxMissedShare));
 }
 
+/// A TOML basic string: quoted, with quotes, backslashes and control characters escaped.
+std::string tomlQuoted(const std::string& s)
+{
+    std::string o = "\"";
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += ch;
+        } else if (c < 0x20 || c == 0x7f) {
+            o += fmt("\\u%04x", unsigned(c));
+        } else {
+            o += ch;
+        }
+    }
+    return o + "\"";
+}
+
 }  // namespace
 
 LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, const RunControl& control)
@@ -162,7 +180,54 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
     out.diagnosis.sensor = sensor;
     out.diagnosis.returns = returnModeName(run.mode());
     out.diagnosis.scene = scene.source;
+    std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
+    if (base.size() > 5 && base.compare(base.size() - 5, 5, ".toml") == 0)
+        base = std::filesystem::absolute(base).lexically_normal().string();
+    out.diagnosis.extended_preset = extendedLidarPreset(out.diagnosis, run.spec(), base);
     return out;
+}
+
+std::string extendedLidarPreset(const LidarDiagnosis& d, const LidarSpec& diagnosed, const std::string& base)
+{
+    LidarExtensions e = diagnosed.extensions;
+    auto channel = [&](int ring) -> LidarChannelExtension& {
+        for (LidarChannelExtension& c : e.channels)
+            if (c.ring == ring) return c;
+        e.channels.push_back({ring, 0, 0});
+        return e.channels.back();
+    };
+    std::string not_yet;
+    for (const LidarFinding& f : d.tried) {
+        if (!f.named) continue;
+        switch (f.cause) {
+        case LidarCause::DroppingChannel: {
+            LidarChannelExtension& c = channel(f.ring);  // another dropout on top of the one it had
+            c.dropout = 1 - (1 - c.dropout) * (1 - std::clamp(f.effect, 0.0, 1.0));
+            break;
+        }
+        case LidarCause::BiasedChannel:
+            channel(f.ring).range_offset_m = std::clamp(channel(f.ring).range_offset_m + f.effect, -10.0, 10.0);
+            break;
+        case LidarCause::WindowSector:
+            e.sectors.push_back({f.from_deg, f.to_deg, std::clamp(f.effect, 0.0, 1.0)});
+            break;
+        case LidarCause::SmokeFirstReturns:
+        case LidarCause::SurfaceThreshold:
+            not_yet += std::string(not_yet.empty() ? "" : ", ") + lidarCauseName(f.cause) + " (" +
+                lidarFindingTarget(d, f) + ")";
+            break;
+        }
+    }
+    std::sort(e.channels.begin(), e.channels.end(),
+              [](const LidarChannelExtension& a, const LidarChannelExtension& b) { return a.ring < b.ring; });
+    std::string o = "# The " + diagnosed.name + " extended by smokescan diagnose --points (verdict: " + d.verdict +
+        ").\n# Scan with it: smokescan scan SCENE --sensor this_file.toml\n";
+    for (char& c : not_yet)  // a surface's name on one comment line
+        if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+    if (!not_yet.empty()) o += "# Named but not an extension yet (docs/lidar.md): " + not_yet + "\n";
+    std::string name = diagnosed.name;
+    if (name.size() < 9 || name.compare(name.size() - 9, 9, "-extended") != 0) name += "-extended";
+    return o + "name = " + tomlQuoted(name) + "\nbase = " + tomlQuoted(base) + "\n" + lidarExtensionsToml(e);
 }
 
 void writeLidarDiagnosisFolder(AtomicFolder& out, const LidarDiagnoseRunResult& r)
@@ -175,6 +240,11 @@ void writeLidarDiagnosisFolder(AtomicFolder& out, const LidarDiagnoseRunResult& 
     {
         AtomicFile f(out.path("report.md"));
         f.stream() << lidarDiagnosisMarkdown(r.diagnosis, r.sensor);
+        f.commit();
+    }
+    {
+        AtomicFile f(out.path("lidar.toml"));
+        f.stream() << r.diagnosis.extended_preset;
         f.commit();
     }
     out.commit();

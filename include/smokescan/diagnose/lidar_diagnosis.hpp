@@ -99,6 +99,9 @@ struct LidarDiagnosis {
     /// sensor then (set by the caller that reads the frames): position [m] and angle [deg].
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;
     std::string sensor, returns, scene;  ///< what was diagnosed (set by the caller), for reports
+    /// lidar.toml's text: the diagnosed preset extended by the named findings (set by the caller:
+    /// pipeline/lidar_diagnose_run.hpp's extendedLidarPreset)
+    std::string extended_preset;
 };
 
 /// A recorded point is its beam's when it lies within this angle of the beam's direction [deg].

@@ -30,6 +30,8 @@
 /// | return_modes            | all     | –    | the modes the sensor offers: first, last, strongest, dual  |
 /// | dual                    | "strongest_last" | – | what dual gives: strongest and last, or "strongest_second" |
 /// | max_echoes              | 3       | –    | echoes the receiver resolves per beam (1–8)                |
+/// | base                    | –       | –    | a preset (built-in name or file) this one extends: only name and [extensions] besides |
+/// | [extensions]            | none    | –    | what a diagnosis learned (LidarExtensions; docs/lidar.md)  |
 #include <string>
 #include <vector>
 
@@ -47,6 +49,43 @@ ReturnMode parseReturnMode(const std::string& name, const std::string& where);
 
 /// How a lidar fires its beams.
 enum class PatternKind { Spinning, File };
+
+/// One channel's departures from the preset ([[extensions.channel]]).
+struct LidarChannelExtension {
+    int ring = 0;  ///< the channel
+    double range_offset_m = 0;  ///< added to each of its ranges [m], within ±10 m
+    double dropout = 0;  ///< chance that a beam of it returns nothing (a dead or weak channel), 0–1
+};
+
+/// A sector of azimuth whose beams return nothing at some rate ([[extensions.sector]]): a dirty
+/// or damaged window. Azimuths in the sensor frame within [−180°, 180°]; from > to crosses 180°.
+struct LidarSectorExtension {
+    double from_deg = 0, to_deg = 0;
+    double dropout = 0;  ///< 0–1
+    bool contains(double azimuth_rad) const;
+};
+
+/// What `smokescan diagnose --points` learned about a lidar, as departures from its preset:
+///
+/// | table                  | key            | unit | meaning                                   |
+/// |------------------------|----------------|------|-------------------------------------------|
+/// | [[extensions.channel]] | ring           | –    | the channel (0 … channels − 1)            |
+/// |                        | range_offset_m | m    | added to its ranges (±10 m)               |
+/// |                        | dropout        | –    | chance a beam of it returns nothing (0–1) |
+/// | [[extensions.sector]]  | from_deg, to_deg | deg | azimuths in the sensor frame (±180°)     |
+/// |                        | dropout        | –    | chance a beam within returns nothing (0–1)|
+struct LidarExtensions {
+    std::vector<LidarChannelExtension> channels;
+    std::vector<LidarSectorExtension> sectors;
+    bool empty() const { return channels.empty() && sectors.empty(); }
+    /// @brief The chance that beam (ring, azimuth) returns nothing: its channel's and sectors' dropouts combined.
+    double dropout(int ring, double azimuth_rad) const;
+    /// @brief What ring's ranges are offset by [m].
+    double rangeOffset_m(int ring) const;
+};
+
+/// @brief The extensions as TOML ([[extensions.channel]] and [[extensions.sector]] tables).
+std::string lidarExtensionsToml(const LidarExtensions& e);
 
 struct LidarSpec {
     std::string name, source;  ///< preset name; the file it was read from (messages)
@@ -68,6 +107,8 @@ struct LidarSpec {
     std::vector<ReturnMode> return_modes;
     bool dual_second_strongest = false;  ///< dual = strongest + second strongest (else + last)
     PhysicalParams receiver;  ///< footprint, overlap, noise floor, pulse width, threshold
+    LidarExtensions extensions;  ///< departures learned by a diagnosis (none in a datasheet preset)
+    std::string base;  ///< the preset this one extends (`base`), empty for a whole preset
 
     int channels() const { return pattern == PatternKind::File ? 1 : int(elevation_rad.size()); }
     bool offers(ReturnMode m) const;

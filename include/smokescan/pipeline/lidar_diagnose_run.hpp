@@ -38,13 +38,21 @@ struct LidarDiagnoseRunResult {
     std::string sensor;  ///< the lidar's name
 };
 
+/// @brief The diagnosed preset extended by the diagnosis's named findings, as a preset file's
+/// text: `base` the preset diagnosed (its own base when it extends one), its extensions kept, and
+/// a dropping channel's excess missed share as the ring's dropout, a window sector's as the
+/// sector's, a biased channel's bias added to the ring's range offset. A surface's threshold and
+/// smoke taken as first returns are not extensions yet: named in a comment.
+/// @param base the preset as given (`--sensor`: a built-in name, or a file made absolute)
+std::string extendedLidarPreset(const LidarDiagnosis& d, const LidarSpec& diagnosed, const std::string& base);
+
 /// @brief Reads the frames one at a time, replays each and diagnoses them.
 /// @param control progress after each frame; cancel asked before each
 /// @throw Error naming the folder, file or option at fault: fewer than two frames, a frame
 /// without ring or time, frames whose points mostly match no beam of the sensor.
 LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, const RunControl& control = {});
 
-/// @brief Writes diagnosis.json and report.md into `out` and commits it.
+/// @brief Writes diagnosis.json, report.md and lidar.toml (the extended preset) into `out` and commits it.
 void writeLidarDiagnosisFolder(AtomicFolder& out, const LidarDiagnoseRunResult& r);
 
 }  // namespace smokescan

@@ -1,0 +1,189 @@
+// A lidar preset's [extensions] (lidar_spec.hpp): a channel's range offset and dropout, a sector's
+// dropout, simulated in the frames and read by the replay; a preset extending another by `base`.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "scene_text.hpp"
+#include "scratch.hpp"
+#include "smokescan/core/error.hpp"
+#include "smokescan/lidar/lidar_scanner.hpp"
+#include "smokescan/scene/scene_io.hpp"
+
+using namespace smokescan;
+using namespace smokescan::test;
+
+namespace {
+
+/// A white wall 12 m wide and high facing the origin at x = 8 m, the sensor at the origin.
+std::string wallAhead()
+{
+    SceneText s;
+    s.raw(
+        "[scene]\nname = \"wall\"\nt_start_s = 0\nt_end_s = 10\n[[materials]]\nname = \"m\"\nalbedo = [0.5, 0.5, "
+        "0.5]\nnir_905 = 0.8\n");
+    s.quad("wall", "m", {8, -6, -6}, {0, 12, 0}, {0, 0, 12});
+    s.raw("[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nposition = [0, 0, 0]\n");
+    return s.str();
+}
+
+/// A preset file extending the VLP-16 with `extensions` (TOML tables).
+std::string extendedVlp16(const std::string& name, const std::string& extensions)
+{
+    const auto path = scratch("lidar_ext") / (name + ".toml");
+    std::ofstream(path) << "name = \"" << name << "\"\nbase = \"vlp16\"\n" << extensions;
+    return path.string();
+}
+
+struct Frames {
+    std::vector<LidarFrame> frames;
+    std::vector<PatternBeam> pattern;
+};
+
+Frames framesOf(const std::string& preset, int n)
+{
+    const Scene scene = parseScene(wallAhead(), "test scene", ".");
+    const SurfaceSet surfaces(scene);
+    const LidarScanner sc(scene, surfaces, scene.sensors.front(), lidarSpec(preset), ReturnMode::Strongest, 11);
+    Frames f{{}, sc.pattern()};
+    for (int k = 0; k < n; ++k) f.frames.push_back(sc.frame(0.1 * k, uint64_t(k)));
+    return f;
+}
+
+/// Each beam's point (strongest: one at most), by beam index; null when it returned nothing.
+std::vector<const LidarPoint*> byBeam(const LidarFrame& f, size_t beams)
+{
+    std::vector<const LidarPoint*> out(beams, nullptr);
+    for (const LidarPoint& p : f.points) out[p.beam] = &p;
+    return out;
+}
+
+}  // namespace
+
+TEST(LidarExtensions, AChannelsOffsetMovesItsRangesByItAndNoOtherBeam)
+{
+    const std::string ext = extendedVlp16("offset", "[[extensions.channel]]\nring = 3\nrange_offset_m = 0.25\n");
+    EXPECT_EQ(lidarSpec(ext).name, "offset");
+    const Frames a = framesOf("vlp16", 1), b = framesOf(ext, 1);
+    const auto pa = byBeam(a.frames[0], a.pattern.size()), pb = byBeam(b.frames[0], b.pattern.size());
+    int moved = 0;
+    for (size_t i = 0; i < pa.size(); ++i) {
+        ASSERT_EQ(pa[i] == nullptr, pb[i] == nullptr) << i;  // no beam lost or gained
+        if (!pa[i]) continue;
+        if (a.pattern[i].channel != 3) {
+            EXPECT_EQ(std::memcmp(pa[i], pb[i], sizeof(LidarPoint)), 0) << i;  // the same noise draws
+            continue;
+        }
+        ++moved;
+        EXPECT_NEAR(pb[i]->range_m - pa[i]->range_m, 0.25, 1e-5) << i;
+        // Along the beam: the point moves 0.25 m in the beam's direction.
+        const double dx = pb[i]->x - pa[i]->x, dy = pb[i]->y - pa[i]->y, dz = pb[i]->z - pa[i]->z;
+        EXPECT_NEAR(std::sqrt(dx * dx + dy * dy + dz * dz), 0.25, 1e-4) << i;
+        EXPECT_EQ(pb[i]->intensity, pa[i]->intensity);
+    }
+    EXPECT_GT(moved, 200);
+}
+
+TEST(LidarExtensions, DropoutsLoseTheirShareOfBeamsWhereTheySay)
+{
+    // Ring 5 drops 30 %, the sector −10°..10° 50 %: where both act, 1 − 0.7·0.5 = 65 %.
+    const std::string ext = extendedVlp16("drop",
+                                          "[[extensions.channel]]\nring = 5\ndropout = 0.3\n"
+                                          "[[extensions.sector]]\nfrom_deg = -10\nto_deg = 10\ndropout = 0.5\n");
+    const Frames a = framesOf("vlp16", 4), b = framesOf(ext, 4);
+    // Per group: beams that returned in the preset's frames, and of them those lost.
+    long long n[4] = {0, 0, 0, 0}, lost[4] = {0, 0, 0, 0};
+    const LidarSectorExtension sector{-10, 10, 0.5};
+    for (size_t k = 0; k < a.frames.size(); ++k) {
+        const auto pa = byBeam(a.frames[k], a.pattern.size()), pb = byBeam(b.frames[k], b.pattern.size());
+        for (size_t i = 0; i < pa.size(); ++i) {
+            ASSERT_FALSE(!pa[i] && pb[i]) << "a beam gained a return: " << i;
+            if (!pa[i]) continue;
+            const int g = int(a.pattern[i].channel == 5) + 2 * int(sector.contains(a.pattern[i].azimuth_rad));
+            ++n[g];
+            if (!pb[i]) {
+                ++lost[g];
+            } else {
+                EXPECT_EQ(std::memcmp(pa[i], pb[i], sizeof(LidarPoint)), 0) << i;  // kept beams as they were
+            }
+        }
+    }
+    EXPECT_EQ(lost[0], 0) << "beams of other rings outside the sector";
+    const double want[4] = {0, 0.3, 0.5, 0.65};
+    for (int g = 1; g < 4; ++g) {
+        ASSERT_GT(n[g], 100) << g;
+        const double share = double(lost[g]) / double(n[g]), sd = std::sqrt(want[g] * (1 - want[g]) / double(n[g]));
+        EXPECT_NEAR(share, want[g], 4 * sd) << "group " << g << ": " << lost[g] << " of " << n[g];
+    }
+}
+
+TEST(LidarExtensions, TheReplayReadsTheOffsetAndJudgesDroppingBeamsByTheirChances)
+{
+    const std::string ext = extendedVlp16("replay",
+                                          "[[extensions.channel]]\nring = 3\nrange_offset_m = -0.1\n"
+                                          "[[extensions.channel]]\nring = 5\ndropout = 0.25\n");
+    const Scene scene = parseScene(wallAhead(), "test scene", ".");
+    const SurfaceSet surfaces(scene);
+    const LidarScanner plain(scene, surfaces, scene.sensors.front(), lidarSpec("vlp16"), ReturnMode::Strongest, 1);
+    const LidarScanner extended(scene, surfaces, scene.sensors.front(), lidarSpec(ext), ReturnMode::Strongest, 1);
+    const std::vector<ExpectedBeam> a = plain.expected(0), b = extended.expected(0);
+    ASSERT_EQ(a.size(), b.size());
+    int offset = 0, dropping = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const int ring = plain.pattern()[i].channel;
+        if (ring == 3 && a[i].range_m > 0) {
+            ++offset;
+            EXPECT_NEAR(b[i].range_m - a[i].range_m, -0.1, 1e-5) << i;
+            if (std::isfinite(a[i].surface_range_m))
+                EXPECT_NEAR(b[i].surface_range_m - a[i].surface_range_m, -0.1, 1e-5) << i;
+            EXPECT_EQ(b[i].clear, a[i].clear) << i;
+        } else if (ring == 5 && a[i].clear) {
+            ++dropping;
+            EXPECT_FALSE(b[i].clear) << i;  // a return it may lose is judged by its chances
+            EXPECT_NEAR(b[i].p_none, 0.25, 1e-6) << i;
+            EXPECT_NEAR(b[i].p_surface, 0.75 * a[i].p_surface, 1e-6) << i;
+        } else if (ring != 3 && ring != 5) {
+            EXPECT_TRUE(a[i].range_m == b[i].range_m && a[i].clear == b[i].clear && a[i].p_none == b[i].p_none &&
+                        a[i].p_surface == b[i].p_surface && a[i].surface == b[i].surface)
+                << i;
+        }
+    }
+    EXPECT_GT(offset, 200);
+    EXPECT_GT(dropping, 200);
+}
+
+TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
+{
+    auto refused = [](const std::string& name, const std::string& text, const std::string& needle) {
+        const auto path = scratch("lidar_ext_bad") / (name + ".toml");
+        std::ofstream(path) << text;
+        try {
+            lidarSpec(path.string());
+            ADD_FAILURE() << name << ": accepted";
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(needle), std::string::npos) << name << ": " << what;
+            EXPECT_NE(what.find(path.string()), std::string::npos) << name << ": " << what;
+            EXPECT_EQ(what.find('\n'), std::string::npos) << name << ": " << what;
+        }
+    };
+    const std::string head = "name = \"x\"\nbase = \"vlp16\"\n";
+    refused("ring_high", head + "[[extensions.channel]]\nring = 16\ndropout = 0.1\n", "extensions.channel[0].ring");
+    refused("ring_missing", head + "[[extensions.channel]]\ndropout = 0.1\n", "ring");
+    refused("ring_twice", head + "[[extensions.channel]]\nring = 2\n[[extensions.channel]]\nring = 2\n", "already");
+    refused("dropout_big", head + "[[extensions.channel]]\nring = 2\ndropout = 1.5\n", "dropout");
+    refused("offset_nan", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = nan\n", "range_offset_m");
+    refused("offset_far", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = 20\n", "range_offset_m");
+    refused("sector_empty", head + "[[extensions.sector]]\nfrom_deg = 5\nto_deg = 5\ndropout = 0.2\n", "empty");
+    refused("sector_missing", head + "[[extensions.sector]]\nfrom_deg = 5\ndropout = 0.2\n", "to_deg");
+    refused("sector_wide", head + "[[extensions.sector]]\nfrom_deg = -200\nto_deg = 5\ndropout = 0.2\n", "from_deg");
+    refused("unknown_key", head + "[[extensions.channel]]\nring = 2\nbias = 0.1\n", "unknown key");
+    refused("unknown_table", head + "[extensions]\nsurface = 1\n", "unknown key");
+    refused("base_and_more", head + "columns = 512\n", "only name and [extensions]");
+    refused("base_unknown", "name = \"x\"\nbase = \"vlp17\"\n", "base");
+    // A base that extends another is refused before it is read on (a preset naming itself).
+    const auto self = scratch("lidar_ext_bad") / "self.toml";
+    refused("self", "name = \"x\"\nbase = \"" + self.string() + "\"\n", "base");
+}
