@@ -10,6 +10,7 @@
 #include "scratch.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/lidar/lidar_scanner.hpp"
+#include "smokescan/pipeline/lidar_diagnose_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 using namespace smokescan;
@@ -186,4 +187,71 @@ TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
     // A base that extends another is refused before it is read on (a preset naming itself).
     const auto self = scratch("lidar_ext_bad") / "self.toml";
     refused("self", "name = \"x\"\nbase = \"" + self.string() + "\"\n", "base");
+}
+
+TEST(LidarExtensions, ASectorAcross180DegreesHoldsBothEdgesAndNothingBetween)
+{
+    const double d = M_PI / 180;
+    const LidarSectorExtension across{170, -170, 1};  // 170°…180° and −180°…−170°
+    for (double deg : {170.0, 175.0, 179.9, 180.0, -180.0, -175.0, -170.1, 185.0, -185.0, 530.0})
+        EXPECT_TRUE(across.contains(deg * d)) << deg;
+    for (double deg : {169.9, -170.0, -169.0, 0.0, 90.0, -90.0, 160.0, 200.0})
+        EXPECT_FALSE(across.contains(deg * d)) << deg;
+    const LidarSectorExtension ahead{-10, 10, 1};
+    for (double deg : {-10.0, 0.0, 9.99, 350.0, -370.0}) EXPECT_TRUE(ahead.contains(deg * d)) << deg;
+    for (double deg : {10.0, -10.1, 180.0, 190.0}) EXPECT_FALSE(ahead.contains(deg * d)) << deg;
+    // A beam in two sectors and an extended channel keeps 1 − d of each.
+    LidarExtensions e;
+    e.channels.push_back({2, 0, 0.5});
+    e.sectors = {ahead, {-20, 20, 0.2}};
+    e.sectors[0].dropout = 0.25;
+    EXPECT_NEAR(e.dropout(2, 0), 1 - 0.5 * 0.75 * 0.8, 1e-12);
+    EXPECT_NEAR(e.dropout(3, 15 * d), 0.2, 1e-12);
+    EXPECT_EQ(e.dropout(3, 90 * d), 0);
+}
+
+TEST(LidarExtensions, TheDiagnosisExtendsThePresetItDiagnosedByWhatItNamed)
+{
+    // A preset already extended (ring 2 drops 0.5, reads 0.1 m long) diagnosed again: ring 2 drops
+    // another 0.2 and reads 0.05 m longer still; a window at 170°…−170° drops 0.6; ring 4's finding
+    // is not named; a surface's threshold is named but is not an extension.
+    const std::string had =
+        extendedVlp16("had", "[[extensions.channel]]\nring = 2\nrange_offset_m = 0.1\ndropout = 0.5\n");
+    const LidarSpec spec = lidarSpec(had);
+    LidarDiagnosis d;
+    d.verdict = "dropping_channel, window_sector, biased_channel, surface_threshold";
+    d.surface_names = {"floor", "wall \"east\"\nside"};
+    auto finding = [](LidarCause c, int ring, double effect, bool named) {
+        LidarFinding f;
+        f.cause = c, f.ring = ring, f.effect = effect, f.named = named, f.tested = true;
+        return f;
+    };
+    d.tried = {finding(LidarCause::DroppingChannel, 2, 0.2, true), finding(LidarCause::WindowSector, -1, 0.6, true),
+               finding(LidarCause::BiasedChannel, 2, 0.05, true), finding(LidarCause::BiasedChannel, 4, 0.3, false),
+               finding(LidarCause::SurfaceThreshold, -1, -0.3, true)};
+    d.tried[1].from_deg = 170, d.tried[1].to_deg = -170;
+    d.tried[4].surface = 1;
+    const std::string text = extendedLidarPreset(d, spec, "vlp16");
+    const auto path = scratch("lidar_ext") / "again.toml";
+    std::ofstream(path) << text;
+    const LidarSpec again = lidarSpec(path.string());
+    EXPECT_EQ(again.name, "had-extended");
+    EXPECT_EQ(again.base, "vlp16");
+    ASSERT_EQ(again.extensions.channels.size(), 1u) << text;
+    EXPECT_NEAR(again.extensions.channels[0].dropout, 1 - 0.5 * 0.8, 1e-6);
+    EXPECT_NEAR(again.extensions.rangeOffset_m(2), 0.15, 1e-6);
+    EXPECT_EQ(again.extensions.rangeOffset_m(4), 0);
+    ASSERT_EQ(again.extensions.sectors.size(), 1u) << text;
+    EXPECT_EQ(again.extensions.sectors[0].from_deg, 170);
+    EXPECT_EQ(again.extensions.sectors[0].to_deg, -170);
+    EXPECT_NEAR(again.extensions.sectors[0].dropout, 0.6, 1e-6);
+    // The surface's finding is in a comment, on one line (the surface's name holds a newline).
+    EXPECT_NE(text.find("# Named but not an extension yet"), std::string::npos) << text;
+    EXPECT_NE(text.find("surface_threshold (wall \"east\" side)"), std::string::npos) << text;
+    // Extending it once more keeps one "-extended".
+    EXPECT_EQ(lidarSpec((scratch("lidar_ext") / "again.toml").string()).name, "had-extended");
+    LidarDiagnosis none;
+    none.verdict = "none";
+    const std::string same = extendedLidarPreset(none, again, "vlp16");
+    EXPECT_NE(same.find("name = \"had-extended\"\n"), std::string::npos) << same;
 }
