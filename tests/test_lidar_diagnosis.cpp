@@ -396,6 +396,9 @@ TEST(LidarDiagnosisStats, CleanTalliesGiveEveryCauseUniformHeldOutPValuesAndUnit
         const std::vector<double>& v = z[c];
         EXPECT_NEAR(std::accumulate(v.begin(), v.end(), 0.0) / kSeeds, 0, 0.2) << lidarCauseName(c);
         EXPECT_NEAR(sdOf(v), 1.0, 0.15) << lidarCauseName(c);
+        std::printf("%s: z mean %.3f sd %.3f; p < 0.05: %.3f, < 0.2: %.3f, < 0.5: %.3f\n", lidarCauseName(c),
+                    std::accumulate(v.begin(), v.end(), 0.0) / kSeeds, sdOf(v), below(c, 0.05), below(c, 0.2),
+                    below(c, 0.5));
     }
     // At level 0.05 over five causes, a run names one with probability at most 0.05.
     EXPECT_LE(named, 20);
@@ -717,7 +720,8 @@ TEST(LidarDiagnosisRun, TheExtendedPresetExplainsHeldOutFramesOfTheSameFaults)
     const LidarSpec spec = lidarSpec(preset);
     EXPECT_EQ(spec.name, "vlp16-extended");
     ASSERT_EQ(spec.extensions.channels.size(), 2u) << found.diagnosis.extended_preset;
-    EXPECT_NEAR(spec.extensions.dropout(weak, 0), triedOf(found.diagnosis, LidarCause::DroppingChannel).effect, 1e-5);
+    const LidarFinding& dropping = triedOf(found.diagnosis, LidarCause::DroppingChannel);
+    EXPECT_NEAR(spec.extensions.dropout(weak, 0), dropping.effect / (1 - dropping.base_rate), 1e-5);
     EXPECT_NEAR(spec.extensions.rangeOffset_m(stretched), triedOf(found.diagnosis, LidarCause::BiasedChannel).effect,
                 1e-5);
 
@@ -744,6 +748,13 @@ TEST(LidarDiagnosisRun, TheExtendedPresetExplainsHeldOutFramesOfTheSameFaults)
     EXPECT_EQ(after.verdict.find("biased_channel"), std::string::npos) << after.verdict;
     EXPECT_FALSE(d1.named && d1.ring == weak);
     EXPECT_LT(b1.gain_nats, 0.05 * b0.gain_nats);
+    // And it says what the held-out frames show: the dropout found at 38 s is the one that gives
+    // the weak ring's excess at 41 s (within both errors), the offset the stretched ring's bias
+    // there (within 0.03 m: the stretch is 4 % of other ranges there).
+    EXPECT_EQ(d0.ring, weak);
+    EXPECT_NEAR(spec.extensions.dropout(weak, 0), d0.effect / (1 - d0.base_rate),
+                4 * std::hypot(dropping.effect_se, d0.effect_se));
+    EXPECT_NEAR(spec.extensions.rangeOffset_m(stretched), b0.effect, 0.03);
     // The stretch is not an offset: what is left on the ring is its spread of ranges' share, a
     // fraction of what the preset left.
     if (b1.ring == stretched) EXPECT_LT(std::abs(b1.effect), 0.25 * std::abs(b0.effect));

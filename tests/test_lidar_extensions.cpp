@@ -43,11 +43,11 @@ struct Frames {
     std::vector<PatternBeam> pattern;
 };
 
-Frames framesOf(const std::string& preset, int n)
+Frames framesOf(const std::string& preset, int n, ReturnMode mode = ReturnMode::Strongest)
 {
     const Scene scene = parseScene(wallAhead(), "test scene", ".");
     const SurfaceSet surfaces(scene);
-    const LidarScanner sc(scene, surfaces, scene.sensors.front(), lidarSpec(preset), ReturnMode::Strongest, 11);
+    const LidarScanner sc(scene, surfaces, scene.sensors.front(), lidarSpec(preset), mode, 11);
     Frames f{{}, sc.pattern()};
     for (int k = 0; k < n; ++k) f.frames.push_back(sc.frame(0.1 * k, uint64_t(k)));
     return f;
@@ -79,9 +79,13 @@ TEST(LidarExtensions, AChannelsOffsetMovesItsRangesByItAndNoOtherBeam)
         }
         ++moved;
         EXPECT_NEAR(pb[i]->range_m - pa[i]->range_m, 0.25, 1e-5) << i;
-        // Along the beam: the point moves 0.25 m in the beam's direction.
+        // Along the beam: the point moves 0.25 m in its direction, nothing across it.
         const double dx = pb[i]->x - pa[i]->x, dy = pb[i]->y - pa[i]->y, dz = pb[i]->z - pa[i]->z;
+        const double ux = pa[i]->x / pa[i]->range_m, uy = pa[i]->y / pa[i]->range_m, uz = pa[i]->z / pa[i]->range_m;
+        EXPECT_NEAR(dx * ux + dy * uy + dz * uz, 0.25, 1e-4) << i;
         EXPECT_NEAR(std::sqrt(dx * dx + dy * dy + dz * dz), 0.25, 1e-4) << i;
+        EXPECT_EQ(pb[i]->time_s, pa[i]->time_s);
+        EXPECT_EQ(pb[i]->ring, pa[i]->ring);
         EXPECT_EQ(pb[i]->intensity, pa[i]->intensity);
     }
     EXPECT_GT(moved, 200);
@@ -89,51 +93,75 @@ TEST(LidarExtensions, AChannelsOffsetMovesItsRangesByItAndNoOtherBeam)
 
 TEST(LidarExtensions, DropoutsLoseTheirShareOfBeamsWhereTheySay)
 {
-    // Ring 5 drops 30 %, the sector −10°..10° 50 %: where both act, 1 − 0.7·0.5 = 65 %.
+    // Ring 5 drops 30 %, the sector 15°…40° (to the left, +y) 50 %: where both act, 1 − 0.7·0.5 =
+    // 65 %. Dual returns: a beam is lost whole or kept whole. The sector is told by where the
+    // preset's own points lie (atan2 of y and x), not by the code's sector test.
     const std::string ext = extendedVlp16("drop",
                                           "[[extensions.channel]]\nring = 5\ndropout = 0.3\n"
-                                          "[[extensions.sector]]\nfrom_deg = -10\nto_deg = 10\ndropout = 0.5\n");
-    const Frames a = framesOf("vlp16", 4), b = framesOf(ext, 4);
-    // Per group: beams that returned in the preset's frames, and of them those lost.
+                                          "[[extensions.sector]]\nfrom_deg = 15\nto_deg = 40\ndropout = 0.5\n");
+    constexpr int kFrames = 12;
+    const Frames a = framesOf("vlp16", kFrames, ReturnMode::Dual), b = framesOf(ext, kFrames, ReturnMode::Dual);
     long long n[4] = {0, 0, 0, 0}, lost[4] = {0, 0, 0, 0};
-    const LidarSectorExtension sector{-10, 10, 0.5};
+    long long ring5_pairs = 0, ring5_both = 0;  // ring 5 outside the sector: lost in frame k and k + 1
+    std::vector<char> lost_before;
     for (size_t k = 0; k < a.frames.size(); ++k) {
-        const auto pa = byBeam(a.frames[k], a.pattern.size()), pb = byBeam(b.frames[k], b.pattern.size());
-        for (size_t i = 0; i < pa.size(); ++i) {
-            ASSERT_FALSE(!pa[i] && pb[i]) << "a beam gained a return: " << i;
-            if (!pa[i]) continue;
-            const int g = int(a.pattern[i].channel == 5) + 2 * int(sector.contains(a.pattern[i].azimuth_rad));
+        std::vector<int> na(a.pattern.size(), 0), nb(a.pattern.size(), 0);
+        std::vector<const LidarPoint*> first(a.pattern.size(), nullptr);
+        for (const LidarPoint& p : a.frames[k].points) ++na[p.beam], first[p.beam] = first[p.beam] ? first[p.beam] : &p;
+        for (const LidarPoint& p : b.frames[k].points) ++nb[p.beam];
+        std::vector<char> lost_now(a.pattern.size(), 0);
+        for (size_t i = 0; i < na.size(); ++i) {
+            ASSERT_TRUE(nb[i] == 0 || nb[i] == na[i]) << "beam " << i << " kept " << nb[i] << " of " << na[i];
+            if (!na[i]) continue;
+            const double az = std::atan2(first[i]->y, first[i]->x) * 180 / M_PI;
+            const bool in_sector = az >= 15.1 && az < 39.9,
+                       near_edge = std::abs(az - 15) < 0.1 || std::abs(az - 40) < 0.1;
+            if (near_edge) continue;
+            const int g = int(a.pattern[i].channel == 5) + 2 * int(in_sector);
             ++n[g];
-            if (!pb[i]) {
-                ++lost[g];
-            } else {
-                EXPECT_EQ(std::memcmp(pa[i], pb[i], sizeof(LidarPoint)), 0) << i;  // kept beams as they were
-            }
+            lost[g] += nb[i] == 0;
+            lost_now[i] = nb[i] == 0;
+            if (g == 1 && !lost_before.empty()) ++ring5_pairs, ring5_both += lost_now[i] && lost_before[i];
         }
+        lost_before = lost_now;
     }
     EXPECT_EQ(lost[0], 0) << "beams of other rings outside the sector";
     const double want[4] = {0, 0.3, 0.5, 0.65};
     for (int g = 1; g < 4; ++g) {
-        ASSERT_GT(n[g], 100) << g;
+        ASSERT_GT(n[g], 300) << g;
         const double share = double(lost[g]) / double(n[g]), sd = std::sqrt(want[g] * (1 - want[g]) / double(n[g]));
         EXPECT_NEAR(share, want[g], 4 * sd) << "group " << g << ": " << lost[g] << " of " << n[g];
     }
+    // Each frame draws its own: a beam lost in one frame is lost in the next at the rate, 0.3² both.
+    ASSERT_GT(ring5_pairs, 300);
+    const double both = double(ring5_both) / double(ring5_pairs);
+    EXPECT_NEAR(both, 0.09, 4 * std::sqrt(0.09 * 0.91 / double(ring5_pairs))) << ring5_both << " of " << ring5_pairs;
 }
 
 TEST(LidarExtensions, TheReplayReadsTheOffsetAndJudgesDroppingBeamsByTheirChances)
 {
     const std::string ext = extendedVlp16("replay",
                                           "[[extensions.channel]]\nring = 3\nrange_offset_m = -0.1\n"
-                                          "[[extensions.channel]]\nring = 5\ndropout = 0.25\n");
+                                          "[[extensions.channel]]\nring = 5\ndropout = 0.25\n"
+                                          "[[extensions.sector]]\nfrom_deg = -30\nto_deg = -20\ndropout = 0.4\n");
     const Scene scene = parseScene(wallAhead(), "test scene", ".");
     const SurfaceSet surfaces(scene);
     const LidarScanner plain(scene, surfaces, scene.sensors.front(), lidarSpec("vlp16"), ReturnMode::Strongest, 1);
     const LidarScanner extended(scene, surfaces, scene.sensors.front(), lidarSpec(ext), ReturnMode::Strongest, 1);
     const std::vector<ExpectedBeam> a = plain.expected(0), b = extended.expected(0);
     ASSERT_EQ(a.size(), b.size());
-    int offset = 0, dropping = 0;
+    int offset = 0, dropping = 0, in_sector = 0;
     for (size_t i = 0; i < a.size(); ++i) {
         const int ring = plain.pattern()[i].channel;
+        const double az = plain.pattern()[i].azimuth_rad * 180 / M_PI;
+        if (az >= -29.9 && az < -20.1 && ring != 5 && a[i].clear) {  // the sector alone
+            ++in_sector;
+            EXPECT_FALSE(b[i].clear) << i;
+            EXPECT_NEAR(b[i].p_none, 0.4, 1e-6) << i;
+            EXPECT_NEAR(b[i].p_surface, 0.6 * a[i].p_surface, 1e-6) << i;
+            continue;
+        }
+        if (az >= -30.1 && az < -19.9) continue;  // at the sector's edges
         if (ring == 3 && a[i].range_m > 0) {
             ++offset;
             EXPECT_NEAR(b[i].range_m - a[i].range_m, -0.1, 1e-5) << i;
@@ -151,8 +179,9 @@ TEST(LidarExtensions, TheReplayReadsTheOffsetAndJudgesDroppingBeamsByTheirChance
                 << i;
         }
     }
-    EXPECT_GT(offset, 200);
-    EXPECT_GT(dropping, 200);
+    EXPECT_GT(offset, 150);
+    EXPECT_GT(dropping, 150);
+    EXPECT_GT(in_sector, 100);
 }
 
 TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
@@ -176,7 +205,7 @@ TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
     refused("ring_twice", head + "[[extensions.channel]]\nring = 2\n[[extensions.channel]]\nring = 2\n", "already");
     refused("dropout_big", head + "[[extensions.channel]]\nring = 2\ndropout = 1.5\n", "dropout");
     refused("offset_nan", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = nan\n", "range_offset_m");
-    refused("offset_far", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = 20\n", "range_offset_m");
+    refused("offset_far", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = 1.5\n", "range_offset_m");
     refused("sector_empty", head + "[[extensions.sector]]\nfrom_deg = 5\nto_deg = 5\ndropout = 0.2\n", "empty");
     refused("sector_missing", head + "[[extensions.sector]]\nfrom_deg = 5\ndropout = 0.2\n", "to_deg");
     refused("sector_wide", head + "[[extensions.sector]]\nfrom_deg = -200\nto_deg = 5\ndropout = 0.2\n", "from_deg");
@@ -186,7 +215,18 @@ TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
     refused("base_unknown", "name = \"x\"\nbase = \"vlp17\"\n", "base");
     // A base that extends another is refused before it is read on (a preset naming itself).
     const auto self = scratch("lidar_ext_bad") / "self.toml";
-    refused("self", "name = \"x\"\nbase = \"" + self.string() + "\"\n", "base");
+    refused("self", "name = \"x\"\nbase = \"" + self.string() + "\"\n", "used as a base");
+    // [extensions] belong in a preset that extends another (a whole preset is the datasheet's).
+    const auto dir = scratch("lidar_ext_bad");
+    std::ofstream(dir / "pattern.csv") << "0, 0, 0, 0\n10, 0, 0.01, 1\n20, 0, 0.02, 2\n";
+    const std::string whole = "name = \"pf\"\npattern = \"file\"\npattern_file = \"pattern.csv\"\nrate_hz = 10\n";
+    refused("whole", whole + "[[extensions.channel]]\nring = 1\ndropout = 0.1\n", "belongs in a preset that extends");
+    // A base relative to the preset's own folder; a pattern file's channels bound the rings.
+    std::ofstream(dir / "pf.toml") << whole;
+    const auto ext = dir / "pf_ext.toml";
+    std::ofstream(ext) << "name = \"pfx\"\nbase = \"pf.toml\"\n[[extensions.channel]]\nring = 2\ndropout = 0.1\n";
+    EXPECT_NEAR(lidarSpec(ext.string()).extensions.dropout(2, 0), 0.1, 1e-12);
+    refused("pattern_ring", "name = \"pfx\"\nbase = \"pf.toml\"\n[[extensions.channel]]\nring = 3\n", "0–2");
 }
 
 TEST(LidarExtensions, ASectorAcross180DegreesHoldsBothEdgesAndNothingBetween)

@@ -85,17 +85,33 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
     ceres::GradientProblem problem(new CandidateNll(r, m, c, obs));
     // The starts are ranked on every kRankStride-th observation when there are many (every scan
     // keeps its share of beams): about half of a diagnosis's likelihood passes were spent ranking
-    // starts, and a start only chooses the basin the full fit then descends.
+    // starts, and a start only chooses the basin the full fit then descends. On a rugged
+    // likelihood (the clock offset's, a basin a camera frame, a few nats apart: its row's
+    // jackknife) the three best are ranked again on all of them, which the subsample's noise could swap.
     constexpr size_t kRankStride = 4, kRankAll = 20000;
+    const size_t finalists = causeRow(c.cause).jackknife ? 3 : 0;
     std::vector<Obs> ranked;
     if (obs.size() > kRankAll)
         for (size_t i = 0; i < obs.size(); i += kRankStride) ranked.push_back(obs[i]);
     ceres::GradientProblem ranking(new CandidateNll(r, m, c, ranked.empty() ? obs : ranked));
     const std::vector<double>& from = starts && !starts->empty() ? *starts : c.starts();
-    double theta = from[bestStart(from, [&](double t) {
+    auto costOn = [](const ceres::GradientProblem& p, double t) {
         double cost = kInf;
-        return ranking.Evaluate(&t, &cost, nullptr) ? cost : kInf;
+        return p.Evaluate(&t, &cost, nullptr) && std::isfinite(cost) ? cost : kInf;
+    };
+    std::vector<std::pair<double, double>> tried;  // (cost on the subsample, start)
+    double theta = from[bestStart(from, [&](double t) {
+        tried.emplace_back(costOn(ranking, t), t);
+        return tried.back().first;
     })];
+    if (!ranked.empty() && finalists > 0) {
+        std::stable_sort(tried.begin(), tried.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        double best = kInf;
+        for (size_t k = 0; k < std::min(finalists, tried.size()); ++k) {
+            const double cost = costOn(problem, tried[k].second);
+            if (cost < best) best = cost, theta = tried[k].second;
+        }
+    }
     ceres::GradientProblemSolver::Options opt;
     opt.line_search_direction_type = ceres::LBFGS;
     opt.max_num_iterations = 100;

@@ -16,8 +16,9 @@ struct ThetaFit {
 
 /// @brief The maximum-likelihood θ of candidate c on top of model m over `obs`, from the best
 /// of its start values (or of `starts` when given; ranked on every 4th observation when there
-/// are over 20,000). A θ that walks below its row's nil_below (a width or share whose best is
-/// zero) ends the fit there.
+/// are over 20,000, the three best of a rugged likelihood — a jackknife row's — ranked again on
+/// all). A θ that walks below its row's nil_below (a width or share whose best is zero) ends the
+/// fit there.
 ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs,
                       const std::vector<double>* starts = nullptr);
 

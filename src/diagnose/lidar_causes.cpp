@@ -49,6 +49,7 @@ void testDropout(const Split& s, LidarFinding& f)
     const double pi = s.rateIn(), po = s.rateOut();
     f.tested = s.n_in > 0 && s.n_out > 0;
     f.effect = pi - po;
+    f.base_rate = po;
     f.effect_se = std::sqrt(pi * (1 - pi) / std::max(1.0, s.n_in) + po * (1 - po) / std::max(1.0, s.n_out));
     f.gain_nats = 0.5 * z * std::abs(z);
     f.p_value = f.tested ? 0.5 * std::erfc(z / std::sqrt(2.0)) : 1;

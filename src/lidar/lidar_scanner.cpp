@@ -306,7 +306,7 @@ void applyExtensions(const LidarExtensions& ext, const PatternBeam& b, ExpectedB
     // The channel's offset moves what the replay reads and where the surface's echo reads alike.
     const double offset = ext.rangeOffset_m(b.channel);
     if (offset != 0) {
-        if (x.range_m > 0) x.range_m += float(offset);
+        if (x.range_m > 0) x.range_m = std::max(0.0f, x.range_m + float(offset));  // 0: no point (as frame())
         if (std::isfinite(x.surface_range_m)) x.surface_range_m += float(offset);
     }
     // A beam that may return nothing is no longer certain: judged by its chances, each kept with 1 − d.
@@ -355,7 +355,10 @@ LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
         const double drop = spec_.extensions.dropout(b.channel, b.azimuth_rad);
         if (drop > 0 && KeyedRng(seed_ ^ kDropoutKey, index, uint64_t(i)).uniform() < drop) return;
         const double offset = spec_.extensions.rangeOffset_m(b.channel);
-        const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
+        std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
+        kept.erase(
+            std::remove_if(kept.begin(), kept.end(), [&](size_t k) { return !(echoes[k].range_m + offset > 0); }),
+            kept.end());
         for (size_t k = 0; k < kept.size() && k < 2; ++k) {
             const LidarEcho& e = echoes[kept[k]];
             LidarPoint& q = slots[2 * i + k];

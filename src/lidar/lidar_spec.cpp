@@ -133,7 +133,7 @@ void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
         for (const LidarChannelExtension& y : e.channels)
             if (y.ring == ring) c.error("ring", "names a channel already extended (" + std::to_string(ring) + ")");
         x.ring = int(ring);
-        x.range_offset_m = c.between("range_offset_m", 0, -10, 10);
+        x.range_offset_m = c.between("range_offset_m", 0, -1, 1);
         x.dropout = c.between("dropout", 0, 0, 1);
         c.finish("an [[extensions.channel]] table");
         e.channels.push_back(x);
@@ -175,7 +175,6 @@ LidarSpec extendedSpec(TomlTable& t, const std::string& source)
         throw;
     }
     reading_base = false;
-    if (!s.extensions.empty()) t.error("base", "names a preset that already has [extensions]");
     s.name = t.strReq("name");
     s.source = source;
     s.base = path;
@@ -319,7 +318,10 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
         s.max_column_rate_hz = t.nonneg("max_column_rate_hz", 0);
         configureLidar(s, s.rate_hz, 0, source);
     }
-    if (t.has("extensions")) readExtensions(t.table("extensions"), s, s.extensions);
+    if (t.has("extensions"))
+        t.error("extensions",
+                "belongs in a preset that extends this one (base = \"" + source +
+                    "\"): a whole preset is the sensor's datasheet");
     t.finish("a lidar preset");
     return s;
 }

@@ -190,6 +190,10 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
 std::string extendedLidarPreset(const LidarDiagnosis& d, const LidarSpec& diagnosed, const std::string& base)
 {
     LidarExtensions e = diagnosed.extensions;
+    // The dropout that turns the other beams' missed share into the group's: excess / (1 − theirs).
+    auto dropout = [](const LidarFinding& f) {
+        return std::clamp(f.effect / (1 - std::min(0.99, f.base_rate)), 0.0, 1.0);
+    };
     auto channel = [&](int ring) -> LidarChannelExtension& {
         for (LidarChannelExtension& c : e.channels)
             if (c.ring == ring) return c;
@@ -202,14 +206,14 @@ std::string extendedLidarPreset(const LidarDiagnosis& d, const LidarSpec& diagno
         switch (f.cause) {
         case LidarCause::DroppingChannel: {
             LidarChannelExtension& c = channel(f.ring);  // another dropout on top of the one it had
-            c.dropout = 1 - (1 - c.dropout) * (1 - std::clamp(f.effect, 0.0, 1.0));
+            c.dropout = 1 - (1 - c.dropout) * (1 - dropout(f));
             break;
         }
         case LidarCause::BiasedChannel:
-            channel(f.ring).range_offset_m = std::clamp(channel(f.ring).range_offset_m + f.effect, -10.0, 10.0);
+            channel(f.ring).range_offset_m = std::clamp(channel(f.ring).range_offset_m + f.effect, -1.0, 1.0);
             break;
         case LidarCause::WindowSector:
-            e.sectors.push_back({f.from_deg, f.to_deg, std::clamp(f.effect, 0.0, 1.0)});
+            e.sectors.push_back({f.from_deg, f.to_deg, dropout(f)});
             break;
         case LidarCause::SmokeFirstReturns:
         case LidarCause::SurfaceThreshold:

@@ -55,6 +55,9 @@ struct LidarFinding {
     /// first returns), surface returns' share over their chance (surface threshold; < 0: fewer)
     double effect = 0, effect_se = 0;
     double floor = 0;  ///< the cause's floor in the effect's unit
+    /// Dropouts (channel, sector): the other clear beams' missed share on the held-out frames, the
+    /// rate the excess is over (the dropout that gives the excess is effect / (1 − base_rate)).
+    double base_rate = 0;
     double gain_nats = 0;  ///< held-out log-likelihood gain of the candidate over none
     double p_value = 1;  ///< held out; one-sided for dropouts and smoke returns, else two-sided
     bool named = false;  ///< p < level/5 and |effect| at least its floor

@@ -53,7 +53,8 @@ enum class PatternKind { Spinning, File };
 /// One channel's departures from the preset ([[extensions.channel]]).
 struct LidarChannelExtension {
     int ring = 0;  ///< the channel
-    double range_offset_m = 0;  ///< added to each of its ranges [m], within ±10 m
+    double range_offset_m =
+        0;  ///< added to each of its ranges [m], within ±1 m (a range it takes to 0 or less: no point)
     double dropout = 0;  ///< chance that a beam of it returns nothing (a dead or weak channel), 0–1
 };
 
@@ -70,7 +71,7 @@ struct LidarSectorExtension {
 /// | table                  | key            | unit | meaning                                   |
 /// |------------------------|----------------|------|-------------------------------------------|
 /// | [[extensions.channel]] | ring           | –    | the channel (0 … channels − 1)            |
-/// |                        | range_offset_m | m    | added to its ranges (±10 m)               |
+/// |                        | range_offset_m | m    | added to its ranges (±1 m)                |
 /// |                        | dropout        | –    | chance a beam of it returns nothing (0–1) |
 /// | [[extensions.sector]]  | from_deg, to_deg | deg | azimuths in the sensor frame (±180°)     |
 /// |                        | dropout        | –    | chance a beam within returns nothing (0–1)|

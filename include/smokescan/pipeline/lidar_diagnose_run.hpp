@@ -40,7 +40,8 @@ struct LidarDiagnoseRunResult {
 
 /// @brief The diagnosed preset extended by the diagnosis's named findings, as a preset file's
 /// text: `base` the preset diagnosed (its own base when it extends one), its extensions kept, and
-/// a dropping channel's excess missed share as the ring's dropout, a window sector's as the
+/// a dropping channel's excess missed share over the others' (as the dropout that gives it:
+/// excess / (1 − the others' share)) as the ring's dropout, a window sector's as the
 /// sector's, a biased channel's bias added to the ring's range offset. A surface's threshold and
 /// smoke taken as first returns are not extensions yet: named in a comment.
 /// @param base the preset as given (`--sensor`: a built-in name, or a file made absolute)
