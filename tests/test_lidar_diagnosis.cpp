@@ -556,6 +556,20 @@ void removeIf(LidarFrame& f, const std::function<bool(const LidarPoint&)>& gone)
     f.points.erase(std::remove_if(f.points.begin(), f.points.end(), gone), f.points.end());
 }
 
+/// A weak channel: `ring`'s faint returns (under its median intensity in the frame) lost 70 % of
+/// the time, its bright ones 20 % (where the dropping channel's cause assumes one rate a ring).
+void weakenFaintReturns(LidarFrame& f, int ring, KeyedRng& rng)
+{
+    std::vector<float> in;
+    for (const LidarPoint& p : f.points)
+        if (p.ring == ring) in.push_back(p.intensity);
+    if (in.empty()) return;
+    std::nth_element(in.begin(), in.begin() + long(in.size() / 2), in.end());
+    const float median = in[in.size() / 2];
+    removeIf(f,
+             [&](const LidarPoint& p) { return p.ring == ring && rng.uniform() < (p.intensity < median ? 0.7 : 0.2); });
+}
+
 }  // namespace
 
 TEST(LidarDiagnosisRun, SimulatedFramesInSmokeNameNothingAndMatchTheirReplay)
@@ -620,16 +634,8 @@ TEST(LidarDiagnosisRun, ChannelWindowAndBiasPlantedInThePointCloudsAreFoundWithT
     // A weak channel: its faint returns (under the ring's median intensity) lost more often than
     // its bright ones (70 % against 20 %), where the cause assumes one rate a ring.
     {
-        const LidarDiagnosis d = diagnoseAgainstReplay(factoryFrames(), [&](LidarFrame& f, KeyedRng& rng) {
-            std::vector<float> in;
-            for (const LidarPoint& p : f.points)
-                if (p.ring == ring) in.push_back(p.intensity);
-            std::nth_element(in.begin(), in.begin() + long(in.size() / 2), in.end());
-            const float median = in[in.size() / 2];
-            removeIf(f, [&](const LidarPoint& p) {
-                return p.ring == ring && rng.uniform() < (p.intensity < median ? 0.7 : 0.2);
-            });
-        });
+        const LidarDiagnosis d = diagnoseAgainstReplay(
+            factoryFrames(), [&](LidarFrame& f, KeyedRng& rng) { weakenFaintReturns(f, ring, rng); });
         EXPECT_EQ(d.verdict, "dropping_channel");
         EXPECT_EQ(triedOf(d, LidarCause::DroppingChannel).ring, ring);
         // Between the bright returns' loss and the faint ones' (the clear beams are mostly bright).
@@ -695,14 +701,7 @@ TEST(LidarDiagnosisRun, TheExtendedPresetExplainsHeldOutFramesOfTheSameFaults)
     const LidarDiagnosis clean = diagnoseAgainstReplay(factoryFrames(), [](LidarFrame&, KeyedRng&) {});
     const int weak = busiestRing(clean), stretched = (weak + 8) % 16;
     const auto faults = [&](LidarFrame& f, KeyedRng& rng) {
-        std::vector<float> in;
-        for (const LidarPoint& p : f.points)
-            if (p.ring == weak) in.push_back(p.intensity);
-        std::nth_element(in.begin(), in.begin() + long(in.size() / 2), in.end());
-        const float median = in[in.size() / 2];
-        removeIf(f, [&](const LidarPoint& p) {
-            return p.ring == weak && rng.uniform() < (p.intensity < median ? 0.7 : 0.2);
-        });
+        weakenFaintReturns(f, weak, rng);
         for (LidarPoint& p : f.points)
             if (p.ring == stretched) p.x *= 1.04f, p.y *= 1.04f, p.z *= 1.04f, p.range_m *= 1.04f;
     };

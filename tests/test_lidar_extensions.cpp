@@ -200,19 +200,30 @@ TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
         }
     };
     const std::string head = "name = \"x\"\nbase = \"vlp16\"\n";
-    refused("ring_high", head + "[[extensions.channel]]\nring = 16\ndropout = 0.1\n", "extensions.channel[0].ring");
-    refused("ring_missing", head + "[[extensions.channel]]\ndropout = 0.1\n", "ring");
-    refused("ring_twice", head + "[[extensions.channel]]\nring = 2\n[[extensions.channel]]\nring = 2\n", "already");
-    refused("dropout_big", head + "[[extensions.channel]]\nring = 2\ndropout = 1.5\n", "dropout");
-    refused("offset_nan", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = nan\n", "range_offset_m");
-    refused("offset_far", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = 1.5\n", "range_offset_m");
-    refused("sector_empty", head + "[[extensions.sector]]\nfrom_deg = 5\nto_deg = 5\ndropout = 0.2\n", "empty");
-    refused("sector_missing", head + "[[extensions.sector]]\nfrom_deg = 5\ndropout = 0.2\n", "to_deg");
-    refused("sector_wide", head + "[[extensions.sector]]\nfrom_deg = -200\nto_deg = 5\ndropout = 0.2\n", "from_deg");
-    refused("unknown_key", head + "[[extensions.channel]]\nring = 2\nbias = 0.1\n", "unknown key");
-    refused("unknown_table", head + "[extensions]\nsurface = 1\n", "unknown key");
-    refused("base_and_more", head + "columns = 512\n", "only name and [extensions]");
-    refused("base_unknown", "name = \"x\"\nbase = \"vlp17\"\n", "base");
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* needle;
+    };
+    const Case cases[] = {
+        {"ring_high", head + "[[extensions.channel]]\nring = 16\ndropout = 0.1\n", "extensions.channel[0].ring"},
+        {"ring_missing", head + "[[extensions.channel]]\ndropout = 0.1\n", "ring"},
+        {"ring_twice", head + "[[extensions.channel]]\nring = 2\n[[extensions.channel]]\nring = 2\n", "already"},
+        {"dropout_big", head + "[[extensions.channel]]\nring = 2\ndropout = 1.5\n", "dropout"},
+        {"offset_nan", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = nan\n", "range_offset_m"},
+        {"offset_far", head + "[[extensions.channel]]\nring = 2\nrange_offset_m = 1.5\n", "range_offset_m"},
+        {"sector_empty", head + "[[extensions.sector]]\nfrom_deg = 5\nto_deg = 5\ndropout = 0.2\n", "empty"},
+        {"sector_180", head + "[[extensions.sector]]\nfrom_deg = 180\nto_deg = -180\ndropout = 0.2\n", "empty"},
+        {"name_newline", "name = \"a\\n[x]\"\nbase = \"vlp16\"\n", "printable"},
+        {"name_empty", "name = \"\"\nbase = \"vlp16\"\n", "printable"},
+        {"sector_missing", head + "[[extensions.sector]]\nfrom_deg = 5\ndropout = 0.2\n", "to_deg"},
+        {"sector_wide", head + "[[extensions.sector]]\nfrom_deg = -200\nto_deg = 5\ndropout = 0.2\n", "from_deg"},
+        {"unknown_key", head + "[[extensions.channel]]\nring = 2\nbias = 0.1\n", "unknown key"},
+        {"unknown_table", head + "[extensions]\nsurface = 1\n", "unknown key"},
+        {"base_and_more", head + "columns = 512\n", "only name and [extensions]"},
+        {"base_unknown", "name = \"x\"\nbase = \"vlp17\"\n", "base"},
+    };
+    for (const Case& c : cases) refused(c.name, c.text, c.needle);
     // A base that extends another is refused before it is read on (a preset naming itself).
     const auto self = scratch("lidar_ext_bad") / "self.toml";
     refused("self", "name = \"x\"\nbase = \"" + self.string() + "\"\n", "used as a base");

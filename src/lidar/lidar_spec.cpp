@@ -109,18 +109,19 @@ void readReceiver(TomlTable& t, LidarSpec& s)
     p.smoke_bin_m = 2 * p.smoke_cell_m;
 }
 
-/// The channels a spec's beams carry (a pattern file's own channel column).
-int ringCount(const LidarSpec& s)
+/// A preset's name: printable on one line (it titles messages, reports and lidar.toml's comment).
+std::string readName(TomlTable& t)
 {
-    int n = s.channels();
-    for (const PatternBeam& b : s.file_beams) n = std::max(n, b.channel + 1);
-    return n;
+    const std::string name = t.strReq("name");
+    if (name.empty() || name.size() > 64 || printable(name) != name)
+        t.error("name", "must be 1–64 printable characters on one line");
+    return name;
 }
 
 /// [extensions]: its channel and sector tables (lidar_spec.hpp's LidarExtensions table).
 void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
 {
-    const int rings = ringCount(spec);
+    const int rings = spec.channels();
     std::vector<TomlTable> channels = t.tables("channel"), sectors = t.tables("sector");
     if (channels.size() > size_t(lidar_limits::kChannels)) t.error("channel", "has more tables than channels (512)");
     if (sectors.size() > 64) t.error("sector", "has more than 64 tables");
@@ -144,7 +145,8 @@ void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
             if (!c.has(key)) c.error(key, "is missing");
         x.from_deg = c.between("from_deg", 0, -180, 180);
         x.to_deg = c.between("to_deg", 0, -180, 180);
-        if (x.from_deg == x.to_deg) c.error("to_deg", "equals from_deg: the sector is empty");
+        if (std::remainder(x.from_deg - x.to_deg, 360.0) == 0)
+            c.error("to_deg", "is from_deg's azimuth: the sector is empty");
         x.dropout = c.between("dropout", 0, 0, 1);
         c.finish("an [[extensions.sector]] table");
         e.sectors.push_back(x);
@@ -175,7 +177,7 @@ LidarSpec extendedSpec(TomlTable& t, const std::string& source)
         throw;
     }
     reading_base = false;
-    s.name = t.strReq("name");
+    s.name = readName(t);
     s.source = source;
     s.base = path;
     if (t.has("extensions")) readExtensions(t.table("extensions"), s, s.extensions);
@@ -260,7 +262,7 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
     if (t.has("base")) return extendedSpec(t, source);
     LidarSpec s;
     s.source = source;
-    s.name = t.strReq("name");
+    s.name = readName(t);
     const std::string pattern = t.strReq("pattern");
     if (pattern != "spinning" && pattern != "file") t.error("pattern", "must be \"spinning\" or \"file\"");
     s.pattern = pattern == "file" ? PatternKind::File : PatternKind::Spinning;
@@ -283,6 +285,7 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
         const std::filesystem::path base = std::filesystem::path(source).parent_path();
         s.pattern_file = (base / file).string();
         s.file_beams = readPatternFile(s.pattern_file, 1 / s.rate_hz);
+        for (const PatternBeam& b : s.file_beams) s.file_channels = std::max(s.file_channels, b.channel + 1);
         s.columns = 1;
     } else {
         const std::string spin = t.str("spin", "cw");

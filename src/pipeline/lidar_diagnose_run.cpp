@@ -144,6 +144,20 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
     const LidarScanner& scanner = run.scanner();
     const std::string sensor = run.spec().name;
     checkListing(frames, cfg.points, scanner, sensor);
+    // What lidar.toml will name, checked before any work: the base as the file system resolves
+    // it, a text TOML and JSON can hold, and room for one more sector.
+    std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
+    if (base.size() > 5 && base.compare(base.size() - 5, 5, ".toml") == 0)
+        base = std::filesystem::weakly_canonical(std::filesystem::absolute(base)).string();
+    if (printable(base) != base)
+        throw Error("--sensor",
+                    "the preset's path " + base +
+                        " holds bytes lidar.toml cannot name (control characters or bytes that are not UTF-8)");
+    if (run.spec().extensions.sectors.size() >= 64)
+        throw Error("--sensor",
+                    "the " + sensor +
+                        " already has 64 sectors, the most a preset holds: the extended preset "
+                        "could not add one");
     const double readings = double(frames.size()) * double(scanner.pattern().size());
     if (readings > double(limits::kKeptReadings))
         throw Error("--points",
@@ -180,9 +194,6 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
     out.diagnosis.sensor = sensor;
     out.diagnosis.returns = returnModeName(run.mode());
     out.diagnosis.scene = scene.source;
-    std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
-    if (base.size() > 5 && base.compare(base.size() - 5, 5, ".toml") == 0)
-        base = std::filesystem::absolute(base).lexically_normal().string();
     out.diagnosis.extended_preset = extendedLidarPreset(out.diagnosis, run.spec(), base);
     return out;
 }

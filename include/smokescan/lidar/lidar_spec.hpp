@@ -111,7 +111,8 @@ struct LidarSpec {
     LidarExtensions extensions;  ///< departures learned by a diagnosis (none in a datasheet preset)
     std::string base;  ///< the preset this one extends (`base`), empty for a whole preset
 
-    int channels() const { return pattern == PatternKind::File ? 1 : int(elevation_rad.size()); }
+    int file_channels = 1;  ///< pattern = file: the channels its beams name (the largest + 1)
+    int channels() const { return pattern == PatternKind::File ? file_channels : int(elevation_rad.size()); }
     bool offers(ReturnMode m) const;
 };
 
