@@ -306,8 +306,14 @@ void applyExtensions(const LidarExtensions& ext, const PatternBeam& b, ExpectedB
     // The channel's offset moves what the replay reads and where the surface's echo reads alike.
     const double offset = ext.rangeOffset_m(b.channel);
     if (offset != 0) {
-        if (x.range_m > 0) x.range_m = std::max(0.0f, x.range_m + float(offset));  // 0: no point (as frame())
         if (std::isfinite(x.surface_range_m)) x.surface_range_m += float(offset);
+        if (x.range_m > 0 && !(x.range_m + float(offset) > 0)) {  // no point, as frame() gives none
+            x.range_m = 0;
+            x.clear = false;
+            x.p_none = 1, x.p_short = 0, x.p_surface = 0;
+        } else if (x.range_m > 0) {
+            x.range_m += float(offset);
+        }
     }
     // A beam that may return nothing is no longer certain: judged by its chances, each kept with 1 − d.
     const double d = ext.dropout(b.channel, b.azimuth_rad);

@@ -149,7 +149,7 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
     std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
     if (base.size() > 5 && base.compare(base.size() - 5, 5, ".toml") == 0)
         base = std::filesystem::weakly_canonical(std::filesystem::absolute(base)).string();
-    if (printable(base) != base)
+    if (printable(base, base.size() + 1) != base)  // (whole: printable cuts long texts)
         throw Error("--sensor",
                     "the preset's path " + base +
                         " holds bytes lidar.toml cannot name (control characters or bytes that are not UTF-8)");
