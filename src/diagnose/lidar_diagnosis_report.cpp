@@ -79,6 +79,8 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
                             {"floor", num(f.floor)},
                             {"held_out_gain_nats", num(f.gain_nats)},
                             {"p", f.tested ? num(f.p_value) : nullptr}};
+        if (f.cause == LidarCause::DroppingChannel || f.cause == LidarCause::WindowSector)
+            t["base_rate"] = num(f.base_rate);  // the other clear beams' missed share
         if (f.cause == LidarCause::WindowSector) {
             const bool none = f.from_deg == f.to_deg;
             t["from_deg"] = none ? nlohmann::json(nullptr) : num(f.from_deg);

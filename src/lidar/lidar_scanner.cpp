@@ -245,6 +245,33 @@ void outcomeShares(const LidarSpec& spec, ReturnMode mode, const BeamSignal& sig
     x.p_surface = float(count[int(ReturnClass::Surface)]) / kOutcomeDraws;
 }
 
+/// A preset's extensions on a replayed beam: its channel's range offset on the range and on where
+/// the surface's echo reads (a range taken to 0 or less: none); a beam with a dropout d is not
+/// clear, its chances of any return times 1 − d (none: d more).
+void applyExtensions(const LidarExtensions& ext, const PatternBeam& b, ExpectedBeam& x)
+{
+    // The channel's offset moves what the replay reads and where the surface's echo reads alike.
+    const double offset = ext.rangeOffset_m(b.channel);
+    if (offset != 0) {
+        if (std::isfinite(x.surface_range_m)) x.surface_range_m += float(offset);
+        if (x.range_m > 0 && !(x.range_m + float(offset) > 0)) {  // no point, as frame() gives none
+            x.range_m = 0;
+            x.clear = false;
+            x.p_none = 1, x.p_short = 0, x.p_surface = 0;
+        } else if (x.range_m > 0) {
+            x.range_m += float(offset);
+        }
+    }
+    // A beam that may return nothing is no longer certain: judged by its chances, each kept with 1 − d.
+    const double d = ext.dropout(b.channel, b.azimuth_rad);
+    if (d > 0) {
+        x.clear = false;
+        x.p_none = float(d + (1 - d) * x.p_none);
+        x.p_short = float((1 - d) * x.p_short);
+        x.p_surface = float((1 - d) * x.p_surface);
+    }
+}
+
 }  // namespace
 
 ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i) const
@@ -299,30 +326,6 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
     }
     applyExtensions(spec_.extensions, pattern_[i], x);
     return x;
-}
-
-void applyExtensions(const LidarExtensions& ext, const PatternBeam& b, ExpectedBeam& x)
-{
-    // The channel's offset moves what the replay reads and where the surface's echo reads alike.
-    const double offset = ext.rangeOffset_m(b.channel);
-    if (offset != 0) {
-        if (std::isfinite(x.surface_range_m)) x.surface_range_m += float(offset);
-        if (x.range_m > 0 && !(x.range_m + float(offset) > 0)) {  // no point, as frame() gives none
-            x.range_m = 0;
-            x.clear = false;
-            x.p_none = 1, x.p_short = 0, x.p_surface = 0;
-        } else if (x.range_m > 0) {
-            x.range_m += float(offset);
-        }
-    }
-    // A beam that may return nothing is no longer certain: judged by its chances, each kept with 1 − d.
-    const double d = ext.dropout(b.channel, b.azimuth_rad);
-    if (d > 0) {
-        x.clear = false;
-        x.p_none = float(d + (1 - d) * x.p_none);
-        x.p_short = float((1 - d) * x.p_short);
-        x.p_surface = float((1 - d) * x.p_surface);
-    }
 }
 
 std::vector<ExpectedBeam> LidarScanner::expected(double start_s) const

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/sensors/physical_model.hpp"
@@ -124,7 +125,8 @@ void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
     const int rings = spec.channels();
     std::vector<TomlTable> channels = t.tables("channel"), sectors = t.tables("sector");
     if (channels.size() > size_t(lidar_limits::kChannels)) t.error("channel", "has more tables than channels (512)");
-    if (sectors.size() > 64) t.error("sector", "has more than 64 tables");
+    if (sectors.size() > lidar_limits::kExtensionSectors)
+        t.error("sector", "has more than " + std::to_string(lidar_limits::kExtensionSectors) + " tables");
     for (TomlTable& c : channels) {
         LidarChannelExtension x;
         const long long ring = c.integer("ring", -1);
@@ -159,7 +161,7 @@ LidarSpec extendedSpec(TomlTable& t, const std::string& source)
 {
     const std::string base = t.strReq("base");
     std::string path = base;
-    if (base.size() > 5 && base.compare(base.size() - 5, 5, ".toml") == 0) {
+    if (isLidarPresetFile(base)) {
         const std::filesystem::path p(base);
         if (p.is_relative()) path = (std::filesystem::path(source).parent_path() / p).string();
     } else if (!isLidarName(base)) {
@@ -168,15 +170,15 @@ LidarSpec extendedSpec(TomlTable& t, const std::string& source)
     // One level only: a base that extends another (or itself) is refused before it is read on.
     thread_local bool reading_base = false;
     if (reading_base) t.error("base", "is given in a preset used as a base: a base must be a whole preset");
-    reading_base = true;
+    struct Reading {  // set while the base is read, also when reading it throws
+        Reading() { reading_base = true; }
+        ~Reading() { reading_base = false; }
+    };
     LidarSpec s;
-    try {
+    {
+        const Reading reading;
         s = lidarSpec(path);
-    } catch (...) {
-        reading_base = false;
-        throw;
     }
-    reading_base = false;
     s.name = readName(t);
     s.source = source;
     s.base = path;
@@ -213,11 +215,7 @@ double LidarExtensions::rangeOffset_m(int ring) const
 
 std::string lidarExtensionsToml(const LidarExtensions& e)
 {
-    auto num = [](double x) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%.6g", x);
-        return std::string(buf);
-    };
+    const auto num = shortest;  // reads back as the value written
     std::string o;
     for (const LidarChannelExtension& c : e.channels)
         o += "\n[[extensions.channel]]\nring = " + std::to_string(c.ring) +
@@ -420,6 +418,11 @@ bool isLidarName(const std::string& name)
 {
     for (const auto& [n, text] : builtinLidarPresetTable())
         if (n == name) return true;
+    return isLidarPresetFile(name);
+}
+
+bool isLidarPresetFile(const std::string& name)
+{
     return name.size() > 5 && name.compare(name.size() - 5, 5, ".toml") == 0;
 }
 
@@ -427,7 +430,7 @@ LidarSpec lidarSpec(const std::string& name)
 {
     for (const auto& [n, text] : builtinLidarPresetTable())
         if (n == name) return parseLidarSpec(text, "preset " + n);
-    if (name.size() > 5 && name.compare(name.size() - 5, 5, ".toml") == 0)
+    if (isLidarPresetFile(name))
         return parseLidarSpec(readTextInput(name, "lidar preset", limits::kTomlInputBytes), name);
     std::string names;
     for (const std::string& n : lidarPresetNames()) names += (names.empty() ? "" : ", ") + n;

@@ -147,17 +147,15 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
     // What lidar.toml will name, checked before any work: the base as the file system resolves
     // it, a text TOML and JSON can hold, and room for one more sector.
     std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
-    if (base.size() > 5 && base.compare(base.size() - 5, 5, ".toml") == 0)
-        base = std::filesystem::weakly_canonical(std::filesystem::absolute(base)).string();
+    if (isLidarPresetFile(base)) base = std::filesystem::weakly_canonical(std::filesystem::absolute(base)).string();
     if (printable(base, base.size() + 1) != base)  // (whole: printable cuts long texts)
         throw Error("--sensor",
                     "the preset's path " + base +
                         " holds bytes lidar.toml cannot name (control characters or bytes that are not UTF-8)");
-    if (run.spec().extensions.sectors.size() >= 64)
+    if (run.spec().extensions.sectors.size() >= lidar_limits::kExtensionSectors)
         throw Error("--sensor",
-                    "the " + sensor +
-                        " already has 64 sectors, the most a preset holds: the extended preset "
-                        "could not add one");
+                    "the " + sensor + " already has " + std::to_string(lidar_limits::kExtensionSectors) +
+                        " sectors, the most a preset holds: the extended preset could not add one");
     const double readings = double(frames.size()) * double(scanner.pattern().size());
     if (readings > double(limits::kKeptReadings))
         throw Error("--points",

@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import threading
+import tomllib
 
 import numpy as np
 import pytest
@@ -265,10 +266,14 @@ def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_chann
     # Two thirds lost on ring 4's clear beams, none elsewhere (within the test's error).
     assert abs(channel["effect"] - 2 / 3) < 4 * channel["effect_se"] + 0.02
     assert d.rings[4]["missed"] > 0.6 * d.rings[4]["clear"]
-    # The preset extended by it: ring 4 drops the share found, written as lidar.toml too.
+    # The preset extended by it: ring 4 drops what gives the excess found over the other clear
+    # beams' share, written as lidar.toml too, to the last digit.
     assert d.extended_preset == (tmp_path / "py" / "lidar.toml").read_text()
-    assert 'base = "vlp16"' in d.extended_preset
-    assert "ring = 4\nrange_offset_m = 0\ndropout = %.6g\n" % channel["effect"] in d.extended_preset
+    preset = tomllib.loads(d.extended_preset)
+    assert preset["base"] == "vlp16"
+    (ring4,) = preset["extensions"]["channel"]
+    assert ring4["ring"] == 4 and ring4["range_offset_m"] == 0
+    assert ring4["dropout"] == pytest.approx(channel["effect"] / (1 - channel["base_rate"]), rel=1e-12)
     # Refused in one line, nothing written.
     with pytest.raises(smokescan.Error, match=r"frames\.csv: "):
         smokescan.diagnose_lidar("factory_smoke", points=tmp_path, sensor="vlp16", out=tmp_path / "never")

@@ -107,11 +107,6 @@ struct ExpectedBeam {
 };
 inline constexpr double kClearMarginSd = 5;
 
-/// @brief A preset's extensions on a replayed beam: its channel's range offset on the range and
-/// on where the surface's echo reads; a beam with a dropout d is not clear, its chances of any
-/// return times 1 − d (none: d more).
-void applyExtensions(const LidarExtensions& ext, const PatternBeam& beam, ExpectedBeam& x);
-
 /// @brief Where a lidar goes in a scene that has no lidar of its own: where the scene's first
 /// sensor stands (its position and robot), looking where that sensor looks (the middle of its
 /// scan: an LMS200's 90°), or at the origin looking along +x in a scene without sensors.

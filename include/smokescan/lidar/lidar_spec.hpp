@@ -119,6 +119,7 @@ struct LidarSpec {
 /// Bounds on what a lidar spec may ask for (docs/limits.md).
 namespace lidar_limits {
 constexpr int kChannels = 512;
+constexpr size_t kExtensionSectors = 64;  ///< sectors in a preset's [extensions]
 constexpr int kColumns = 8192;
 constexpr long long kBeamsPerFrame = 4'000'000;
 constexpr double kRateHz = 100;
@@ -126,6 +127,8 @@ constexpr double kRateHz = 100;
 
 /// @brief The built-in presets' names ("hdl32e", "os1-128", "vlp16").
 std::vector<std::string> lidarPresetNames();
+/// @brief Whether `name` names a preset file (a path ending in .toml), not a built-in preset.
+bool isLidarPresetFile(const std::string& name);
 /// @brief Whether `name` is a built-in preset or a lidar file (a path ending in .toml).
 bool isLidarName(const std::string& name);
 /// @brief A built-in preset by name, or a preset file by path.
