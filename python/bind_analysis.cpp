@@ -11,12 +11,14 @@
 #include "module_support.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/fit/fit_report.hpp"
+#include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/atomic_folder.hpp"
 #include "smokescan/io/text_input.hpp"
 #include "smokescan/pipeline/calibrate_run.hpp"
 #include "smokescan/pipeline/diagnose_run.hpp"
 #include "smokescan/pipeline/fit_run.hpp"
 #include "smokescan/pipeline/lidar_diagnose_run.hpp"
+#include "smokescan/pipeline/lidar_fit_run.hpp"
 #include "smokescan/pipeline/saturation_run.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
 
@@ -394,6 +396,39 @@ void bindAnalysis(py::module_& m)
         "diagnosis.json's fields (docs/diagnosis.md, \"A 3D lidar's frames\"; extended_preset: the preset "
         "extended by what was named, docs/lidar.md); out= also writes diagnosis.json, report.md and lidar.toml, "
         "whole or not at all. progress(done, total) counts frames");
+
+    m.def(
+        "fit_lidar",
+        [](const py::object& scene, const py::object& points, const std::string& sensor, const std::string& returns,
+           int columns, double rate_hz, const py::object& out, py::object progress) {
+            LidarFitRunConfig cfg;
+            cfg.frames.scene = pathArg(scene, "scene");
+            cfg.frames.points = pathArg(points, "--points");
+            if (sensor.empty()) throw Error("--sensor", "names the lidar whose frames points= holds");
+            cfg.frames.sensor.sensor = sensor;
+            cfg.frames.sensor.returns = returns;
+            if (columns < 0) throw Error("--columns", "must be > 0 (0: the preset's)");
+            cfg.frames.sensor.columns = columns;
+            cfg.frames.sensor.rate_hz = finiteArg(rate_hz, "--rate");
+            const std::string file = pathArg(out, "--out");
+            PyControl pc(std::move(progress));
+            const std::string json = released(pc, [&](const RunControl& c) {
+                const LidarFitRunResult r = runLidarFit(cfg, c);
+                if (!file.empty()) {
+                    AtomicFile f(file);
+                    f.stream() << r.preset;
+                    f.commit();
+                }
+                return lidarFitJson(r);
+            });
+            return reportOf(json);
+        },
+        py::arg("scene"), py::kw_only(), py::arg("points"), py::arg("sensor"), py::arg("returns") = "",
+        py::arg("columns") = 0, py::arg("rate_hz") = 0.0, py::arg("out") = py::none(), py::arg("progress") = py::none(),
+        "`smokescan fit --points`: each surface's reflectance factor from a 3D lidar's recorded intensities (points=, "
+        "a folder as scan --points writes it) against their replay in the scene, and the receiver's noise. Returns a "
+        "Report with the fit report's fields (docs/lidar.md, \"Fitted from the intensities\"; extended_preset: "
+        "the preset extended by the factors); out= also writes that preset. progress(done, total) counts frames");
 }
 
 }  // namespace smokescan::python

@@ -185,3 +185,64 @@ TEST(LidarCli, DiagnosePointsWritesItsFolderAndRefusesOtherRunsOptions)
     EXPECT_EQ(j["rings"].size(), 16u);
     EXPECT_NE(slurp(out / "report.md").find("Verdict: **none**"), std::string::npos);
 }
+
+TEST(LidarCli, FitPointsWritesThePresetExtendedByTheSurfacesAndRefusesOtherRunsOptions)
+{
+    const fs::path pts = dir() / "fit_points", out = dir() / "fit_points.toml",
+                   report = dir() / "fit_points_report.json", again = dir() / "fit_points_again";
+    for (const fs::path& p : {pts, out, report, again}) fs::remove_all(p);
+    ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --from 20 --to 20.05 --points " + pts.string()).status, 0);
+    const std::string base = "fit --scene factory_smoke --points " + pts.string() + " --sensor vlp16 ";
+    // Another run's options, the lidar's without --points, no --scene or --sensor, an output in
+    // the frames' folder, a return mode the frames do not hold: one line each, nothing written.
+    for (const auto& [args, says] : std::vector<std::pair<std::string, std::string>>{
+             {base + "--saturation s.csv --out " + out.string(), "--saturation: is not an option of a 3D lidar's fit"},
+             {base + "--offset 2 --out " + out.string(), "--offset: is not an option of a 3D lidar's fit"},
+             {"fit --laser x.log --saturation s.csv --returns dual --out " + out.string(),
+              "--returns: is a 3D lidar's option"},
+             {"fit --laser x.log --out " + out.string(), "--saturation: is required"},
+             {"fit --points " + pts.string() + " --sensor vlp16 --out " + out.string(), "--scene: names the scene"},
+             {"fit --scene factory_smoke --points " + pts.string() + " --out " + out.string(),
+              "--sensor: names the lidar"},
+             {base + "--out " + (pts / "x.toml").string(), "lies in the frames' folder"},
+             {base + "--out " + out.string() + " --report " + (pts / "r.json").string(), "lies in the frames' folder"},
+             {base + "--returns dual --out " + out.string(), "--returns: dual, but the frames"},
+             {base + "--rate 20 --out " + out.string(), "another rate or column count"}}) {
+        const CliRun r = cli(args);
+        EXPECT_NE(r.status, 0) << args;
+        EXPECT_NE(r.err.find(says), std::string::npos) << args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << args;
+        EXPECT_FALSE(fs::exists(report)) << args;
+        EXPECT_FALSE(fs::exists(pts / "x.toml") || fs::exists(pts / "r.json")) << args;
+    }
+    // One frame is enough (the fit holds nothing out).
+    const CliRun r = cli(base + "--out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("wrote " + out.string()), std::string::npos) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(slurp(report));
+    EXPECT_EQ(j["frames"], 1);
+    EXPECT_EQ(j["sensor"], "vlp16");
+    // The room as the scene says it: every fitted surface's factor 1 within its errors and a
+    // thousandth, the receiver's noise the preset's.
+    int fitted = 0;
+    for (const auto& s : j["surfaces"]) {
+        if (!s["fitted"].get<bool>()) continue;
+        ++fitted;
+        EXPECT_NEAR(s["reflectance_factor"].get<double>(), 1,
+                    4 * std::hypot(s["reflectance_factor_se"].get<double>(), s["reflectance_factor_sys"].get<double>()))
+            << s.dump();
+    }
+    EXPECT_GE(fitted, 6);
+    EXPECT_NEAR(j["intensity_scatter"].get<double>(), 1, 0.1);
+    EXPECT_NEAR(j["range_sd_m"].get<double>(), j["preset_range_sd_m"].get<double>(), 0.1 * 0.015);
+    // The preset it wrote is a lidar a scan takes, extended by those surfaces.
+    const std::string preset = slurp(out);
+    EXPECT_EQ(preset, j["extended_preset"].get<std::string>());
+    EXPECT_NE(preset.find("name = \"vlp16-extended\"\nbase = \"vlp16\"\n"), std::string::npos) << preset;
+    EXPECT_EQ(size_t(std::count(preset.begin(), preset.end(), '[') / 2), size_t(fitted)) << preset;
+    const CliRun s =
+        cli("scan factory_smoke --sensor " + out.string() + " --from 20 --to 20.05 --points " + again.string());
+    EXPECT_EQ(s.status, 0) << s.err;
+    EXPECT_NE(s.out.find("of the vlp16-extended"), std::string::npos) << s.out;
+}

@@ -219,7 +219,21 @@ TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
         {"sector_missing", head + "[[extensions.sector]]\nfrom_deg = 5\ndropout = 0.2\n", "to_deg"},
         {"sector_wide", head + "[[extensions.sector]]\nfrom_deg = -200\nto_deg = 5\ndropout = 0.2\n", "from_deg"},
         {"unknown_key", head + "[[extensions.channel]]\nring = 2\nbias = 0.1\n", "unknown key"},
-        {"unknown_table", head + "[extensions]\nsurface = 1\n", "unknown key"},
+        {"unknown_table", head + "[extensions]\nwindow = 1\n", "unknown key"},
+        {"surface_twice",
+         head +
+             "[[extensions.surface]]\nname = \"a\"\nreflectance_factor = 0.5\n[[extensions.surface]]\n"
+             "name = \"a\"\nreflectance_factor = 0.7\n",
+         "already"},
+        {"surface_unnamed", head + "[[extensions.surface]]\nreflectance_factor = 0.5\n", "name"},
+        {"surface_no_factor", head + "[[extensions.surface]]\nname = \"a\"\n", "reflectance_factor"},
+        {"surface_factor_0", head + "[[extensions.surface]]\nname = \"a\"\nreflectance_factor = 0\n",
+         "reflectance_factor"},
+        {"surface_factor_big", head + "[[extensions.surface]]\nname = \"a\"\nreflectance_factor = 20\n",
+         "reflectance_factor"},
+        {"surface_factor_nan", head + "[[extensions.surface]]\nname = \"a\"\nreflectance_factor = nan\n",
+         "reflectance_factor"},
+        {"surface_name_empty", head + "[[extensions.surface]]\nname = \"\"\nreflectance_factor = 0.5\n", "name"},
         {"base_and_more", head + "columns = 512\n", "only name and [extensions]"},
         {"base_unknown", "name = \"x\"\nbase = \"vlp17\"\n", "base"},
     };
@@ -238,6 +252,80 @@ TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
     std::ofstream(ext) << "name = \"pfx\"\nbase = \"pf.toml\"\n[[extensions.channel]]\nring = 2\ndropout = 0.1\n";
     EXPECT_NEAR(lidarSpec(ext.string()).extensions.dropout(2, 0), 0.1, 1e-12);
     refused("pattern_ring", "name = \"pfx\"\nbase = \"pf.toml\"\n[[extensions.channel]]\nring = 3\n", "0–2");
+}
+
+namespace {
+
+/// Two white walls (NIR 0.8) side by side at x = 8 m: "left" (y > 0) and "right" (y < 0).
+Scene twoWalls()
+{
+    SceneText s;
+    s.raw(
+        "[scene]\nname = \"walls\"\nt_start_s = 0\nt_end_s = 10\n[[materials]]\nname = \"m\"\nalbedo = [0.5, 0.5, "
+        "0.5]\nnir_905 = 0.8\n");
+    s.quad("left", "m", {8, 0, -6}, {0, 6, 0}, {0, 0, 12});
+    s.quad("right", "m", {8, -6, -6}, {0, 6, 0}, {0, 0, 12});
+    s.raw("[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nposition = [0, 0, 0]\n");
+    return parseScene(s.str(), "test scene", ".");
+}
+
+}  // namespace
+
+TEST(LidarExtensions, ASurfacesReflectanceFactorScalesItsEchoesAndNoOtherBeams)
+{
+    // The right wall at half the scene's reflectance: a Lambertian wall of NIR reflectance ρ reads
+    // 100·ρ·cos θ in clear air, so the right wall 40·cos θ, the left 80·cos θ, and every beam on
+    // the left is as it was, in the replay and in the frames.
+    const std::string ext =
+        extendedVlp16("surface", "[[extensions.surface]]\nname = \"right\"\nreflectance_factor = 0.5\n");
+    const Scene scene = twoWalls();
+    const SurfaceSet surfaces(scene);
+    const LidarScanner plain(scene, surfaces, scene.sensors.front(), lidarSpec("vlp16"), ReturnMode::Strongest, 3);
+    const LidarScanner dim(scene, surfaces, scene.sensors.front(), lidarSpec(ext), ReturnMode::Strongest, 3);
+    const std::vector<ExpectedBeam> a = plain.expected(0), b = dim.expected(0);
+    int on_left = 0, on_right = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        if (!a[i].clear) continue;
+        const PatternBeam& pb = plain.pattern()[i];
+        const double cos_t = std::cos(pb.elevation_rad) * std::cos(pb.azimuth_rad);
+        if (a[i].surface == 0) {
+            ++on_left;
+            EXPECT_TRUE(a[i].intensity == b[i].intensity && a[i].range_m == b[i].range_m && b[i].clear) << i;
+            EXPECT_NEAR(a[i].intensity, 80 * cos_t, 0.01 * 80 * cos_t) << i;
+        } else if (a[i].surface == 1) {
+            ++on_right;
+            EXPECT_NEAR(b[i].intensity / a[i].intensity, 0.5, 1e-5) << i;
+            EXPECT_NEAR(b[i].peak_sd / a[i].peak_sd, 0.5, 1e-5) << i;
+            EXPECT_NEAR(b[i].intensity, 40 * cos_t, 0.01 * 40 * cos_t) << i;
+            EXPECT_NEAR(b[i].peak_at_half, 0.5, 1e-4) << i;  // an echo alone: half at half the power
+            EXPECT_NEAR(b[i].peak_at_quarter, 0.25, 1e-4) << i;
+        }
+    }
+    EXPECT_GT(on_left, 2000);
+    EXPECT_GT(on_right, 2000);
+    const LidarFrame fa = plain.frame(0, 5), fb = dim.frame(0, 5);
+    const std::vector<const LidarPoint*> pa = byBeam(fa, a.size()), pb = byBeam(fb, a.size());
+    int compared = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        if (!a[i].clear || !pa[i] || !pb[i]) continue;
+        ++compared;
+        if (a[i].surface == 0)
+            EXPECT_EQ(std::memcmp(pa[i], pb[i], sizeof(LidarPoint)), 0) << i;
+        else
+            EXPECT_NEAR(pb[i]->intensity / pa[i]->intensity, 0.5, 0.02) << i;
+    }
+    EXPECT_GT(compared, 4000);
+    // A surface the scene does not have is refused when the lidar is set up in it.
+    const std::string stray =
+        extendedVlp16("stray", "[[extensions.surface]]\nname = \"door\"\nreflectance_factor = 0.5\n");
+    try {
+        LidarScanner(scene, surfaces, scene.sensors.front(), lidarSpec(stray), ReturnMode::Strongest, 3);
+        ADD_FAILURE() << "a stray surface accepted";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(stray), std::string::npos) << what;
+        EXPECT_NE(what.find("\"door\" is not a surface of the scene"), std::string::npos) << what;
+    }
 }
 
 TEST(LidarExtensions, ASectorAcross180DegreesHoldsBothEdgesAndNothingBetween)

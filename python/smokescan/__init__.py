@@ -9,13 +9,13 @@ Long calls release the GIL, report progress to `progress(done, total)` and stop 
 (KeyboardInterrupt). Errors are smokescan.Error with the library's one-line message.
 """
 from ._report import Report
-from ._smokescan import (Error, Scene, __version__, builtin_scenes, calibrate, diagnose, diagnose_lidar, fit, fit_plume,
-                         load_scene, omnirange, read_volume, record_bag, render, saturation, scan, scan_lidar,
-                         write_volume)
+from ._smokescan import (Error, Scene, __version__, builtin_scenes, calibrate, diagnose, diagnose_lidar, fit,
+                         fit_lidar, fit_plume, load_scene, omnirange, read_volume, record_bag, render, saturation,
+                         scan, scan_lidar, write_volume)
 
 __all__ = [
     "Error", "Report", "Scene", "__version__", "builtin_scenes", "calibrate", "diagnose", "diagnose_lidar", "fit",
-    "fit_plume",
+    "fit_lidar", "fit_plume",
     "load_scene", "omnirange", "read_volume", "record_bag", "render", "saturation", "scan", "scan_lidar",
     "write_volume"
 ]

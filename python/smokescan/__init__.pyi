@@ -150,6 +150,22 @@ def diagnose_lidar(
     it) against their replay in the scene (docs/diagnosis.md, "A 3D lidar's frames"); a Report with
     diagnosis.json's fields. out= also writes diagnosis.json and report.md, whole or not at all."""
 
+def fit_lidar(
+    scene: PathLike,
+    *,
+    points: PathLike,
+    sensor: str,
+    returns: str = "",
+    columns: int = 0,
+    rate_hz: float = 0.0,
+    out: Optional[PathLike] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Report:
+    """`smokescan fit --points`: each surface's reflectance factor from a 3D lidar's recorded
+    intensities against their replay in the scene, and the receiver's noise (docs/lidar.md,
+    "Fitted from the intensities"); a Report with the fit report's fields. out= also writes the
+    preset extended by the factors (extended_preset), whole or not at all."""
+
 def diagnose(
     scene: PathLike,
     *,

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <set>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "smokescan/bag/bag_input.hpp"
 #include "smokescan/calib/calibration.hpp"
 #include "smokescan/core/format.hpp"
@@ -19,6 +21,7 @@
 #include "smokescan/fit/plume_fit.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/pipeline/fit_run.hpp"
+#include "smokescan/pipeline/lidar_fit_run.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensor_config/laser_kind.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
@@ -38,6 +41,8 @@ struct FitArgs {
     SensorFitConfig cfg;
     OmniFitConfig omni;
     std::set<std::string> omni_given;  ///< which of --max-range, --floor-z, --tolerance were given (the omnicam's)
+    LidarRunConfig lidar;  ///< --points: a 3D lidar's frames (its sensor, returns, columns, rate)
+    std::string points;
 };
 
 /// OUT with its extension replaced: sensor.toml → sensor_report.json.
@@ -86,9 +91,70 @@ int finishFitOmni(const FitArgs& a, RunFiles& files, FitRunResult& r)
     return 0;
 }
 
-int runFit(const FitArgs& a0)
+/// The options a 3D lidar's fit takes; --points, --returns, --columns and --rate are its alone.
+const std::set<std::string> kLidarOptions = {"--points", "--scene",   "--out",     "--sensor",
+                                             "--report", "--returns", "--columns", "--rate"};
+const std::set<std::string> kLidarOnly = {"--points", "--returns", "--columns", "--rate"};
+
+/// A 3D lidar's frames (--points): each surface's reflectance factor from the recorded
+/// intensities, the preset extended by them (--out) and the report (--report).
+int fitLidarFrames(const FitArgs& a0)
 {
     FitArgs a = a0;
+    if (a.report.empty()) a.report = beside(a.out, "_report.json");
+    if (a.scene.empty()) throw Error("--scene", "names the scene the frames of --points were recorded in");
+    if (a.sensor.empty())
+        throw Error("--sensor", "names the lidar whose frames --points holds (a preset or a preset file)");
+    LidarFitRunConfig cfg;
+    cfg.frames.scene = a.scene;
+    cfg.frames.points = a.points;
+    cfg.frames.sensor = a.lidar;
+    cfg.frames.sensor.sensor = a.sensor;
+    RunFiles files;
+    files.input(a.points + "/frames.csv", "--points");
+    files.input(a.sensor, "--sensor");
+    files.output(a.out, "--out");
+    files.output(a.report, "--report");
+    // The frames' folder is an input: nothing is written into it.
+    for (const auto& [path, option] : {std::pair{a.out, "--out"}, std::pair{a.report, "--report"}}) {
+        std::error_code ec;
+        const fs::path inside = fs::weakly_canonical(fs::absolute(path), ec)
+                                    .lexically_relative(fs::weakly_canonical(fs::absolute(a.points), ec));
+        if (!ec && !inside.empty() && *inside.begin() != "..")
+            throw Error(option, path + " lies in the frames' folder " + a.points + " (an input)");
+    }
+    cfg.frames.on_scene = [&](const Scene& scene) { recordSceneInputs(files, a.scene, scene); };
+    Progress bar("fit", "frames");
+    RunControl control;
+    control.progress = [&](long long done, long long total) { bar.update(done, total); };
+    const LidarFitRunResult r = runLidarFit(cfg, control);
+    {
+        std::ofstream(files.stage(a.report)) << lidarFitJson(r);
+        std::ofstream(files.stage(a.out)) << r.preset;
+    }
+    files.commit();
+    say("%zu frames of the %s, %lld beams used of %lld clear beams answered; intensity scatter %.3f +/- %.3f "
+        "noise sd; range sd %.4g +/- %.2g m (the preset's %.4g m)\n",
+        r.frames, r.sensor.c_str(), r.fit.beams, r.clear, r.fit.scatter, r.fit.scatter_se, r.range_sd_m,
+        r.range_sd_se_m, r.preset_range_sd_m);
+    for (const SurfaceReflectanceFit& f : r.fit.surfaces)
+        if (f.fitted)
+            say("  %s: reflectance factor %.4f +/- %.2g (stat) +/- %.2g (sys), %lld beams\n",
+                printable(r.surface_names[size_t(f.surface)]).c_str(), f.factor, f.factor_se, f.factor_sys, f.beams);
+    say("wrote %s (the %s extended by the factors) and %s\n", a.out.c_str(), r.sensor.c_str(), a.report.c_str());
+    return 0;
+}
+
+int runFit(const FitArgs& a0, const std::vector<std::string>& given)
+{
+    const bool lidar = std::find(given.begin(), given.end(), "--points") != given.end();
+    for (const std::string& o : given) {
+        if (lidar && !kLidarOptions.count(o)) throw Error(o, "is not an option of a 3D lidar's fit (--points)");
+        if (!lidar && kLidarOnly.count(o)) throw Error(o, "is a 3D lidar's option (with --points)");
+    }
+    if (lidar) return fitLidarFrames(a0);
+    FitArgs a = a0;
+    if (a.saturation.empty()) throw Error("--saturation", "is required (or --points: a 3D lidar's frames)");
     if (a.report.empty()) a.report = beside(a.out, "_report.json");
     if (a.plots.empty()) a.plots = beside(a.out, "");
     scansSource(a.laser, a.bag, a.topic);
@@ -229,8 +295,7 @@ void addFit(CLI::App& app, Runner& run)
         "fit", "Fit a laser's smoke thresholds from a recorded log and the camera's saturation; write a sensor file");
     addScansOptions(c, a->laser, a->bag, a->topic, "Laser log (the paper's format, as `scan` writes it)");
     addSaturationOptions(c, a->saturation, a->image_topic, a->rects, a->polygons,
-                         "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it)")
-        ->required();
+                         "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it); not with --points");
     c->add_option("--out", a->out, "Sensor file to write (TOML, for `scan --sensor-file`)")->required();
     c->add_option("--scene", a->scene, "Scene whose surfaces name the beam groups (built-in name or file)");
     c->add_option("--sensor", a->sensor, "Sensor in the scene (default: the first of --sensor-type)");
@@ -279,7 +344,19 @@ void addFit(CLI::App& app, Runner& run)
     c->add_option("--covariates", a->covariates,
                   "Also write per-beam, per-scan covariates from the scene (CSV; needs --scene)");
     c->add_flag("--covariates-all", a->covariates_all, "Covariates for every beam, not only the groups'");
-    c->callback([a, &run] { run = [a] { return runFit(*a); }; });
+    c->add_option("--points", a->points,
+                  "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
+                  "with ring, time and intensity fields); --sensor names the lidar, --scene its scene; --out the "
+                  "preset extended by each surface's reflectance factor");
+    c->add_option("--returns", a->lidar.returns, "3D lidar: the frames' return mode (default: the preset's)");
+    c->add_option("--columns", a->lidar.columns, "3D lidar: columns a turn (default: the preset's)")->check(positive());
+    c->add_option("--rate", a->lidar.rate_hz, "3D lidar: spin rate [Hz] (default: the preset's)")->check(positive());
+    c->callback([a, c, &run] {
+        std::vector<std::string> given;
+        for (const CLI::Option* o : c->get_options())
+            if (o->count() > 0) given.push_back(o->get_name());
+        run = [a, given] { return runFit(*a, given); };
+    });
 }
 
 }  // namespace smokescan::cli

@@ -66,11 +66,20 @@ void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vecto
     if (expected.size() != n) throw Error("lidar diagnosis", "the replay's beams are not the pattern's");
     if (fold != 0 && fold != 1) throw Error("lidar diagnosis", "a fold is 0 or 1");
     std::vector<float> got(n, std::numeric_limits<float>::quiet_NaN());
+    // The intensity of a clear beam's point at its surface (any return: in dual mode the first
+    // may be a faint echo the noise lifted before it), the nearest to the replay's range.
+    std::vector<float> got_intensity(n, 0), got_range(n, 0), off_m(n, std::numeric_limits<float>::infinity());
     for (const LidarPoint& p : recorded) {
-        if (p.return_index != 0) continue;
         const long b = p.ring < channels_ ? nearestBeam(by_ring_[p.ring], double(p.time_s)) : -1;
         const bool in_range = std::isfinite(p.range_m) && p.range_m <= 1.01 * max_range_m_;
-        if (b < 0 || !in_range || !std::isnan(got[size_t(b)]) || !alongBeam(pattern_[size_t(b)], p)) {
+        const bool along = b >= 0 && in_range && alongBeam(pattern_[size_t(b)], p);
+        if (along && expected[size_t(b)].clear) {
+            const float off = std::abs(p.range_m - expected[size_t(b)].range_m);
+            if (off <= tolerance_m_ && off < off_m[size_t(b)])
+                off_m[size_t(b)] = off, got_intensity[size_t(b)] = p.intensity, got_range[size_t(b)] = p.range_m;
+        }
+        if (p.return_index != 0) continue;
+        if (!along || !std::isnan(got[size_t(b)])) {
             ++unmatched_;
             continue;
         }
@@ -96,6 +105,10 @@ void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vecto
             const size_t c = size_t(pattern_[i].channel);
             f.residual_m[c].push_back(got[i] - expected[i].range_m);
             f.residual_surface[c].push_back(surface);
+            const ExpectedBeam& x = expected[i];
+            if (keep_intensities_ && surface >= 0 && x.intensity > 0 && got_intensity[i] > 0)
+                intensities_.push_back({surface, got_intensity[i], got_range[i], x.intensity, x.range_m, x.peak_sd,
+                                        x.peak_noise, x.peak_at_half, x.peak_at_quarter});
         }
     }
     ++frames_;

@@ -44,8 +44,9 @@ EchoSource risingSource(const BeamSignal& s, const WaveformEcho& e, double reach
 /// The echo's height above `pedestal` from the log-parabola through its largest sample and their
 /// neighbours less the pedestal (exact for a lone Gaussian pulse on a flat pedestal); the largest
 /// sample's when one of them is not above the pedestal.
-double refinedPeak(const Waveform& f, const WaveformEcho& e, double pedestal)
+double refinedPeak(const Waveform& f, const WaveformEcho& e, double pedestal, double* noise = nullptr)
 {
+    if (noise) *noise = 1;  // the sample's own, where the parabola is not used
     const long k = std::lround((e.peak_m - f.lo) / f.dr);
     if (k < 1 || size_t(k + 1) >= f.w.size()) return e.peak - pedestal;
     const double a = f.w[size_t(k - 1)] - pedestal, b = f.w[size_t(k)] - pedestal, c = f.w[size_t(k + 1)] - pedestal;
@@ -53,7 +54,14 @@ double refinedPeak(const Waveform& f, const WaveformEcho& e, double pedestal)
     const double la = std::log(a), lb = std::log(b), lc = std::log(c), curv = la - 2 * lb + lc;
     if (!(curv < 0)) return e.peak - pedestal;
     const double delta = 0.5 * (la - lc) / curv;
-    return std::exp(lb - 0.25 * (la - lc) * delta);
+    const double peak = std::exp(lb - 0.25 * (la - lc) * delta);
+    if (noise) {
+        // ln peak = lb − D²/(8C), D = la − lc, C = curv: each sample's noise through its log.
+        const double D = la - lc, q = D * D / (8 * curv * curv);
+        const double ga = (-D / (4 * curv) + q) / a, gb = (1 - 2 * q) / b, gc = (D / (4 * curv) + q) / c;
+        *noise = peak * std::sqrt(ga * ga + gb * gb + gc * gc);
+    }
+    return peak;
 }
 
 /// Where the echo's leading edge crosses half its height above `pedestal`: on the log-parabola
@@ -114,7 +122,8 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
         // is not an echo; a peak that rises out of it later is (a wall behind the near smoke).
         if (w.opens_run && f.lo <= 0 && e.lead_m <= f.lo) continue;
         LidarEcho x;
-        x.peak = refinedPeak(f, e, w.pedestal);
+        x.peak = refinedPeak(f, e, w.pedestal, rng ? nullptr : &x.peak_noise);
+        if (w.pedestal > 0) x.peak_noise = std::hypot(x.peak_noise, 1.0);  // the valley's own sample
         x.pedestal = w.pedestal;
         x.standout = w.opens_run ? x.peak : std::min(x.peak, w.fall);
         x.range_m = refinedLead(f, e, x.peak, w.pedestal) + 0.5 * fwhm +
@@ -178,6 +187,15 @@ LidarScanner::LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const
         for (ReturnMode m : spec_.return_modes) modes += (modes.empty() ? "" : ", ") + std::string(returnModeName(m));
         throw Error("--returns", "the " + spec_.name + " offers " + modes + ", not " + returnModeName(mode));
     }
+    for (const LidarSurfaceExtension& x : spec_.extensions.surfaces) {
+        const auto it = std::find_if(scene_.surfaces.begin(), scene_.surfaces.end(),
+                                     [&](const Surface& sf) { return sf.name == x.name; });
+        if (it == scene_.surfaces.end())
+            throw Error(spec_.source + ": [[extensions.surface]] name",
+                        "\"" + x.name + "\" is not a surface of the scene " + scene_.source);
+        reflectance_.resize(scene_.surfaces.size(), 1.0);
+        reflectance_[size_t(it - scene_.surfaces.begin())] = x.reflectance_factor;
+    }
     pattern_ = framePattern(spec_);
     local_.reserve(pattern_.size());
     for (const PatternBeam& b : pattern_) {
@@ -209,7 +227,7 @@ BeamSignal LidarScanner::signal(const FrameSetup& f, size_t i, SurfaceHit* hit) 
     const Pose pose = mount_.robot >= 0 ? scene_.sensorAt(mount_, f.start_s + pattern_[i].time_s).pose : f.start_pose;
     const Ray ray{pose.t, pose.rotate(local_[i]).normalized()};
     return traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_, surfaces_, f.field, hit,
-                           nullptr);
+                           nullptr, reflectance_.empty() ? nullptr : &reflectance_);
 }
 
 double returnTolerance_m(const LidarSpec& spec)
@@ -295,9 +313,14 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
     }
     const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, base, nullptr);
     const std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
+    double e_peak = 0;  // the kept echo's peak
     if (!kept.empty()) {
         const LidarEcho& e = echoes[kept.front()];
         x.range_m = float(e.range_m);
+        x.peak_sd = float(e.peak / p.noise_floor);
+        x.peak_noise = float(e.peak_noise);
+        e_peak = e.peak;
+        x.intensity = float(e.intensity);
         // Over the threshold in noise sd: for a peak out of another's run, of the rise and the
         // fall around its valley, each the difference of two noisy samples (√2 sd).
         x.margin_sd =
@@ -315,6 +338,20 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
                          [](const LidarEcho& g) { return g.source != EchoSource::Surface; });
     }
     if (x.clear) {
+        // Its peak at a half and a quarter of the surfaces' power: a half and a quarter of it for
+        // an echo alone; the smoke's backscatter under it does not scale.
+        for (const double share : {0.5, 0.25}) {
+            BeamSignal dimmer = sig;
+            for (Echo& e : dimmer.echoes)
+                if (e.source == EchoSource::Surface) e.power *= share;
+            dimmer.surface_power *= share;
+            double best = pulse_m, ratio = 0;
+            for (const LidarEcho& e :
+                 receiveEchoes(spec_, dimmer, pulsedWaveform(spec_.range_max_m, p, dimmer, 2), nullptr))
+                if (std::abs(e.range_m - x.range_m) < best)
+                    best = std::abs(e.range_m - x.range_m), ratio = e.peak / e_peak;
+            (share == 0.5 ? x.peak_at_half : x.peak_at_quarter) = float(ratio);
+        }
         const ReturnClass c = classifyReturn(x.range_m, x.surface_range_m, returnTolerance_m(spec_));
         x.p_none = 0;
         x.p_short = c == ReturnClass::Short;

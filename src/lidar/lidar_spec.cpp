@@ -123,7 +123,7 @@ std::string readName(TomlTable& t)
 void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
 {
     const int rings = spec.channels();
-    std::vector<TomlTable> channels = t.tables("channel"), sectors = t.tables("sector");
+    std::vector<TomlTable> channels = t.tables("channel"), sectors = t.tables("sector"), surfaces = t.tables("surface");
     if (channels.size() > size_t(lidar_limits::kChannels)) t.error("channel", "has more tables than channels (512)");
     if (sectors.size() > lidar_limits::kExtensionSectors)
         t.error("sector", "has more than " + std::to_string(lidar_limits::kExtensionSectors) + " tables");
@@ -152,6 +152,20 @@ void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
         x.dropout = c.between("dropout", 0, 0, 1);
         c.finish("an [[extensions.sector]] table");
         e.sectors.push_back(x);
+    }
+    if (surfaces.size() > lidar_limits::kExtensionSurfaces)
+        t.error("surface", "has more than " + std::to_string(lidar_limits::kExtensionSurfaces) + " tables");
+    for (TomlTable& c : surfaces) {
+        LidarSurfaceExtension x;
+        for (const char* key : {"name", "reflectance_factor"})
+            if (!c.has(key)) c.error(key, "is missing");
+        x.name = c.strReq("name");
+        if (x.name.empty() || x.name.size() > 256) c.error("name", "must name a surface in 1–256 bytes");
+        for (const LidarSurfaceExtension& y : e.surfaces)
+            if (y.name == x.name) c.error("name", "names a surface already extended (" + x.name + ")");
+        x.reflectance_factor = c.between("reflectance_factor", 1, 0.01, 10);
+        c.finish("an [[extensions.surface]] table");
+        e.surfaces.push_back(x);
     }
     t.finish("a lidar's [extensions]");
 }
@@ -223,6 +237,9 @@ std::string lidarExtensionsToml(const LidarExtensions& e)
     for (const LidarSectorExtension& x : e.sectors)
         o += "\n[[extensions.sector]]\nfrom_deg = " + num(x.from_deg) + "\nto_deg = " + num(x.to_deg) +
             "\ndropout = " + num(x.dropout) + "\n";
+    for (const LidarSurfaceExtension& x : e.surfaces)
+        o += "\n[[extensions.surface]]\nname = " + tomlQuoted(x.name) +
+            "\nreflectance_factor = " + num(x.reflectance_factor) + "\n";
     return o;
 }
 

@@ -1,198 +1,34 @@
 #include "smokescan/pipeline/lidar_diagnose_run.hpp"
 
-#include <Eigen/Geometry>
 #include <algorithm>
-#include <cmath>
-#include <filesystem>
 
 #include "smokescan/core/format.hpp"
-#include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
-#include "smokescan/lidar/frame_index.hpp"
-#include "smokescan/lidar/point_cloud_io.hpp"
-#include "smokescan/scene/scene_io.hpp"
+#include "smokescan/pipeline/lidar_frames.hpp"
 
 namespace smokescan {
-namespace {
-
-/// How far a frame's times may stray from the sensor's [s] (frames.csv keeps them to 1e-9 s).
-constexpr double kTimeTolerance_s = 1e-6;
-/// How far a frame's recorded start pose may lie from the scene's: beyond, the replay fires other
-/// beams than the recorder did (a 5 cm error already shows as channel biases; the report gives it).
-constexpr double kMaxPoseOff_m = 0.1, kMaxPoseOff_deg = 1;
-/// The largest share of the replay's certain beams that may go unanswered before the frames are
-/// refused as not this run's.
-constexpr double kMaxMissedShare = 0.4;
-
-/// The frames' listing against the sensor, before any work: every file there, each frame as long
-/// as the sensor's at its rate (another rate or column count is another span), none overlapping.
-void checkListing(const std::vector<FrameIndexEntry>& frames, const std::string& dir, const LidarScanner& scanner,
-                  const std::string& sensor)
-{
-    const std::string index = dir + "/frames.csv";
-    if (frames.size() < 2)
-        throw Error(index,
-                    "holds " + std::to_string(frames.size()) + (frames.size() == 1 ? " frame" : " frames") +
-                        ": the diagnosis needs two at least (one to search, one held out)");
-    const double span = scanner.pattern().back().time_s;
-    for (size_t k = 0; k < frames.size(); ++k) {
-        const FrameIndexEntry& e = frames[k];
-        const std::string where = index + ", frame " + std::to_string(e.frame) + " (" + e.file + ")";
-        if (!std::filesystem::is_regular_file(dir + "/" + e.file))
-            throw Error(where, "its file is missing or not a file");
-        if (std::abs((e.end_s - e.start_s) - span) > kTimeTolerance_s)
-            throw Error(where,
-                        fmt("spans %.6g s where the %s's frame spans %.6g s (another rate or column count?)",
-                            e.end_s - e.start_s, sensor.c_str(), span));
-        if (k > 0 && e.start_s < frames[k - 1].end_s) throw Error(where, "starts before the previous frame ends");
-    }
-}
-
-/// One frame's file against its listing and the scene: the fields that tell a point's beam, the
-/// file's own start time, the recorded start pose against the scene's.
-/// A recorded pose's distance from the scene's: position [m] and angle [deg].
-std::pair<double, double> poseOffset(const Pose& scene_pose, const Pose& recorded)
-{
-    return {(scene_pose.t - recorded.t).norm(),
-            Eigen::AngleAxisd(scene_pose.R.transpose() * recorded.R).angle() * 180 / M_PI};
-}
-
-/// @return the recorded start pose's offset from the scene's (poseOffset)
-std::pair<double, double> checkFrame(const PointCloudFile& pc, const FrameIndexEntry& e, const Pose& scene_pose,
-                                     const std::string& path)
-{
-    const auto has = [&](const char* a, const char* b) {
-        return std::any_of(pc.fields.begin(), pc.fields.end(), [&](const std::string& f) { return f == a || f == b; });
-    };
-    for (const char* field : {"ring", "time"})
-        if (!has(field, field[0] == 't' ? "t" : field))
-            throw Error(path,
-                        std::string("has no ") + field +
-                            " field: the diagnosis tells a point's beam by its ring and firing time");
-    if (std::isfinite(pc.start_s) && std::abs(pc.start_s - e.start_s) > kTimeTolerance_s)
-        throw Error(path, fmt("starts at %.9g s by its header, at %.9g s by frames.csv", pc.start_s, e.start_s));
-    const auto [off_m, off_deg] = poseOffset(scene_pose, e.start_pose);
-    if (off_m > kMaxPoseOff_m || off_deg > kMaxPoseOff_deg)
-        throw Error(path,
-                    fmt("its recorded start pose is %.3g m and %.3g deg from the scene's (at most %g m and %g "
-                        "deg): the replay would not fire the beams the recorder fired",
-                        off_m, off_deg, kMaxPoseOff_m, kMaxPoseOff_deg));
-    return {off_m, off_deg};
-}
-
-/// Refuses a frame whose first returns match no beam of the sensor in more than a tenth.
-void checkMatched(long long unmatched, long long first_returns, const std::string& path, const std::string& sensor)
-{
-    if (first_returns >= 100 && 10 * unmatched > first_returns)
-        throw Error(path,
-                    std::to_string(unmatched) + " of " + std::to_string(first_returns) +
-                        " points match no beam of the " + sensor +
-                        " (by ring, firing time, direction and range): are these its frames, at its rate, "
-                        "columns and numbering of rings?");
-}
-
-/// What the frames hold as a whole against what the diagnosis assumes: second returns exactly when
-/// the mode is dual; most clear beams answered.
-void checkWhole(const LidarDiagnosis& d, long long first, long long second, ReturnMode mode, const std::string& dir)
-{
-    if (mode == ReturnMode::Dual && first >= 1000 && second == 0)
-        throw Error("--returns", "dual, but the frames in " + dir + " hold no second return");
-    if (mode != ReturnMode::Dual && second > 0)
-        throw Error("--returns",
-                    std::string(returnModeName(mode)) + ", but the frames in " + dir + " hold " +
-                        std::to_string(second) + " second returns (--returns dual?)");
-    long long clear = 0, missed = 0;
-    for (const LidarGroupStats& g : d.rings) clear += g.clear, missed += g.missed;
-    if (clear > 0 && double(missed) > kMaxMissedShare * double(clear))
-        throw Error(dir,
-                    fmt("%.0f %% of the beams the replay is sure of have no recorded return (at most %.0f %%): "
-                        "empty frames, another column count or return mode, or another room?",
-                        100.0 * double(missed) / double(clear), 100 * kMaxMissedShare));
-}
-
-/// A TOML basic string: quoted, with quotes, backslashes and control characters escaped.
-std::string tomlQuoted(const std::string& s)
-{
-    std::string o = "\"";
-    for (const char ch : s) {
-        const auto c = static_cast<unsigned char>(ch);
-        if (c == '"' || c == '\\') {
-            o += '\\';
-            o += ch;
-        } else if (c < 0x20 || c == 0x7f) {
-            o += fmt("\\u%04x", unsigned(c));
-        } else {
-            o += ch;
-        }
-    }
-    return o + "\"";
-}
-
-}  // namespace
 
 LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, const RunControl& control)
 {
-    if (cfg.points.empty()) throw Error("--points", "names no folder");
-    if (!std::filesystem::is_directory(cfg.points)) throw Error("--points", cfg.points + " is not a folder");
-    const Scene scene = loadScene(cfg.scene);
-    if (cfg.on_scene) cfg.on_scene(scene);
-    const std::vector<FrameIndexEntry> frames = readFrameIndex(cfg.points);
-    LidarRunConfig sc = cfg.sensor;
-    sc.from_s = frames.empty() ? NAN : frames.front().start_s;
-    sc.to_s = NAN;
-    const LidarRun run(scene, sc);
-    const LidarScanner& scanner = run.scanner();
-    const std::string sensor = run.spec().name;
-    checkListing(frames, cfg.points, scanner, sensor);
-    // What lidar.toml will name, checked before any work: the base as the file system resolves
-    // it, a text TOML and JSON can hold, and room for one more sector.
-    std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
-    if (isLidarPresetFile(base)) base = std::filesystem::weakly_canonical(std::filesystem::absolute(base)).string();
-    if (printable(base, base.size() + 1) != base)  // (whole: printable cuts long texts)
-        throw Error("--sensor",
-                    "the preset's path " + base +
-                        " holds bytes lidar.toml cannot name (control characters or bytes that are not UTF-8)");
-    if (run.spec().extensions.sectors.size() >= lidar_limits::kExtensionSectors)
-        throw Error("--sensor",
-                    "the " + sensor + " already has " + std::to_string(lidar_limits::kExtensionSectors) +
-                        " sectors, the most a preset holds: the extended preset could not add one");
-    const double readings = double(frames.size()) * double(scanner.pattern().size());
-    if (readings > double(limits::kKeptReadings))
-        throw Error("--points",
-                    limits::count(double(frames.size())) + " frames of " +
-                        limits::count(double(scanner.pattern().size())) + " beams would keep " +
-                        limits::count(readings) + " readings (at most " + std::to_string(limits::kKeptReadings) +
-                        "; fewer frames)");
-    LidarTally tally(scanner.pattern(), run.spec().channels(), returnTolerance_m(run.spec()), run.spec().range_max_m);
+    LidarFramesConfig fc{cfg.scene, cfg.points, cfg.sensor, cfg.on_scene, {}, false};
+    fc.on_run = [](const LidarRun& run) {  // room in lidar.toml for one more sector
+        if (run.spec().extensions.sectors.size() >= lidar_limits::kExtensionSectors)
+            throw Error("--sensor",
+                        "the " + run.spec().name + " already has " + std::to_string(lidar_limits::kExtensionSectors) +
+                            " sectors, the most a preset holds: the extended preset could not add one");
+    };
     LidarDiagnoseRunResult out;
-    out.sensor = sensor;
-    double mismatch_m = 0, mismatch_deg = 0;
-    long long first = 0, second = 0;
-    for (size_t k = 0; k < frames.size(); ++k) {
-        checkCancel(control);
-        const FrameIndexEntry& e = frames[k];
-        const std::string path = cfg.points + "/" + e.file;
-        const PointCloudFile pc = readPointCloud(path);
-        const auto [off_m, off_deg] = checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path);
-        long long frame_first = 0;
-        for (const LidarPoint& p : pc.points) (p.return_index == 0 ? frame_first : second) += 1;
-        first += frame_first;
-        const long long before = tally.unmatched();
-        tally.add(scanner.expected(e.start_s), pc.points, int(k % 2));
-        checkMatched(tally.unmatched() - before, frame_first, path, sensor);
-        mismatch_m = std::max(mismatch_m, off_m);
-        mismatch_deg = std::max(mismatch_deg, off_deg);
-        reportProgress(control, (long long)k + 1, (long long)frames.size());
-    }
-    out.diagnosis = diagnoseLidar(tally, run.spec().range_sigma_m, cfg.diag);
-    checkWhole(out.diagnosis, first, second, run.mode(), cfg.points);
-    for (const Surface& sf : scene.surfaces) out.diagnosis.surface_names.push_back(sf.name);
-    out.diagnosis.pose_mismatch_m = mismatch_m;
-    out.diagnosis.pose_mismatch_deg = mismatch_deg;
-    out.diagnosis.sensor = sensor;
-    out.diagnosis.returns = returnModeName(run.mode());
-    out.diagnosis.scene = scene.source;
-    out.diagnosis.extended_preset = extendedLidarPreset(out.diagnosis, run.spec(), base);
+    tallyLidarFrames(fc, 2, control, [&](const TalliedFrames& t) {
+        out.sensor = t.run.spec().name;
+        out.diagnosis = diagnoseLidar(t.tally, t.run.spec().range_sigma_m, cfg.diag);
+        for (const Surface& sf : t.scene.surfaces) out.diagnosis.surface_names.push_back(sf.name);
+        out.diagnosis.pose_mismatch_m = t.pose_mismatch_m;
+        out.diagnosis.pose_mismatch_deg = t.pose_mismatch_deg;
+        out.diagnosis.sensor = out.sensor;
+        out.diagnosis.returns = returnModeName(t.run.mode());
+        out.diagnosis.scene = t.scene.source;
+        out.diagnosis.extended_preset = extendedLidarPreset(out.diagnosis, t.run.spec(), t.base);
+    });
     return out;
 }
 

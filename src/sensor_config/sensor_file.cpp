@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "sensor_tables.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/atomic_file.hpp"
 #include "smokescan/io/text_input.hpp"
@@ -89,7 +90,7 @@ void writeOmniSensorFile(const std::string& path, const OmniSensorFile& f, const
     o << "# smokescan omnicam sensor file (docs/omnicam.md); `smokescan scan` simulates lasers and refuses it\n";
     std::istringstream lines(comment);
     for (std::string line; std::getline(lines, line);) o << "# " << line << "\n";
-    o << "type = \"omnicam\"\ncamera = \"" << f.camera << "\"\ntolerance_m = " << f.tolerance_m
+    o << "type = \"omnicam\"\ncamera = " << tomlQuoted(f.camera) << "\ntolerance_m = " << f.tolerance_m
       << "  # a reading this far off its truth failed [m]\nmax_range_m = " << f.max_range_m
       << "  # the rangefinder's maximum range [m]\nfloor_z_m = " << f.floor_z_m
       << "  # the floor's height [m]\n\n[paper]\npenetration_power = " << f.penetration_power

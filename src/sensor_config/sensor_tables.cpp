@@ -132,7 +132,8 @@ void writeExtensionsTable(std::ostream& o, const ModelExtensions& e)
       << "  # share of smoke-stopped beams reading short\n"
       << "hysteresis = " << shortest(e.hysteresis) << "  # ln P(falling) - ln P(rising)\n";
     for (const auto& [name, x] : e.surfaces)
-        o << "\n[[extensions.surface]]\nname = \"" << name << "\"\nthreshold_factor = " << shortest(x.threshold_factor)
+        o << "\n[[extensions.surface]]\nname = " << tomlQuoted(name)
+          << "\nthreshold_factor = " << shortest(x.threshold_factor)
           << "  # ln(P_surface / P)\nrange_bias = " << shortest(x.range_bias)
           << "  # reads L(1 + bias·column) [1/(density·m)]\n";
     for (const SectorExtension& x : e.sectors)

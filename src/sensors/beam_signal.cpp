@@ -43,9 +43,15 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
 
 BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_max_m, const PhysicalParams& p,
                            const Scene& scene, const SurfaceSet& surfaces, const SmokeField& field,
-                           SurfaceHit* central_hit, BeamSmoke* central_smoke)
+                           SurfaceHit* central_hit, BeamSmoke* central_smoke,
+                           const std::vector<double>* reflectance_factor)
 {
     BeamSignal sig;
+    auto factor = [&](int surface) {
+        return reflectance_factor && surface >= 0 && size_t(surface) < reflectance_factor->size()
+            ? (*reflectance_factor)[size_t(surface)]
+            : 1.0;
+    };
     const double wl = wavelength_nm;
     const double half = 0.5e-3 * p.divergence_mrad;
     // Each beam's scratch, kept for each thread (a frame traces many beams).
@@ -89,7 +95,8 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
         const Material& m = scene.materials[size_t(h.material)];
         const double cos_t = std::abs(dirs[j].dot(h.normal));
         const double tau_R = tau.tau(h.t_m);
-        const double P = w * surfaceEchoPower(p, m, wl, cos_t, h.t_m, tau_R);
+        const double k = factor(h.surface);
+        const double P = k * w * surfaceEchoPower(p, m, wl, cos_t, h.t_m, tau_R);
         if (P > 0) {
             sig.echoes.push_back({h.t_m, P, EchoSource::Surface});
             sig.surface_power += P;
@@ -97,7 +104,7 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
         if (m.specular <= 0) continue;
         // Mirror path: the specular part of the beam goes on along the reflected direction and
         // whatever it meets returns the same way (reciprocity), seen at R + u.
-        const double refl = m.specular * nirReflectance(m, wl);
+        const double refl = k * m.specular * nirReflectance(m, wl);
         const double gain = w * refl * refl * std::exp(-2 * tau_R);
         if (gain < 1e-9) continue;
         const double alpha = std::max(1e-3, m.roughness * m.roughness);
@@ -116,7 +123,7 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
             const Material& mm = scene.materials[size_t(mh.material)];
             const double u = mh.t_m, R = h.t_m + u;
             const double cos_m = std::abs(rd.dot(mh.normal));
-            const double Pm = gain * M_PI * monostaticBrdf(mm, wl, cos_m) * cos_m * p.overlap(R) /
+            const double Pm = factor(mh.surface) * gain * M_PI * monostaticBrdf(mm, wl, cos_m) * cos_m * p.overlap(R) /
                 (R * R + u * u * lobe_ratio) * std::exp(-2 * mtau.tau(u));
             if (Pm > 0) {
                 sig.echoes.push_back({R, Pm, EchoSource::Mirror});

@@ -1,6 +1,7 @@
 """The module's render, calibrate and diagnose against the command line's outputs for the same
 inputs, and their promises: progress, Ctrl-C, one-line errors (run by ctest: Python.Pytest)."""
 import json
+import math
 import os
 import pathlib
 import signal
@@ -228,11 +229,15 @@ def test_diagnose_refuses_bad_input_in_one_line_and_writes_nothing(planted_run, 
     assert os.listdir(tmp_path / "taken") == ["mine.txt"]
 
 
-def weaken_ring(folder, ring, keep_every):
-    """Rewrites each PCD of a `scan --points` folder (binary, x y z intensity ring return_index time
-    source) without most of one ring's points: an independent writer of the files smokescan reads."""
-    dtype = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("intensity", "<f4"), ("ring", "<u2"),
+# A point of a `scan --points` PCD (binary): x y z intensity ring return_index time source.
+PCD_POINT = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("intensity", "<f4"), ("ring", "<u2"),
                       ("return_index", "u1"), ("time", "<f4"), ("source", "u1")])
+
+
+def weaken_ring(folder, ring, keep_every):
+    """Rewrites each PCD of a `scan --points` folder without most of one ring's points: an
+    independent writer of the files smokescan reads."""
+    dtype = PCD_POINT
     for pcd in sorted(folder.glob("*.pcd")):
         raw = pcd.read_bytes()
         head_end = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
@@ -282,6 +287,51 @@ def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_chann
     with pytest.raises(smokescan.Error, match=r"^--alpha: "):
         smokescan.diagnose_lidar("factory_smoke", points=frames, sensor="vlp16", alpha=0.9, out=tmp_path / "never")
     assert not (tmp_path / "never").exists()
+
+
+def scale_intensities(folder, factor):
+    """Every point's intensity times factor, in each binary PCD of folder (a receiver that reads dim)."""
+    for pcd in sorted(folder.glob("*.pcd")):
+        raw = bytearray(pcd.read_bytes())
+        head_end = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
+        head = bytes(raw[:head_end]).decode()
+        assert head.split("FIELDS ")[1].split("\n")[0] == "x y z intensity ring return_index time source"
+        points = np.frombuffer(bytes(raw[head_end:]), dtype=PCD_POINT).copy()
+        points["intensity"] *= factor
+        pcd.write_bytes(bytes(raw[:head_end]) + points.tobytes())
+
+
+def test_a_lidars_surfaces_are_fitted_as_the_command_line_does_and_a_dim_receiver_is_read(tmp_path):
+    frames = tmp_path / "frames"
+    cli("scan", "factory_smoke", "--sensor", "vlp16", "--from", "20", "--to", "20.15", "--points", str(frames))
+    cli("fit", "--scene", "factory_smoke", "--points", str(frames), "--sensor", "vlp16", "--out",
+        str(tmp_path / "cli.toml"))
+    ticks = []
+    r = smokescan.fit_lidar("factory_smoke", points=frames, sensor="vlp16", out=tmp_path / "py.toml",
+                            progress=lambda done, total: ticks.append((done, total)))
+    assert ticks[-1] == (2, 2)
+    assert r.to_dict() == json.load(open(tmp_path / "cli_report.json"))
+    assert (tmp_path / "py.toml").read_text() == (tmp_path / "cli.toml").read_text() == r.extended_preset
+    fitted = [s for s in r.surfaces if s["fitted"]]
+    assert len(fitted) >= 6
+    for s in fitted:
+        assert abs(s["reflectance_factor"] - 1) < 4 * math.hypot(s["reflectance_factor_se"], s["reflectance_factor_sys"])
+    preset = tomllib.loads(r.extended_preset)
+    assert preset["base"] == "vlp16"
+    assert {s["name"] for s in preset["extensions"]["surface"]} == {s["surface"] for s in fitted}
+    # A receiver whose intensities read 20 % low: every surface reads 0.8 (within the smoke's share
+    # under some echoes, which a dim receiver dims too and a dark wall would not).
+    scale_intensities(frames, 0.8)
+    dim = smokescan.fit_lidar("factory_smoke", points=frames, sensor="vlp16")
+    for s in dim.surfaces:
+        if s["fitted"]:
+            assert abs(s["reflectance_factor"] - 0.8) < 0.02, s
+    # Refused in one line, nothing written.
+    with pytest.raises(smokescan.Error, match=r"^--sensor: "):
+        smokescan.fit_lidar("factory_smoke", points=frames, sensor="", out=tmp_path / "never.toml")
+    with pytest.raises(smokescan.Error, match=r"frames\.csv"):
+        smokescan.fit_lidar("factory_smoke", points=tmp_path, sensor="vlp16", out=tmp_path / "never.toml")
+    assert not (tmp_path / "never.toml").exists()
 
 
 def volume_info(path):

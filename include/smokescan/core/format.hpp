@@ -33,4 +33,23 @@ inline std::string shortest(double v)
     return buf;
 }
 
+/// @brief A TOML basic string: quoted, with quotes, backslashes and control characters escaped
+/// (what a file the program writes names: a preset, a surface).
+inline std::string tomlQuoted(const std::string& s)
+{
+    std::string o = "\"";
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += ch;
+        } else if (c < 0x20 || c == 0x7f) {
+            o += fmt("\\u%04x", unsigned(c));
+        } else {
+            o += ch;
+        }
+    }
+    return o + "\"";
+}
+
 }  // namespace smokescan

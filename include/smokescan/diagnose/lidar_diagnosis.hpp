@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "smokescan/fit/lidar_fit.hpp"
 #include "smokescan/lidar/lidar_scanner.hpp"
 
 namespace smokescan {
@@ -144,6 +145,10 @@ public:
     const std::vector<PatternBeam>& pattern() const { return pattern_; }
     int channels() const { return channels_; }
     long long unmatched() const { return unmatched_; }
+    /// Every clear beam answered on a surface, both folds: its recorded and replayed intensity
+    /// (what `smokescan fit --points` fits, fit/lidar_fit.hpp), kept once asked for (36 bytes a beam).
+    const std::vector<LidarIntensitySample>& intensities() const { return intensities_; }
+    void keepIntensities(bool keep) { keep_intensities_ = keep; }
 
 private:
     void addOutcomes(const ExpectedBeam& x, double recorded_m, Fold& f) const;
@@ -155,6 +160,8 @@ private:
     Fold fold_[2];
     size_t frames_ = 0;
     long long unmatched_ = 0;
+    std::vector<LidarIntensitySample> intensities_;
+    bool keep_intensities_ = false;
 };
 
 /// @brief The diagnosis of a tally: group tables and each cause's held-out test.

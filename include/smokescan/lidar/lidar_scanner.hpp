@@ -34,6 +34,10 @@ struct LidarEcho {
     double standout = 0;
     double intensity = 0;  ///< calibrated reflectivity [%]: 100·peak·R²/O(R), at most 255
     EchoSource source = EchoSource::Surface;  ///< what sent most of the echo's power
+    /// The peak's noise sd in the samples' (their noise propagated through the log-parabola
+    /// through the three samples around it, to first order; about 1), and the valley's sample's
+    /// beside it for a peak measured above one (√2). Set without noise (rng null) only.
+    double peak_noise = 1;
 };
 
 /// @brief The echoes a lidar's receiver resolves in a beam's signal, in order of range: the
@@ -93,6 +97,13 @@ inline constexpr uint64_t kOutcomeSeed = 0x6f7574636f6d65ULL;
 struct ExpectedBeam {
     float range_m = 0;  ///< the return mode's first kept echo without noise [m]; 0: none
     float margin_sd = 0;  ///< that echo's peak above the detection threshold, in noise sd
+    float peak_sd = 0;  ///< that echo's peak in noise sd (margin_sd + threshold_snr without a pedestal)
+    float intensity = 0;  ///< that echo's intensity without noise (LidarEcho::intensity) [%]
+    float peak_noise = 1;  ///< that echo's peak's noise in noise sd (LidarEcho::peak_noise)
+    /// A clear beam's echo's peak at a half and a quarter of its surfaces' power, over its peak:
+    /// ½ and ¼ for an echo alone, more where the smoke's backscatter under it does not scale
+    /// (fit/lidar_fit.hpp); 0 when not a clear beam or the echo is lost there.
+    float peak_at_half = 0, peak_at_quarter = 0;
     uint8_t source = 0;  ///< that echo's EchoSource
     int surface = -1;  ///< the surface the central ray hits within range (Scene::surfaces), -1 none
     float surface_range_m = INFINITY;  ///< where that surface's echo reads [m]
@@ -115,7 +126,8 @@ SensorMount defaultLidarMount(const Scene& scene, const std::string& name);
 class LidarScanner {
 public:
     /// @param mount where the sensor sits (its pose and robot; its laser config is not used)
-    /// @throw Error when the spec does not offer `mode`.
+    /// @throw Error when the spec does not offer `mode`, or its [extensions.surface] names a
+    /// surface the scene does not have.
     LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const SensorMount& mount, LidarSpec spec,
                  ReturnMode mode, uint64_t seed);
 
@@ -139,6 +151,8 @@ private:
     uint64_t seed_;
     std::vector<PatternBeam> pattern_;
     std::vector<Vec3> local_;  ///< each beam's unit direction in the sensor frame
+    /// Each surface's reflectance factor (Scene::surfaces index) from [extensions.surface]; empty: none
+    std::vector<double> reflectance_;
 
     /// The frame's timing, poses and smoke (frame() and expected() share them).
     struct FrameSetup;

@@ -66,7 +66,16 @@ struct LidarSectorExtension {
     bool contains(double azimuth_rad) const;
 };
 
-/// What `smokescan diagnose --points` learned about a lidar, as departures from its preset:
+/// A surface whose echoes are brighter or darker than the scene's reflectance gives
+/// ([[extensions.surface]]): its NIR reflectance as the lidar sees it is the scene's times the
+/// factor (its diffuse echo, its mirror's share and what its mirror shows alike).
+struct LidarSurfaceExtension {
+    std::string name;  ///< the scene's surface (Surface::name)
+    double reflectance_factor = 1;  ///< 0.01–10
+};
+
+/// What `smokescan diagnose --points` and `smokescan fit --points` learned about a lidar, as
+/// departures from its preset:
 ///
 /// | table                  | key            | unit | meaning                                   |
 /// |------------------------|----------------|------|-------------------------------------------|
@@ -75,17 +84,21 @@ struct LidarSectorExtension {
 /// |                        | dropout        | –    | chance a beam of it returns nothing (0–1) |
 /// | [[extensions.sector]]  | from_deg, to_deg | deg | azimuths in the sensor frame (±180°)     |
 /// |                        | dropout        | –    | chance a beam within returns nothing (0–1)|
+/// | [[extensions.surface]] | name           | –    | a surface of the scene the lidar scans    |
+/// |                        | reflectance_factor | – | its NIR reflectance × this (0.01–10)     |
 struct LidarExtensions {
     std::vector<LidarChannelExtension> channels;
     std::vector<LidarSectorExtension> sectors;
-    bool empty() const { return channels.empty() && sectors.empty(); }
+    std::vector<LidarSurfaceExtension> surfaces;
+    bool empty() const { return channels.empty() && sectors.empty() && surfaces.empty(); }
     /// @brief The chance that beam (ring, azimuth) returns nothing: its channel's and sectors' dropouts combined.
     double dropout(int ring, double azimuth_rad) const;
     /// @brief What ring's ranges are offset by [m].
     double rangeOffset_m(int ring) const;
 };
 
-/// @brief The extensions as TOML ([[extensions.channel]] and [[extensions.sector]] tables).
+/// @brief The extensions as TOML ([[extensions.channel]], [[extensions.sector]] and
+/// [[extensions.surface]] tables).
 std::string lidarExtensionsToml(const LidarExtensions& e);
 
 struct LidarSpec {
@@ -120,6 +133,7 @@ struct LidarSpec {
 namespace lidar_limits {
 constexpr int kChannels = 512;
 constexpr size_t kExtensionSectors = 64;  ///< sectors in a preset's [extensions]
+constexpr size_t kExtensionSurfaces = 1024;  ///< surfaces in a preset's [extensions]
 constexpr int kColumns = 8192;
 constexpr long long kBeamsPerFrame = 4'000'000;
 constexpr double kRateHz = 100;

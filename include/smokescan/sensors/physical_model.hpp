@@ -118,9 +118,12 @@ BeamSignal traceBeamSignal(const Ray& ray, const LrfSpec& spec, const PhysicalPa
                            const SurfaceSet& surfaces, const SmokeField& field, SurfaceHit* central_hit,
                            BeamSmoke* central_smoke);
 /// @brief The same for any sensor: its wavelength [nm] and the range [m] it reports to.
+/// @param reflectance_factor per surface (Scene::surfaces index; null: all 1): each surface's NIR
+/// reflectance as the sensor sees it is the scene's times it (a lidar preset's [extensions.surface])
 BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_max_m, const PhysicalParams& p,
                            const Scene& scene, const SurfaceSet& surfaces, const SmokeField& field,
-                           SurfaceHit* central_hit, BeamSmoke* central_smoke);
+                           SurfaceHit* central_hit, BeamSmoke* central_smoke,
+                           const std::vector<double>* reflectance_factor = nullptr);
 
 /// @brief URG-04LX: amplitude and phase of the summed echoes at two modulation frequencies.
 /// Codes: 18 strong reflection (amplitude above saturation), 1 low intensity, 8 intensity

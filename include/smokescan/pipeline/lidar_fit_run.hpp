@@ -1,0 +1,49 @@
+#pragma once
+/// @file lidar_fit_run.hpp
+/// @brief `smokescan fit --points DIR` as one library call: a 3D lidar's recorded frames replayed
+/// in their scene (pipeline/lidar_frames.hpp) and each surface's reflectance factor fitted from
+/// the recorded intensities (fit/lidar_fit.hpp); the preset extended by the factors.
+///
+/// | field  | default | unit | meaning                                              |
+/// |--------|---------|------|------------------------------------------------------|
+/// | frames | –       | –    | LidarFramesConfig: the scene, the frames' folder, the lidar |
+/// | fit    | –       | –    | LidarFitConfig                                       |
+#include <string>
+#include <vector>
+
+#include "smokescan/fit/lidar_fit.hpp"
+#include "smokescan/pipeline/lidar_frames.hpp"
+
+namespace smokescan {
+
+struct LidarFitRunConfig {
+    LidarFramesConfig frames;
+    LidarFitConfig fit;
+};
+
+struct LidarFitRunResult {
+    LidarFitResult fit;
+    std::vector<std::string> surface_names;  ///< the scene's surfaces (SurfaceReflectanceFit::surface)
+    std::string sensor, returns, scene;  ///< what was fitted, for reports
+    size_t frames = 0;
+    long long clear = 0;  ///< clear beams answered at their surface (the fit's candidates)
+    double range_sd_m = NAN;  ///< the clear beams' range residuals' robust sd (1.4826·MAD) [m]
+    double range_sd_se_m = NAN;  ///< its standard error (1.166·sd/√n, the MAD's for a normal)
+    double preset_range_sd_m = NAN;  ///< the preset's range_sigma_m
+    double pose_mismatch_m = 0, pose_mismatch_deg = 0;
+    std::string preset;  ///< lidar.toml's text: the preset extended by the fitted factors
+};
+
+/// @brief The preset `fitted` extended by each fitted surface's reflectance factor (times the
+/// factor it had), as a preset file's text whose `base` is `base` (TalliedFrames::base).
+std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::string>& surface_names,
+                              const LidarSpec& fitted, const std::string& base);
+
+/// @brief Reads the frames one at a time, replays each, fits the factors.
+/// @throw Error as tallyLidarFrames, or when no surface has enough usable beams.
+LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& control = {});
+
+/// @brief The fit as JSON text (the report of `smokescan fit --points`).
+std::string lidarFitJson(const LidarFitRunResult& r);
+
+}  // namespace smokescan

@@ -1,0 +1,57 @@
+#pragma once
+/// @file lidar_frames.hpp
+/// @brief A 3D lidar's recorded frames (a folder as `smokescan scan --points` writes it:
+/// frames.csv and one point cloud per frame) replayed in their scene one at a time and tallied
+/// beam by beam (LidarTally): what `smokescan diagnose --points` and `smokescan fit --points` share.
+///
+/// | field  | default | unit | meaning                                                              |
+/// |--------|---------|------|----------------------------------------------------------------------|
+/// | scene  | –       | –    | the scene the frames were recorded in (a built-in name or a file)   |
+/// | points | –       | –    | the frames' folder                                                   |
+/// | sensor | vlp16   | –    | the lidar: sensor, returns, rate_hz, columns as LidarRunConfig (its from/to are the frames') |
+///
+/// The lidar sits on the scene's default lidar mount, as when the frames were simulated. Every
+/// point-cloud file must carry the fields `ring` and `time` (the firing time from the frame's
+/// start), which say which beam a point is.
+#include <functional>
+#include <string>
+
+#include "smokescan/diagnose/lidar_diagnosis.hpp"
+#include "smokescan/pipeline/lidar_run.hpp"
+#include "smokescan/pipeline/run_control.hpp"
+
+namespace smokescan {
+
+struct LidarFramesConfig {
+    std::string scene;
+    std::string points;
+    LidarRunConfig sensor;
+    /// Called once the scene is read, before any frame (a caller protects its files).
+    std::function<void(const Scene&)> on_scene;
+    /// Called once the lidar is set up, before any frame (the caller's own checks).
+    std::function<void(const LidarRun&)> on_run;
+    bool intensities = false;  ///< the tally keeps each clear beam's intensities (LidarTally::intensities)
+};
+
+/// The frames tallied, for the caller to read while they live.
+struct TalliedFrames {
+    const Scene& scene;
+    const LidarRun& run;  ///< the replay's lidar
+    const LidarTally& tally;
+    /// The preset as a written preset's `base` names it: the preset's own base when it extends
+    /// one, a file made absolute as the file system resolves it.
+    std::string base;
+    double pose_mismatch_m = 0, pose_mismatch_deg = 0;  ///< the largest recorded start pose's off the scene's
+};
+
+/// @brief Reads the frames one at a time, replays each and tallies them (frame k in fold k % 2),
+/// then hands the tally to `use`.
+/// @param min_frames the fewest frames the caller's work needs (a diagnosis: 2, a fold each)
+/// @param control progress after each frame; cancel asked before each
+/// @throw Error naming the folder, file or option at fault: too few frames, a frame without ring
+/// or time, frames whose points mostly match no beam of the sensor, a preset path lidar.toml
+/// cannot name, the return mode the points do not hold.
+void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const RunControl& control,
+                      const std::function<void(const TalliedFrames&)>& use);
+
+}  // namespace smokescan
