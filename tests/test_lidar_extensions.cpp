@@ -282,7 +282,7 @@ TEST(LidarExtensions, ASurfacesReflectanceFactorScalesItsEchoesAndNoOtherBeams)
     const SurfaceSet surfaces(scene);
     const LidarScanner plain(scene, surfaces, scene.sensors.front(), lidarSpec("vlp16"), ReturnMode::Strongest, 3);
     const LidarScanner dim(scene, surfaces, scene.sensors.front(), lidarSpec(ext), ReturnMode::Strongest, 3);
-    const std::vector<ExpectedBeam> a = plain.expected(0), b = dim.expected(0);
+    const std::vector<ExpectedBeam> a = plain.expected(0, true), b = dim.expected(0, true);
     int on_left = 0, on_right = 0;
     for (size_t i = 0; i < a.size(); ++i) {
         if (!a[i].clear) continue;

@@ -61,7 +61,7 @@ LidarTally tallyInFactory(const std::vector<LidarFrame>& frames)
     LidarTally t(run.scanner().pattern(), run.spec().channels(), returnTolerance_m(run.spec()));
     t.keepIntensities(true);
     for (size_t k = 0; k < frames.size(); ++k)
-        t.add(run.scanner().expected(frames[k].start_s), frames[k].points, int(k % 2));
+        t.add(run.scanner().expected(frames[k].start_s, true), frames[k].points, int(k % 2));
     return t;
 }
 

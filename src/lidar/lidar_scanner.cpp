@@ -292,7 +292,7 @@ void applyExtensions(const LidarExtensions& ext, const PatternBeam& b, ExpectedB
 
 }  // namespace
 
-ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i) const
+ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i, bool dimmer) const
 {
     const PhysicalParams& p = spec_.receiver;
     SurfaceHit hit;
@@ -341,13 +341,13 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
         // Its peak at a half and a quarter of the surfaces' power: a half and a quarter of it for
         // an echo alone; the smoke's backscatter under it does not scale.
         for (const double share : {0.5, 0.25}) {
-            BeamSignal dimmer = sig;
-            for (Echo& e : dimmer.echoes)
+            if (!dimmer) break;
+            BeamSignal dim = sig;
+            for (Echo& e : dim.echoes)
                 if (e.source == EchoSource::Surface) e.power *= share;
-            dimmer.surface_power *= share;
+            dim.surface_power *= share;
             double best = pulse_m, ratio = 0;
-            for (const LidarEcho& e :
-                 receiveEchoes(spec_, dimmer, pulsedWaveform(spec_.range_max_m, p, dimmer, 2), nullptr))
+            for (const LidarEcho& e : receiveEchoes(spec_, dim, pulsedWaveform(spec_.range_max_m, p, dim, 2), nullptr))
                 if (std::abs(e.range_m - x.range_m) < best)
                     best = std::abs(e.range_m - x.range_m), ratio = e.peak / e_peak;
             (share == 0.5 ? x.peak_at_half : x.peak_at_quarter) = float(ratio);
@@ -365,13 +365,13 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
     return x;
 }
 
-std::vector<ExpectedBeam> LidarScanner::expected(double start_s) const
+std::vector<ExpectedBeam> LidarScanner::expected(double start_s, bool dimmer) const
 {
     const FrameSetup f = setup(start_s);
     LidarSpec low = spec_;
     low.receiver.threshold_snr = std::max(0.0, spec_.receiver.threshold_snr - kClearMarginSd);
     std::vector<ExpectedBeam> out(pattern_.size());
-    tbb::parallel_for(size_t(0), pattern_.size(), [&](size_t i) { out[i] = expectedBeam(f, low, i); });
+    tbb::parallel_for(size_t(0), pattern_.size(), [&](size_t i) { out[i] = expectedBeam(f, low, i, dimmer); });
     return out;
 }
 

@@ -159,7 +159,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         for (const LidarPoint& p : pc.points) (p.return_index == 0 ? frame_first : second) += 1;
         first += frame_first;
         const long long before = tally.unmatched();
-        tally.add(scanner.expected(e.start_s), pc.points, int(k % 2));
+        tally.add(scanner.expected(e.start_s, cfg.intensities), pc.points, int(k % 2));
         checkMatched(tally.unmatched() - before, frame_first, path, sensor);
         mismatch_m = std::max(mismatch_m, off_m);
         mismatch_deg = std::max(mismatch_deg, off_deg);

@@ -102,7 +102,8 @@ struct ExpectedBeam {
     float peak_noise = 1;  ///< that echo's peak's noise in noise sd (LidarEcho::peak_noise)
     /// A clear beam's echo's peak at a half and a quarter of its surfaces' power, over its peak:
     /// ½ and ¼ for an echo alone, more where the smoke's backscatter under it does not scale
-    /// (fit/lidar_fit.hpp); 0 when not a clear beam or the echo is lost there.
+    /// (fit/lidar_fit.hpp); 0 when not a clear beam, the echo is lost there, or not asked for
+    /// (LidarScanner::expected's `dimmer`).
     float peak_at_half = 0, peak_at_quarter = 0;
     uint8_t source = 0;  ///< that echo's EchoSource
     int surface = -1;  ///< the surface the central ray hits within range (Scene::surfaces), -1 none
@@ -136,7 +137,9 @@ public:
     LidarFrame frame(double start_s, uint64_t index) const;
     /// @brief Each beam of the frame starting at start_s (in pattern order) as its receiver
     /// reports it without noise, from the same poses and smoke as frame().
-    std::vector<ExpectedBeam> expected(double start_s) const;
+    /// @param dimmer also each clear beam's peaks at a half and a quarter of its surfaces' power
+    /// (ExpectedBeam::peak_at_half, peak_at_quarter: two more waveforms a clear beam; the fit's)
+    std::vector<ExpectedBeam> expected(double start_s, bool dimmer = false) const;
     const LidarSpec& spec() const { return spec_; }
     /// The frame's beams in firing order (direction, channel, time).
     const std::vector<PatternBeam>& pattern() const { return pattern_; }
@@ -160,7 +163,7 @@ private:
     /// Beam i's signal in the frame `f`; the central ray's hit into `hit` (may be null).
     BeamSignal signal(const FrameSetup& f, size_t i, SurfaceHit* hit) const;
     /// Beam i of the frame `f` replayed; `low` is the spec with the threshold kClearMarginSd lower.
-    ExpectedBeam expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i) const;
+    ExpectedBeam expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i, bool dimmer) const;
 };
 
 }  // namespace smokescan
