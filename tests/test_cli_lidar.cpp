@@ -193,6 +193,12 @@ TEST(LidarCli, FitPointsWritesThePresetExtendedByTheSurfacesAndRefusesOtherRunsO
     for (const fs::path& p : {pts, out, report, again}) fs::remove_all(p);
     ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --from 20 --to 20.05 --points " + pts.string()).status, 0);
     const std::string base = "fit --scene factory_smoke --points " + pts.string() + " --sensor vlp16 ";
+    // A whole preset (the VLP-16's) and one extending it.
+    const fs::path whole = dir() / "fit_whole.toml", ext = dir() / "fit_ext.toml";
+    fs::copy_file(std::string(SMOKESCAN_SOURCE_DIR) + "/presets/lidar/vlp16.toml", whole,
+                  fs::copy_options::overwrite_existing);
+    std::ofstream(ext) << "name = \"mine\"\nbase = \"fit_whole.toml\"\n";
+    const std::string whole_text = slurp(whole);
     // Another run's options, the lidar's without --points, no --scene or --sensor, an output in
     // the frames' folder, a return mode the frames do not hold: one line each, nothing written.
     for (const auto& [args, says] : std::vector<std::pair<std::string, std::string>>{
@@ -207,7 +213,15 @@ TEST(LidarCli, FitPointsWritesThePresetExtendedByTheSurfacesAndRefusesOtherRunsO
              {base + "--out " + (pts / "x.toml").string(), "lies in the frames' folder"},
              {base + "--out " + out.string() + " --report " + (pts / "r.json").string(), "lies in the frames' folder"},
              {base + "--returns dual --out " + out.string(), "--returns: dual, but the frames"},
-             {base + "--rate 20 --out " + out.string(), "another rate or column count"}}) {
+             {base + "--rate 20 --out " + out.string(), "another rate or column count"},
+             {base + "--out " + (dir() / "fit_points_noext").string(), "must name a .toml file"},
+             {base + "--out ''", "--out: '' must name a .toml file"},
+             {"fit --scene factory_smoke --points '' --sensor vlp16 --out " + out.string(),
+              "--points: names no folder"},
+             // The preset's base is an input too: never written over.
+             {"fit --scene factory_smoke --points " + pts.string() + " --sensor " + ext.string() + " --out " +
+                  whole.string(),
+              "--out would destroy it"}}) {
         const CliRun r = cli(args);
         EXPECT_NE(r.status, 0) << args;
         EXPECT_NE(r.err.find(says), std::string::npos) << args << "\n" << r.err;
@@ -215,6 +229,7 @@ TEST(LidarCli, FitPointsWritesThePresetExtendedByTheSurfacesAndRefusesOtherRunsO
         EXPECT_FALSE(fs::exists(out)) << args;
         EXPECT_FALSE(fs::exists(report)) << args;
         EXPECT_FALSE(fs::exists(pts / "x.toml") || fs::exists(pts / "r.json")) << args;
+        EXPECT_EQ(slurp(whole), whole_text) << args;
     }
     // One frame is enough (the fit holds nothing out).
     const CliRun r = cli(base + "--out " + out.string());

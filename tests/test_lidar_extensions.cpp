@@ -233,7 +233,9 @@ TEST(LidarExtensions, BadExtensionsAreOneLineErrorsNamingTheKey)
          "reflectance_factor"},
         {"surface_factor_nan", head + "[[extensions.surface]]\nname = \"a\"\nreflectance_factor = nan\n",
          "reflectance_factor"},
-        {"surface_name_empty", head + "[[extensions.surface]]\nname = \"\"\nreflectance_factor = 0.5\n", "name"},
+        {"surface_name_long",
+         head + "[[extensions.surface]]\nname = \"" + std::string(4097, 'a') + "\"\nreflectance_factor = 0.5\n",
+         "4096 bytes"},
         {"base_and_more", head + "columns = 512\n", "only name and [extensions]"},
         {"base_unknown", "name = \"x\"\nbase = \"vlp17\"\n", "base"},
     };

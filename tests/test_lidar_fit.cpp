@@ -65,10 +65,9 @@ LidarTally tallyInFactory(const std::vector<LidarFrame>& frames)
     return t;
 }
 
-/// The factory with `surface` in a material of its own, `change` applied to it.
-Scene factoryWith(const std::string& surface, const std::function<void(Material&)>& change)
+/// `scene` with `surface` in a material of its own, `change` applied to it.
+Scene factoryWith(Scene s, const std::string& surface, const std::function<void(Material&)>& change)
 {
-    Scene s = loadScene("factory_smoke");
     for (Surface& sf : s.surfaces)
         if (sf.name == surface) {
             Material m = s.materials[size_t(sf.material)];
@@ -197,50 +196,53 @@ TEST(LidarFit, NoSurfaceWithEnoughBrightBeamsIsAnError)
     EXPECT_NE(errorOf([&] { fitLidarIntensities({}); }).find("no surface"), std::string::npos);
 }
 
-TEST(LidarFit, TheScenesOwnReflectancesComeOutAsOneAndTheReceiversNoiseAsThePresets)
+TEST(LidarFit, TheScenesOwnReflectancesComeOutAsOneAndTheReceiversNoiseAsThePresetsOverSeeds)
 {
-    // Two frames of the factory in its thin smoke at 20 s against their own replay: every surface
-    // fitted reads the scene's reflectance, the intensities scatter as the receiver's noise says,
-    // the ranges as the preset's range_sigma_m.
+    // Frames of the factory against their own replay, in the thin smoke at 20 s and the thick at
+    // 38 s, ten receivers' noise each: every surface's factor is 1 within its errors, its bias
+    // over the seeds, where they resolve one, within the systematic error (its measure), and the
+    // intensities scatter as the receiver's noise says.
     const Scene scene = loadScene("factory_smoke");
-    const LidarTally t = tallyInFactory(simulate(scene, 20, 2));
-    const LidarFitResult r = fitLidarIntensities(t.intensities());
-    int fitted = 0;
-    for (const SurfaceReflectanceFit& f : r.surfaces) {
-        if (!f.fitted) continue;
-        ++fitted;
-        EXPECT_NEAR(f.factor, 1, 4 * totalSe(f)) << scene.surfaces[size_t(f.surface)].name;
-        EXPECT_NEAR(f.scatter, 1, 0.1) << scene.surfaces[size_t(f.surface)].name;
+    double worst_bias = 0;
+    for (double t0 : {20.0, 38.0}) {
+        LidarRunConfig c;
+        c.sensor = "vlp16";
+        c.from_s = t0;
+        const LidarRun run(scene, c);
+        std::vector<std::vector<ExpectedBeam>> replay;
+        for (const LidarFrame& f : simulate(scene, t0, 2)) replay.push_back(run.scanner().expected(f.start_s, true));
+        std::map<int, std::vector<double>> off;  // per surface: factor − 1 over the seeds
+        std::vector<double> scatter;
+        for (uint64_t seed = 1; seed <= 10; ++seed) {
+            const std::vector<LidarFrame> frames = simulate(scene, t0, 2, seed);
+            LidarTally t(run.scanner().pattern(), run.spec().channels(), returnTolerance_m(run.spec()));
+            t.keepIntensities(true);
+            for (size_t k = 0; k < frames.size(); ++k) t.add(replay[k], frames[k].points, int(k % 2));
+            const LidarFitResult r = fitLidarIntensities(t.intensities());
+            scatter.push_back(r.scatter);
+            for (const SurfaceReflectanceFit& f : r.surfaces) {
+                if (!f.fitted) continue;
+                EXPECT_NEAR(f.factor, 1, 4 * totalSe(f)) << scene.surfaces[size_t(f.surface)].name << " seed " << seed;
+                // (In the thick smoke a wall whose echoes rise out of the smoke's run scatters up to
+                // 1.15: the peak over a noisy valley is not quite √2 noisier.)
+                EXPECT_NEAR(f.scatter, 1, 0.2 + 4 / std::sqrt(2.0 * double(f.beams)))
+                    << scene.surfaces[size_t(f.surface)].name << " seed " << seed;
+                off[f.surface].push_back(f.factor - 1);
+            }
+        }
+        EXPECT_GE(off.size(), 6u);
+        for (const auto& [surface, v] : off) {
+            std::printf("t0 %g %s: bias %+.2e over %zu seeds (sd %.1e)\n", t0,
+                        scene.surfaces[size_t(surface)].name.c_str(), mean(v), v.size(), v.size() > 1 ? sd(v) : 0.0);
+            // A bias the seeds resolve (beyond 3 of its errors) must lie within the systematic error.
+            if (v.size() >= 5 && std::abs(mean(v)) > 3 * sd(v) / std::sqrt(double(v.size())))
+                worst_bias = std::max(worst_bias, std::abs(mean(v)));
+        }
+        std::printf("t0 %g: scatter %.4f (sd %.4f)\n", t0, mean(scatter), sd(scatter));
+        EXPECT_NEAR(mean(scatter), 1, 0.05);
     }
-    EXPECT_GE(fitted, 8);
-    EXPECT_GT(r.beams, 40000);
-    EXPECT_NEAR(r.scatter, 1, 4 * r.scatter_se + 0.01);
-}
-
-TEST(LidarFit, ADarkerWallIsFittedAsItsRatioAndAGlossyOneShowsAsAMisfit)
-{
-    // Planted as the recorded room's material: wall_north's NIR reflectance 0.4 where the scene
-    // says 0.7 (the factor 4/7); then a wall as bright but glossy (specular 0.4, roughness 0.3),
-    // whose echo is not any factor times a Lambertian one: its brightness follows the angle.
-    const Scene darker = factoryWith("wall_north", [](Material& m) { m.nir_785 = m.nir_905 = 0.4; });
-    const LidarFitResult r = fitLidarIntensities(tallyInFactory(simulate(darker, 20, 2)).intensities());
-    const SurfaceReflectanceFit& dark = fitOf(r, darker, "wall_north");
-    std::printf("darker wall: %.5f +/- %.2g (stat) +/- %.2g (sys), %lld beams, scatter %.3f\n", dark.factor,
-                dark.factor_se, dark.factor_sys, dark.beams, dark.scatter);
-    EXPECT_NEAR(dark.factor, 0.4 / 0.7, 4 * totalSe(dark));
-    // Beams whose echo dims into the smoke's run at that factor read √2 noisier than their replay
-    // (a valley's sample besides the peak's): a scatter a little over 1.
-    EXPECT_LT(dark.scatter, 1.3);
-    EXPECT_GT(dark.beams, 2000);
-    for (const char* other : {"floor", "wall_east", "partition"})
-        EXPECT_NEAR(fitOf(r, darker, other).factor, 1, 4 * totalSe(fitOf(r, darker, other))) << other;
-
-    const Scene glossy = factoryWith("wall_north", [](Material& m) { m.specular = 0.4, m.roughness = 0.3; });
-    const LidarFitResult g = fitLidarIntensities(tallyInFactory(simulate(glossy, 20, 2)).intensities());
-    const SurfaceReflectanceFit& gl = fitOf(g, glossy, "wall_north");
-    std::printf("glossy wall: %.5f +/- %.2g, scatter %.2f\n", gl.factor, gl.factor_se, gl.scatter);
-    EXPECT_GT(gl.scatter, 3);  // the misfit shows, and widens its error with it
-    EXPECT_GT(gl.factor_se, 3 * dark.factor_se);
+    std::printf("worst bias %.2e against the systematic error %.1e\n", worst_bias, kIntensitySystematic);
+    EXPECT_LT(worst_bias, kIntensitySystematic);
 }
 
 namespace {
@@ -284,7 +286,7 @@ TEST(LidarFitRun, TheFittedFactorExplainsHeldOutDetectionsTheFitNeverReads)
         if (o.beams > most) most = o.beams, surface = sf;
     ASSERT_GE(surface, 0);
     const std::string name = scene.surfaces[size_t(surface)].name;
-    const Scene dark = factoryWith(name, [](Material& m) { m.nir_785 *= 0.3, m.nir_905 *= 0.3; });
+    const Scene dark = factoryWith(scene, name, [](Material& m) { m.nir_785 *= 0.3, m.nir_905 *= 0.3; });
 
     LidarFitRunConfig fc;
     fc.frames.scene = "factory_smoke";
@@ -319,4 +321,68 @@ TEST(LidarFitRun, TheFittedFactorExplainsHeldOutDetectionsTheFitNeverReads)
     EXPECT_EQ(after.verdict, "none");
     EXPECT_FALSE(t1.named && t1.surface == surface);
     EXPECT_LT(t1.gain_nats, 0.05 * t0.gain_nats);
+    // Beyond the verdict (which a factor from about 0.15 to 0.34 would also leave at none: the
+    // cause's floor): the wall's uncertain beams in the held-out smoke return as often as the
+    // fitted replay gives them, within 3 sd; as the preset gives them, far from it.
+    auto z = [&](const LidarDiagnosis& d) {
+        const LidarOutcomes& o = d.surfaces.at(surface);
+        return (o.observed - o.expected) / std::sqrt(o.variance);
+    };
+    std::printf("%s's returns against their chance: %.1f sd (preset), %.1f sd (fitted)\n", name.c_str(), z(before),
+                z(after));
+    EXPECT_LT(z(before), -10);
+    EXPECT_LT(std::abs(z(after)), 3);
+}
+
+TEST(LidarFitRun, WallsDarkerAndBrighterThanTheSceneSaysAreFittedAsTheirRatiosAndAGlossyOneAsAMisfit)
+{
+    // Planted as the recorded room's materials: the floor at 0.8 of its NIR reflectance, wall_north
+    // at 4/7 (0.4 where the scene says 0.7), wall_east at 1.2 — factors between and beyond the
+    // fit's nodes — in the thin smoke at 20 s and the thick at 38 s. Each is fitted within its
+    // errors, its intensities scattering as the receiver's noise; every other surface reads 1.
+    const std::vector<std::pair<std::string, double>> planted = {
+        {"floor", 0.8}, {"wall_north", 4.0 / 7}, {"wall_east", 1.2}};
+    Scene room = loadScene("factory_smoke");
+    for (const auto& [name, factor] : planted) {
+        const double f = factor;
+        room = factoryWith(room, name, [f](Material& m) { m.nir_785 *= f, m.nir_905 *= f; });
+    }
+    for (double t0 : {20.0, 38.0}) {
+        LidarFitRunConfig fc;
+        fc.frames.scene = "factory_smoke";
+        fc.frames.points = writeFrames("planted_" + std::to_string(int(t0)), simulate(room, t0, 2));
+        fc.frames.sensor.sensor = "vlp16";
+        const LidarFitRunResult r = runLidarFit(fc);
+        std::printf("t0 %g: %d replays, scatter %.3f\n", t0, r.replays, r.fit.scatter);
+        int others = 0;
+        for (const SurfaceReflectanceFit& f : r.fit.surfaces) {
+            if (!f.fitted) continue;
+            const std::string& name = room.surfaces[size_t(f.surface)].name;
+            double truth = 1;
+            for (const auto& [n, k] : planted)
+                if (n == name) truth = k;
+            std::printf(
+                "  %s: %.6f +/- %.2g (stat) +/- %.2g (sys) (planted %.6f, pull %+.2f), scatter %.3f, %lld beams\n",
+                name.c_str(), f.factor, f.factor_se, f.factor_sys, truth, (f.factor - truth) / totalSe(f), f.scatter,
+                f.beams);
+            EXPECT_NEAR(f.factor, truth, 4 * totalSe(f)) << name << " at " << t0;
+            EXPECT_LT(f.scatter, 1.3) << name << " at " << t0;
+            others += truth == 1;
+        }
+        EXPECT_GE(others, 3);
+        EXPECT_GE(r.replays, 2);
+    }
+    // A wall as bright but glossy (specular 0.4, roughness 0.3), whose echo is not any factor times
+    // a Lambertian one (its brightness follows the angle): the misfit shows, and widens its error.
+    const Scene glossy =
+        factoryWith(loadScene("factory_smoke"), "wall_north", [](Material& m) { m.specular = 0.4, m.roughness = 0.3; });
+    LidarFitRunConfig fc;
+    fc.frames.scene = "factory_smoke";
+    fc.frames.points = writeFrames("glossy", simulate(glossy, 20, 2));
+    fc.frames.sensor.sensor = "vlp16";
+    const LidarFitRunResult g = runLidarFit(fc);
+    const SurfaceReflectanceFit& gl = fitOf(g.fit, glossy, "wall_north");
+    std::printf("glossy wall: %.5f +/- %.2g, scatter %.2f\n", gl.factor, gl.factor_se, gl.scatter);
+    EXPECT_GT(gl.scatter, 3);
+    EXPECT_GT(gl.factor_se, 30 * fitOf(g.fit, glossy, "wall_east").factor_se);
 }

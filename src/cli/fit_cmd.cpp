@@ -101,6 +101,10 @@ const std::set<std::string> kLidarOnly = {"--points", "--returns", "--columns", 
 int fitLidarFrames(const FitArgs& a0)
 {
     FitArgs a = a0;
+    if (a.points.empty()) throw Error("--points", "names no folder");
+    if (!isLidarPresetFile(a.out) || fs::path(a.out).stem().empty())
+        throw Error("--out",
+                    "'" + a.out + "' must name a .toml file: scan and diagnose take a preset file by its suffix");
     if (a.report.empty()) a.report = beside(a.out, "_report.json");
     if (a.scene.empty()) throw Error("--scene", "names the scene the frames of --points were recorded in");
     if (a.sensor.empty())
@@ -113,6 +117,11 @@ int fitLidarFrames(const FitArgs& a0)
     RunFiles files;
     files.input(a.points + "/frames.csv", "--points");
     files.input(a.sensor, "--sensor");
+    if (isLidarPresetFile(a.sensor)) {  // and what it reads: its base, its pattern file
+        const LidarSpec spec = lidarSpec(a.sensor);
+        if (isLidarPresetFile(spec.base)) files.input(spec.base, "--sensor");
+        files.input(spec.pattern_file, "--sensor");
+    }
     files.output(a.out, "--out");
     files.output(a.report, "--report");
     // The frames' folder is an input: nothing is written into it.
@@ -137,10 +146,17 @@ int fitLidarFrames(const FitArgs& a0)
         "noise sd; range sd %.4g +/- %.2g m (the preset's %.4g m)\n",
         r.frames, r.sensor.c_str(), r.fit.beams, r.clear, r.fit.scatter, r.fit.scatter_se, r.range_sd_m,
         r.range_sd_se_m, r.preset_range_sd_m);
-    for (const SurfaceReflectanceFit& f : r.fit.surfaces)
-        if (f.fitted)
-            say("  %s: reflectance factor %.4f +/- %.2g (stat) +/- %.2g (sys), %lld beams\n",
-                printable(r.surface_names[size_t(f.surface)]).c_str(), f.factor, f.factor_se, f.factor_sys, f.beams);
+    for (const SurfaceReflectanceFit& f : r.fit.surfaces) {
+        const std::string name = printable(r.surface_names[size_t(f.surface)]);
+        if (!f.fitted && f.candidates >= cfg.fit.min_beams)
+            say("  %s: not fitted (%lld beams answered at it, fewer than %lld bright enough)\n", name.c_str(),
+                f.candidates, cfg.fit.min_beams);
+        else if (f.fitted)
+            say("  %s: reflectance factor %.4f +/- %.2g (stat) +/- %.2g (sys), %lld beams%s\n", name.c_str(), f.factor,
+                f.factor_se, f.factor_sys, f.beams,
+                f.factor < 0.01 || f.factor > 10 ? " (written at the bound 0.01-10: is the scene's reflectance right?)"
+                                                 : "");
+    }
     say("wrote %s (the %s extended by the factors) and %s\n", a.out.c_str(), r.sensor.c_str(), a.report.c_str());
     return 0;
 }
@@ -296,7 +312,10 @@ void addFit(CLI::App& app, Runner& run)
     addScansOptions(c, a->laser, a->bag, a->topic, "Laser log (the paper's format, as `scan` writes it)");
     addSaturationOptions(c, a->saturation, a->image_topic, a->rects, a->polygons,
                          "Saturation CSV: time_s,saturation[,patches] (as `saturation` writes it); not with --points");
-    c->add_option("--out", a->out, "Sensor file to write (TOML, for `scan --sensor-file`)")->required();
+    c->add_option("--out", a->out,
+                  "Sensor file to write (TOML, for `scan --sensor-file`); with --points the lidar preset extended by "
+                  "the surfaces' factors (for `scan --sensor`)")
+        ->required();
     c->add_option("--scene", a->scene, "Scene whose surfaces name the beam groups (built-in name or file)");
     c->add_option("--sensor", a->sensor, "Sensor in the scene (default: the first of --sensor-type)");
     c->add_option("--target-prefix", a->prefix, "With --scene: surfaces whose names start with it form the groups")

@@ -24,10 +24,10 @@ double recordedPeak(const LidarIntensitySample& x)
 double meanAt(const LidarIntensitySample& x, double k) { return double(x.expected) * x.scaleAt(k); }
 double peakSdAt(const LidarIntensitySample& x, double k) { return double(x.peak_sd) * x.scaleAt(k); }
 
-/// The peak's noise sd, in intensity.
-double intensityNoise(const LidarIntensitySample& x)
+/// The peak's noise sd in intensity, and the recorded value's rounding to `quantum` (0: none).
+double intensityNoise(const LidarIntensitySample& x, double quantum)
 {
-    return double(x.expected) * double(x.peak_noise) / double(x.peak_sd);
+    return std::hypot(double(x.expected) * double(x.peak_noise) / double(x.peak_sd), quantum / std::sqrt(12.0));
 }
 
 /// The lesser of g's slopes at ¼ and at 1 (LidarIntensitySample::scaleAt, by its tangents beyond
@@ -45,7 +45,8 @@ struct FactorFit {
     double scatter(size_t n) const { return std::sqrt(ss / double(n - 1)); }  ///< rms residual
 };
 
-FactorFit fitFactor(const std::vector<LidarIntensitySample>& s, const std::vector<size_t>& beams, double k0)
+FactorFit fitFactor(const std::vector<LidarIntensitySample>& s, const std::vector<size_t>& beams, double k0,
+                    double quantum)
 {
     FactorFit f;
     f.k = k0;
@@ -53,7 +54,7 @@ FactorFit fitFactor(const std::vector<LidarIntensitySample>& s, const std::vecto
     for (size_t i : beams)
         problem.AddResidualBlock(
             new ceres::AutoDiffCostFunction<detail::IntensityRatioResidual, 1, 1>(
-                new detail::IntensityRatioResidual(recordedPeak(s[i]), s[i], intensityNoise(s[i]))),
+                new detail::IntensityRatioResidual(recordedPeak(s[i]), s[i], intensityNoise(s[i], quantum))),
             nullptr, &f.k);
     ceres::Solver::Summary summary;
     detail::solveQuiet(problem, detail::denseOptions(50, 1e-12), summary);
@@ -66,7 +67,7 @@ FactorFit fitFactor(const std::vector<LidarIntensitySample>& s, const std::vecto
 /// cap, and within clip_sd of the residuals' robust sd (1.4826·MAD: a few echoes far off cannot
 /// widen the clip that is to remove them).
 std::vector<size_t> usable(const std::vector<LidarIntensitySample>& s, const std::vector<size_t>& beams, double k,
-                           const LidarFitConfig& cfg)
+                           double quantum, const LidarFitConfig& cfg)
 {
     std::vector<size_t> u;
     std::vector<double> r;
@@ -74,7 +75,7 @@ std::vector<size_t> usable(const std::vector<LidarIntensitySample>& s, const std
         if (slope(s[i]) < cfg.min_slope || peakSdAt(s[i], k) < cfg.min_peak_sd || meanAt(s[i], k) > cfg.max_intensity)
             continue;
         u.push_back(i);
-        r.push_back((recordedPeak(s[i]) - meanAt(s[i], k)) / intensityNoise(s[i]));
+        r.push_back((recordedPeak(s[i]) - meanAt(s[i], k)) / intensityNoise(s[i], quantum));
     }
     if (u.empty()) return u;
     std::vector<double> a = r;
@@ -102,6 +103,11 @@ LidarFitResult fitLidarIntensities(const std::vector<LidarIntensitySample>& samp
             by_surface[x.surface].push_back(i);
     }
     LidarFitResult out;
+    out.quantum = 1;
+    for (const auto& [surface, beams] : by_surface)
+        for (size_t i : beams)
+            if (samples[i].recorded != std::round(samples[i].recorded)) out.quantum = 0;
+    const double quantum = out.quantum;
     double ss_all = 0;
     long long fitted = 0;
     for (const auto& [surface, beams] : by_surface) {
@@ -109,11 +115,12 @@ LidarFitResult fitLidarIntensities(const std::vector<LidarIntensitySample>& samp
         // before), until neither the beams nor the factor move.
         SurfaceReflectanceFit r;
         r.surface = surface;
+        r.candidates = (long long)beams.size();
         std::vector<size_t> used;
         FactorFit fit;
         bool have = false;
         for (int round = 0; round < 20; ++round) {
-            std::vector<size_t> now = usable(samples, beams, have ? fit.k : 1.0, cfg);
+            std::vector<size_t> now = usable(samples, beams, have ? fit.k : 1.0, quantum, cfg);
             if ((long long)now.size() < cfg.min_beams) {
                 have = false;
                 break;
@@ -121,7 +128,7 @@ LidarFitResult fitLidarIntensities(const std::vector<LidarIntensitySample>& samp
             const double before = fit.k;
             const bool same = have && now == used;
             used = std::move(now);
-            fit = fitFactor(samples, used, have ? fit.k : 1.0);
+            fit = fitFactor(samples, used, have ? fit.k : 1.0, quantum);
             const double step = std::abs(fit.k - before) / std::sqrt(fit.unit_var * fit.ss / double(used.size() - 1));
             have = std::isfinite(fit.unit_var);
             out.rounds = std::max(out.rounds, round + 1);
@@ -142,8 +149,8 @@ LidarFitResult fitLidarIntensities(const std::vector<LidarIntensitySample>& samp
     }
     if (fitted == 0)
         throw Error("lidar fit",
-                    fmt("no surface has %lld answered beams the replay is sure of whose echo peaks %g "
-                        "noise sd at least (more frames?)",
+                    fmt("no surface has %lld answered beams the replay is sure of whose echo peaks %g noise sd at "
+                        "least: are the frames' intensities the sensor's calibrated reflectivity [%%], and enough?",
                         cfg.min_beams, cfg.min_peak_sd));
     out.scatter = std::sqrt(ss_all / double(out.beams - fitted));
     out.scatter_se = out.scatter / std::sqrt(2.0 * double(out.beams - fitted));

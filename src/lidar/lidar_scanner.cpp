@@ -187,14 +187,17 @@ LidarScanner::LidarScanner(const Scene& scene, const SurfaceSet& surfaces, const
         for (ReturnMode m : spec_.return_modes) modes += (modes.empty() ? "" : ", ") + std::string(returnModeName(m));
         throw Error("--returns", "the " + spec_.name + " offers " + modes + ", not " + returnModeName(mode));
     }
-    for (const LidarSurfaceExtension& x : spec_.extensions.surfaces) {
-        const auto it = std::find_if(scene_.surfaces.begin(), scene_.surfaces.end(),
-                                     [&](const Surface& sf) { return sf.name == x.name; });
-        if (it == scene_.surfaces.end())
+    for (const LidarSurfaceExtension& x : spec_.extensions.surfaces) {  // every surface of its name
+        bool found = false;
+        for (size_t k = 0; k < scene_.surfaces.size(); ++k)
+            if (scene_.surfaces[k].name == x.name) {
+                reflectance_.resize(scene_.surfaces.size(), 1.0);
+                reflectance_[k] = x.reflectance_factor;
+                found = true;
+            }
+        if (!found)
             throw Error(spec_.source + ": [[extensions.surface]] name",
                         "\"" + x.name + "\" is not a surface of the scene " + scene_.source);
-        reflectance_.resize(scene_.surfaces.size(), 1.0);
-        reflectance_[size_t(it - scene_.surfaces.begin())] = x.reflectance_factor;
     }
     pattern_ = framePattern(spec_);
     local_.reserve(pattern_.size());

@@ -160,7 +160,8 @@ void readExtensions(TomlTable t, const LidarSpec& spec, LidarExtensions& e)
         for (const char* key : {"name", "reflectance_factor"})
             if (!c.has(key)) c.error(key, "is missing");
         x.name = c.strReq("name");
-        if (x.name.empty() || x.name.size() > 256) c.error("name", "must name a surface in 1–256 bytes");
+        if (x.name.size() > lidar_limits::kSurfaceName)
+            c.error("name", "must name a surface in at most " + std::to_string(lidar_limits::kSurfaceName) + " bytes");
         for (const LidarSurfaceExtension& y : e.surfaces)
             if (y.name == x.name) c.error("name", "names a surface already extended (" + x.name + ")");
         x.reflectance_factor = c.between("reflectance_factor", 1, 0.01, 10);
@@ -225,6 +226,16 @@ double LidarExtensions::rangeOffset_m(int ring) const
     for (const LidarChannelExtension& c : channels)
         if (c.ring == ring) return c.range_offset_m;
     return 0;
+}
+
+std::string extendedPresetName(const std::string& name)
+{
+    constexpr const char* kSuffix = "-extended";
+    if (name.size() >= 9 && name.compare(name.size() - 9, 9, kSuffix) == 0) return name;
+    // Cut on a UTF-8 character's boundary, so that the name stays printable.
+    size_t keep = std::min(name.size(), size_t(64 - 9));
+    while (keep > 0 && keep < name.size() && (static_cast<unsigned char>(name[keep]) & 0xC0) == 0x80) --keep;
+    return name.substr(0, keep) + kSuffix;
 }
 
 std::string lidarExtensionsToml(const LidarExtensions& e)

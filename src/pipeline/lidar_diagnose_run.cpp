@@ -10,7 +10,7 @@ namespace smokescan {
 
 LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, const RunControl& control)
 {
-    LidarFramesConfig fc{cfg.scene, cfg.points, cfg.sensor, cfg.on_scene, {}, false};
+    LidarFramesConfig fc{cfg.scene, cfg.points, cfg.sensor, cfg.on_scene, {}, false, false};
     fc.on_run = [](const LidarRun& run) {  // room in lidar.toml for one more sector
         if (run.spec().extensions.sectors.size() >= lidar_limits::kExtensionSectors)
             throw Error("--sensor",
@@ -74,9 +74,8 @@ std::string extendedLidarPreset(const LidarDiagnosis& d, const LidarSpec& diagno
     for (char& c : not_yet)  // a surface's name on one comment line
         if (static_cast<unsigned char>(c) < 0x20) c = ' ';
     if (!not_yet.empty()) o += "# Named but not an extension yet (docs/lidar.md): " + not_yet + "\n";
-    std::string name = diagnosed.name;
-    if (name.size() < 9 || name.compare(name.size() - 9, 9, "-extended") != 0) name += "-extended";
-    return o + "name = " + tomlQuoted(name) + "\nbase = " + tomlQuoted(base) + "\n" + lidarExtensionsToml(e);
+    return o + "name = " + tomlQuoted(extendedPresetName(diagnosed.name)) + "\nbase = " + tomlQuoted(base) + "\n" +
+        lidarExtensionsToml(e);
 }
 
 void writeLidarDiagnosisFolder(AtomicFolder& out, const LidarDiagnoseRunResult& r)

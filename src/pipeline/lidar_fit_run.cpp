@@ -36,6 +36,7 @@ std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::
                               const LidarSpec& fitted, const std::string& base)
 {
     LidarExtensions e = fitted.extensions;
+    std::string clamped;
     for (const SurfaceReflectanceFit& f : fit.surfaces) {
         if (!f.fitted || f.surface < 0 || size_t(f.surface) >= surface_names.size()) continue;
         const std::string& name = surface_names[size_t(f.surface)];
@@ -43,26 +44,111 @@ std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::
                                [&](const LidarSurfaceExtension& x) { return x.name == name; });
         if (it == e.surfaces.end()) it = e.surfaces.insert(e.surfaces.end(), {name, 1.0});
         // The replay already had its factor: the fitted one is on top of it.
+        const double k = it->reflectance_factor * f.factor;
+        it->reflectance_factor = std::clamp(k, 0.01, 10.0);
+        if (it->reflectance_factor != k) {
+            std::string shown = printable(name, 80);
+            for (char& c : shown)  // on the comment's one line
+                if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+            clamped += " " + shown + " (" + fmt("%.4g", k) + ")";
+        }
+    }
+    std::string o = "# The " + fitted.name +
+        " extended by smokescan fit --points: each surface's reflectance factor from the recorded "
+        "intensities.\n# Scan with it: smokescan scan SCENE --sensor this_file.toml\n";
+    if (!clamped.empty())
+        o += "# Held at the bounds 0.01-10 (the scene's reflectance is far off there):" + clamped + "\n";
+    return o + "name = " + tomlQuoted(extendedPresetName(fitted.name)) + "\nbase = " + tomlQuoted(base) + "\n" +
+        lidarExtensionsToml(e);
+}
+
+namespace {
+
+/// The spec with each fitted surface's factor (relative to the spec's own) multiplied into its extensions.
+LidarSpec withFactors(LidarSpec spec, const LidarFitResult& fit, const std::vector<std::string>& names)
+{
+    for (const SurfaceReflectanceFit& f : fit.surfaces) {
+        if (!f.fitted) continue;
+        const std::string& name = names[size_t(f.surface)];
+        auto it = std::find_if(spec.extensions.surfaces.begin(), spec.extensions.surfaces.end(),
+                               [&](const LidarSurfaceExtension& x) { return x.name == name; });
+        if (it == spec.extensions.surfaces.end()) it = spec.extensions.surfaces.insert(it, {name, 1.0});
         it->reflectance_factor = std::clamp(it->reflectance_factor * f.factor, 0.01, 10.0);
     }
-    std::string name = fitted.name;
-    if (name.size() < 9 || name.compare(name.size() - 9, 9, "-extended") != 0) name += "-extended";
-    return "# The " + fitted.name +
-        " extended by smokescan fit --points: each surface's reflectance factor from the recorded "
-        "intensities.\n# Scan with it: smokescan scan SCENE --sensor this_file.toml\nname = " +
-        tomlQuoted(name) + "\nbase = " + tomlQuoted(base) + "\n" + lidarExtensionsToml(e);
+    return spec;
 }
+
+/// The factor a surface has in `spec` (1 when it has none).
+double factorIn(const LidarSpec& spec, const std::string& name)
+{
+    for (const LidarSurfaceExtension& x : spec.extensions.surfaces)
+        if (x.name == name) return x.reflectance_factor;
+    return 1;
+}
+
+}  // namespace
 
 LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& control)
 {
+    if (cfg.max_replays < 1 || cfg.max_replays > 20) throw Error("lidar fit", "max_replays must lie in 1–20");
     LidarFitRunResult out;
     LidarFramesConfig frames = cfg.frames;
     frames.intensities = true;
+    frames.keep_points = cfg.max_replays > 1;
+    size_t scene_surfaces = 0;
+    frames.on_scene = [&](const Scene& scene) {
+        scene_surfaces = scene.surfaces.size();
+        if (cfg.frames.on_scene) cfg.frames.on_scene(scene);
+    };
+    frames.on_run = [&](const LidarRun& run) {  // room in the written preset for every surface
+        if (cfg.frames.on_run) cfg.frames.on_run(run);
+        if (run.spec().extensions.surfaces.size() + scene_surfaces > lidar_limits::kExtensionSurfaces)
+            throw Error("--sensor",
+                        fmt("the %s's %zu surface extensions and the scene's %zu surfaces could pass the "
+                            "%zu a preset holds",
+                            run.spec().name.c_str(), run.spec().extensions.surfaces.size(), scene_surfaces,
+                            lidar_limits::kExtensionSurfaces));
+    };
     tallyLidarFrames(frames, 1, control, [&](const TalliedFrames& t) {
-        const LidarSpec& spec = t.run.spec();
-        out.fit = fitLidarIntensities(t.tally.intensities(), cfg.fit);
+        const LidarSpec& given = t.run.spec();
         for (const Surface& sf : t.scene.surfaces) out.surface_names.push_back(sf.name);
-        out.sensor = spec.name;
+        // Surfaces of one name are one extension: fitted as one, under the first's index.
+        std::vector<int> first(out.surface_names.size());
+        for (size_t k = 0; k < first.size(); ++k)
+            first[k] = int(std::find(out.surface_names.begin(), out.surface_names.end(), out.surface_names[k]) -
+                           out.surface_names.begin());
+        auto byName = [&](std::vector<LidarIntensitySample> s) {
+            for (LidarIntensitySample& x : s) x.surface = first[size_t(x.surface)];
+            return s;
+        };
+        LidarFitResult fit = fitLidarIntensities(byName(t.tally.intensities()), cfg.fit);
+        LidarSpec spec = given;  // the replay's: the given preset with the factors found so far
+        // Again against a replay with the factors found, until the steps are within their errors.
+        for (out.replays = 1; out.replays < cfg.max_replays; ++out.replays) {
+            const bool settled =
+                std::all_of(fit.surfaces.begin(), fit.surfaces.end(), [](const SurfaceReflectanceFit& f) {
+                    return !f.fitted || std::abs(f.factor - 1) <= 0.1 * std::hypot(f.factor_se, f.factor_sys);
+                });
+            if (settled) break;
+            spec = withFactors(spec, fit, out.surface_names);
+            const LidarScanner again(t.scene, t.run.surfaces(), t.run.mount(), spec, t.run.mode(), 1);
+            LidarTally tally(again.pattern(), spec.channels(), returnTolerance_m(spec), spec.range_max_m);
+            tally.keepIntensities(true);
+            for (size_t k = 0; k < t.recorded.size(); ++k) {
+                checkCancel(control);
+                tally.add(again.expected(t.recorded[k].first, true), t.recorded[k].second, int(k % 2));
+            }
+            fit = fitLidarIntensities(byName(tally.intensities()), cfg.fit);
+        }
+        // The last step on the factors it was taken from: each surface's factor against the given preset.
+        for (SurfaceReflectanceFit& f : fit.surfaces) {
+            if (!f.fitted) continue;
+            const std::string& name = out.surface_names[size_t(f.surface)];
+            const double before = factorIn(spec, name) / factorIn(given, name);
+            f.factor *= before, f.factor_se *= before, f.factor_sys *= before;
+        }
+        out.fit = fit;
+        out.sensor = given.name;
         out.returns = returnModeName(t.run.mode());
         out.scene = t.scene.source;
         out.frames = t.tally.frames();
@@ -70,10 +156,10 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         const auto [sd, n] = rangeSd(t.tally);
         out.range_sd_m = sd;
         out.range_sd_se_m = n > 0 ? 1.166 * sd / std::sqrt(double(n)) : NAN;
-        out.preset_range_sd_m = spec.range_sigma_m;
+        out.preset_range_sd_m = given.range_sigma_m;
         out.pose_mismatch_m = t.pose_mismatch_m;
         out.pose_mismatch_deg = t.pose_mismatch_deg;
-        out.preset = fittedLidarPreset(out.fit, out.surface_names, spec, t.base);
+        out.preset = fittedLidarPreset(out.fit, out.surface_names, given, t.base);
     });
     return out;
 }
@@ -85,6 +171,7 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     j["returns"] = r.returns;
     j["scene"] = r.scene;
     j["frames"] = r.frames;
+    j["replays"] = r.replays;
     j["clear_beams_answered"] = r.clear;
     j["beams_used"] = r.fit.beams;
     j["intensity_scatter"] = num(r.fit.scatter);

@@ -148,6 +148,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     LidarTally tally(scanner.pattern(), run.spec().channels(), returnTolerance_m(run.spec()), run.spec().range_max_m);
     tally.keepIntensities(cfg.intensities);
     double mismatch_m = 0, mismatch_deg = 0;
+    std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
     long long first = 0, second = 0;
     for (size_t k = 0; k < frames.size(); ++k) {
         checkCancel(control);
@@ -155,18 +156,21 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         const std::string path = cfg.points + "/" + e.file;
         const PointCloudFile pc = readPointCloud(path);
         const auto [off_m, off_deg] = checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path);
+        if (cfg.intensities && std::find(pc.fields.begin(), pc.fields.end(), "intensity") == pc.fields.end())
+            throw Error(path, "has no intensity field: the fit reads each point's intensity");
         long long frame_first = 0;
         for (const LidarPoint& p : pc.points) (p.return_index == 0 ? frame_first : second) += 1;
         first += frame_first;
         const long long before = tally.unmatched();
         tally.add(scanner.expected(e.start_s, cfg.intensities), pc.points, int(k % 2));
+        if (cfg.keep_points) recorded.emplace_back(e.start_s, pc.points);
         checkMatched(tally.unmatched() - before, frame_first, path, sensor);
         mismatch_m = std::max(mismatch_m, off_m);
         mismatch_deg = std::max(mismatch_deg, off_deg);
         reportProgress(control, (long long)k + 1, (long long)frames.size());
     }
     checkWhole(tally, first, second, run.mode(), cfg.points);
-    use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg});
+    use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded)});
 }
 
 }  // namespace smokescan

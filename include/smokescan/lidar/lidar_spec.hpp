@@ -71,7 +71,7 @@ struct LidarSectorExtension {
 /// factor (its diffuse echo, its mirror's share and what its mirror shows alike).
 struct LidarSurfaceExtension {
     std::string name;  ///< the scene's surface (Surface::name)
-    double reflectance_factor = 1;  ///< 0.01–10
+    double reflectance_factor = 1;  ///< 0.01–10 (every surface of that name)
 };
 
 /// What `smokescan diagnose --points` and `smokescan fit --points` learned about a lidar, as
@@ -97,6 +97,9 @@ struct LidarExtensions {
     double rangeOffset_m(int ring) const;
 };
 
+/// @brief The name of a preset extending `name`: "<name>-extended" (at most 64 bytes, the name
+/// cut on a character's boundary), or `name` when it already ends so.
+std::string extendedPresetName(const std::string& name);
 /// @brief The extensions as TOML ([[extensions.channel]], [[extensions.sector]] and
 /// [[extensions.surface]] tables).
 std::string lidarExtensionsToml(const LidarExtensions& e);
@@ -133,7 +136,8 @@ struct LidarSpec {
 namespace lidar_limits {
 constexpr int kChannels = 512;
 constexpr size_t kExtensionSectors = 64;  ///< sectors in a preset's [extensions]
-constexpr size_t kExtensionSurfaces = 1024;  ///< surfaces in a preset's [extensions]
+constexpr size_t kExtensionSurfaces = 16384;  ///< surfaces in a preset's [extensions]
+constexpr size_t kSurfaceName = 4096;  ///< bytes of a surface's name there
 constexpr int kColumns = 8192;
 constexpr long long kBeamsPerFrame = 4'000'000;
 constexpr double kRateHz = 100;

@@ -31,6 +31,7 @@ struct LidarFramesConfig {
     /// Called once the lidar is set up, before any frame (the caller's own checks).
     std::function<void(const LidarRun&)> on_run;
     bool intensities = false;  ///< the tally keeps each clear beam's intensities (LidarTally::intensities)
+    bool keep_points = false;  ///< TalliedFrames::recorded holds every frame's points (to replay them again)
 };
 
 /// The frames tallied, for the caller to read while they live.
@@ -42,6 +43,8 @@ struct TalliedFrames {
     /// one, a file made absolute as the file system resolves it.
     std::string base;
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;  ///< the largest recorded start pose's off the scene's
+    /// Each frame's start time [s] and points, in the listing's order (LidarFramesConfig::keep_points).
+    std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
 };
 
 /// @brief Reads the frames one at a time, replays each and tallies them (frame k in fold k % 2),

@@ -55,6 +55,8 @@ public:
     const LidarSpec& spec() const { return spec_; }
     ReturnMode mode() const { return mode_; }
     const SensorMount& mount() const { return mount_; }
+    /// The scene's surfaces as the run traces them (another scanner in the same scene reuses them).
+    const SurfaceSet& surfaces() const { return *surfaces_; }
     /// The run's scanner (a diagnosis replays recorded frames with it).
     const LidarScanner& scanner() const { return *scanner_; }
     long long frames() const { return frames_; }
