@@ -234,23 +234,29 @@ PCD_POINT = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("intensity", "<
                       ("return_index", "u1"), ("time", "<f4"), ("source", "u1")])
 
 
-def weaken_ring(folder, ring, keep_every):
-    """Rewrites each PCD of a `scan --points` folder without most of one ring's points: an
+def rewrite_points(folder, change):
+    """Rewrites each PCD of a `scan --points` folder with change(points) as its points: an
     independent writer of the files smokescan reads."""
-    dtype = PCD_POINT
     for pcd in sorted(folder.glob("*.pcd")):
         raw = pcd.read_bytes()
         head_end = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
-        head, points = raw[:head_end].decode(), np.frombuffer(raw[head_end:], dtype=dtype)
-        assert head.split("FIELDS ")[1].split("\n")[0] == " ".join(dtype.names)
+        head, points = raw[:head_end].decode(), np.frombuffer(raw[head_end:], dtype=PCD_POINT).copy()
+        assert head.split("FIELDS ")[1].split("\n")[0] == " ".join(PCD_POINT.names)
+        points = change(points)
+        lines = [f"WIDTH {len(points)}" if l.startswith("WIDTH ") else f"POINTS {len(points)}"
+                 if l.startswith("POINTS ") else l for l in head.splitlines()]
+        pcd.write_bytes(("\n".join(lines) + "\n").encode() + points.tobytes())
+
+
+def weaken_ring(folder, ring, keep_every):
+    """Most of one ring's points gone from each frame."""
+    def change(points):
         on_ring = np.flatnonzero(points["ring"] == ring)
         kept = np.ones(len(points), bool)
         kept[on_ring] = False
         kept[on_ring[::keep_every]] = True
-        points = points[kept]
-        lines = [f"WIDTH {len(points)}" if l.startswith("WIDTH ") else f"POINTS {len(points)}"
-                 if l.startswith("POINTS ") else l for l in head.splitlines()]
-        pcd.write_bytes(("\n".join(lines) + "\n").encode() + points.tobytes())
+        return points[kept]
+    rewrite_points(folder, change)
 
 
 def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_channel_is_found(tmp_path):
@@ -290,15 +296,11 @@ def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_chann
 
 
 def scale_intensities(folder, factor):
-    """Every point's intensity times factor, in each binary PCD of folder (a receiver that reads dim)."""
-    for pcd in sorted(folder.glob("*.pcd")):
-        raw = bytearray(pcd.read_bytes())
-        head_end = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
-        head = bytes(raw[:head_end]).decode()
-        assert head.split("FIELDS ")[1].split("\n")[0] == "x y z intensity ring return_index time source"
-        points = np.frombuffer(bytes(raw[head_end:]), dtype=PCD_POINT).copy()
+    """Every point's intensity times factor (a receiver that reads dim)."""
+    def change(points):
         points["intensity"] *= factor
-        pcd.write_bytes(bytes(raw[:head_end]) + points.tobytes())
+        return points
+    rewrite_points(folder, change)
 
 
 def test_a_lidars_surfaces_are_fitted_as_the_command_line_does_and_a_dim_receiver_is_read(tmp_path):
