@@ -371,6 +371,8 @@ TEST(LidarFitRun, WallsDarkerAndBrighterThanTheSceneSaysAreFittedAsTheirRatiosAn
         }
         EXPECT_GE(others, 3);
         EXPECT_GE(r.replays, 2);
+        // The ranges' spread as the last replay (at the factors found) reads them: the preset's.
+        EXPECT_NEAR(r.range_sd_m, r.preset_range_sd_m, 0.05 * r.preset_range_sd_m) << t0;
     }
     // A wall as bright but glossy (specular 0.4, roughness 0.3), whose echo is not any factor times
     // a Lambertian one (its brightness follows the angle): the misfit shows, and widens its error.
@@ -385,4 +387,33 @@ TEST(LidarFitRun, WallsDarkerAndBrighterThanTheSceneSaysAreFittedAsTheirRatiosAn
     std::printf("glossy wall: %.5f +/- %.2g, scatter %.2f\n", gl.factor, gl.factor_se, gl.scatter);
     EXPECT_GT(gl.scatter, 3);
     EXPECT_GT(gl.factor_se, 30 * fitOf(g.fit, glossy, "wall_east").factor_se);
+}
+
+TEST(LidarFit, TheWrittenPresetHoldsFactorsWithinItsBoundsAndNamesWhatItCannotWrite)
+{
+    // A factor of 20 on a surface the preset already makes 0.8 bright, one of 0.5 on a surface
+    // whose name is longer than a preset holds, one of 0.5 on "wall".
+    LidarFitResult fit;
+    fit.surfaces = {{0, 100, 100, 20, 0.1, 0.006, 1, true},
+                    {1, 100, 100, 0.5, 0.01, 1e-4, 1, true},
+                    {2, 100, 100, 0.5, 0.01, 1e-4, 1, true}};
+    LidarSpec spec = lidarSpec("vlp16");
+    spec.extensions.surfaces.push_back({"floor", 0.8});
+    std::vector<int> at_bound;
+    const std::string text =
+        fittedLidarPreset(fit, {"floor", std::string(5000, 'x'), "wall"}, spec, "vlp16", &at_bound);
+    EXPECT_EQ(at_bound, std::vector<int>{0});
+    EXPECT_NE(text.find("# Held at the bounds 0.01-10 (the scene's reflectance is far off there): floor (16)"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("# Not written: names longer than a preset holds (4096 bytes): xxx"), std::string::npos);
+    const auto path = scratch("lidar_fit_written") / "p.toml";
+    std::ofstream(path) << text;
+    const LidarSpec back = lidarSpec(path.string());
+    ASSERT_EQ(back.extensions.surfaces.size(), 2u) << text;
+    EXPECT_EQ(back.extensions.surfaces[0].name, "floor");
+    EXPECT_EQ(back.extensions.surfaces[0].reflectance_factor, 10);
+    EXPECT_EQ(back.extensions.surfaces[1].name, "wall");
+    EXPECT_EQ(back.extensions.surfaces[1].reflectance_factor, 0.5);
+    EXPECT_EQ(back.name, "vlp16-extended");
 }

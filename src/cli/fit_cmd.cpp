@@ -154,8 +154,9 @@ int fitLidarFrames(const FitArgs& a0)
         else if (f.fitted)
             say("  %s: reflectance factor %.4f +/- %.2g (stat) +/- %.2g (sys), %lld beams%s\n", name.c_str(), f.factor,
                 f.factor_se, f.factor_sys, f.beams,
-                f.factor < 0.01 || f.factor > 10 ? " (written at the bound 0.01-10: is the scene's reflectance right?)"
-                                                 : "");
+                std::find(r.at_bound.begin(), r.at_bound.end(), f.surface) != r.at_bound.end()
+                    ? " (written at the bound 0.01-10: is the scene's reflectance right?)"
+                    : "");
     }
     say("wrote %s (the %s extended by the factors) and %s\n", a.out.c_str(), r.sensor.c_str(), a.report.c_str());
     return 0;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "smokescan/core/format.hpp"
 
@@ -33,13 +34,18 @@ nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlo
 }  // namespace
 
 std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::string>& surface_names,
-                              const LidarSpec& fitted, const std::string& base)
+                              const LidarSpec& fitted, const std::string& base, std::vector<int>* at_bound)
 {
+    std::string too_long;
     LidarExtensions e = fitted.extensions;
     std::string clamped;
     for (const SurfaceReflectanceFit& f : fit.surfaces) {
         if (!f.fitted || f.surface < 0 || size_t(f.surface) >= surface_names.size()) continue;
         const std::string& name = surface_names[size_t(f.surface)];
+        if (name.size() > lidar_limits::kSurfaceName) {  // a preset cannot name it
+            too_long += " " + printable(name, 60);
+            continue;
+        }
         auto it = std::find_if(e.surfaces.begin(), e.surfaces.end(),
                                [&](const LidarSurfaceExtension& x) { return x.name == name; });
         if (it == e.surfaces.end()) it = e.surfaces.insert(e.surfaces.end(), {name, 1.0});
@@ -47,6 +53,7 @@ std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::
         const double k = it->reflectance_factor * f.factor;
         it->reflectance_factor = std::clamp(k, 0.01, 10.0);
         if (it->reflectance_factor != k) {
+            if (at_bound) at_bound->push_back(f.surface);
             std::string shown = printable(name, 80);
             for (char& c : shown)  // on the comment's one line
                 if (static_cast<unsigned char>(c) < 0x20) c = ' ';
@@ -58,6 +65,9 @@ std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::
         "intensities.\n# Scan with it: smokescan scan SCENE --sensor this_file.toml\n";
     if (!clamped.empty())
         o += "# Held at the bounds 0.01-10 (the scene's reflectance is far off there):" + clamped + "\n";
+    for (char& c : too_long)  // on the comment's one line
+        if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+    if (!too_long.empty()) o += "# Not written: names longer than a preset holds (4096 bytes):" + too_long + "\n";
     return o + "name = " + tomlQuoted(extendedPresetName(fitted.name)) + "\nbase = " + tomlQuoted(base) + "\n" +
         lidarExtensionsToml(e);
 }
@@ -123,6 +133,8 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         };
         LidarFitResult fit = fitLidarIntensities(byName(t.tally.intensities()), cfg.fit);
         LidarSpec spec = given;  // the replay's: the given preset with the factors found so far
+        const LidarTally* last = &t.tally;  // the tally of the last replay
+        std::unique_ptr<LidarTally> again_tally;
         // Again against a replay with the factors found, until the steps are within their errors.
         for (out.replays = 1; out.replays < cfg.max_replays; ++out.replays) {
             const bool settled =
@@ -132,13 +144,15 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
             if (settled) break;
             spec = withFactors(spec, fit, out.surface_names);
             const LidarScanner again(t.scene, t.run.surfaces(), t.run.mount(), spec, t.run.mode(), 1);
-            LidarTally tally(again.pattern(), spec.channels(), returnTolerance_m(spec), spec.range_max_m);
-            tally.keepIntensities(true);
+            again_tally = std::make_unique<LidarTally>(again.pattern(), spec.channels(), returnTolerance_m(spec),
+                                                       spec.range_max_m);
+            again_tally->keepIntensities(true);
             for (size_t k = 0; k < t.recorded.size(); ++k) {
                 checkCancel(control);
-                tally.add(again.expected(t.recorded[k].first, true), t.recorded[k].second, int(k % 2));
+                again_tally->add(again.expected(t.recorded[k].first, true), t.recorded[k].second, int(k % 2));
             }
-            fit = fitLidarIntensities(byName(tally.intensities()), cfg.fit);
+            last = again_tally.get();
+            fit = fitLidarIntensities(byName(last->intensities()), cfg.fit);
         }
         // The last step on the factors it was taken from: each surface's factor against the given preset.
         for (SurfaceReflectanceFit& f : fit.surfaces) {
@@ -152,14 +166,16 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         out.returns = returnModeName(t.run.mode());
         out.scene = t.scene.source;
         out.frames = t.tally.frames();
-        out.clear = (long long)t.tally.intensities().size();
-        const auto [sd, n] = rangeSd(t.tally);
+        // The clear beams and their ranges' spread as the last replay sees them (a surface's
+        // factor moves where its echo reads in the smoke).
+        out.clear = (long long)last->intensities().size();
+        const auto [sd, n] = rangeSd(*last);
         out.range_sd_m = sd;
         out.range_sd_se_m = n > 0 ? 1.166 * sd / std::sqrt(double(n)) : NAN;
         out.preset_range_sd_m = given.range_sigma_m;
         out.pose_mismatch_m = t.pose_mismatch_m;
         out.pose_mismatch_deg = t.pose_mismatch_deg;
-        out.preset = fittedLidarPreset(out.fit, out.surface_names, given, t.base);
+        out.preset = fittedLidarPreset(out.fit, out.surface_names, given, t.base, &out.at_bound);
     });
     return out;
 }
@@ -185,13 +201,15 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     for (const SurfaceReflectanceFit& f : r.fit.surfaces) {
         const std::string name =
             f.surface >= 0 && size_t(f.surface) < r.surface_names.size() ? r.surface_names[size_t(f.surface)] : "";
-        s.push_back({{"surface", name},
-                     {"fitted", f.fitted},
-                     {"beams", f.beams},
-                     {"reflectance_factor", f.fitted ? num(f.factor) : nullptr},
-                     {"reflectance_factor_se", f.fitted ? num(f.factor_se) : nullptr},
-                     {"reflectance_factor_sys", f.fitted ? num(f.factor_sys) : nullptr},
-                     {"intensity_scatter", f.fitted ? num(f.scatter) : nullptr}});
+        s.push_back(
+            {{"surface", name},
+             {"fitted", f.fitted},
+             {"beams", f.beams},
+             {"reflectance_factor", f.fitted ? num(f.factor) : nullptr},
+             {"reflectance_factor_se", f.fitted ? num(f.factor_se) : nullptr},
+             {"reflectance_factor_sys", f.fitted ? num(f.factor_sys) : nullptr},
+             {"intensity_scatter", f.fitted ? num(f.scatter) : nullptr},
+             {"written_at_bound", std::find(r.at_bound.begin(), r.at_bound.end(), f.surface) != r.at_bound.end()}});
     }
     j["surfaces"] = s;
     j["extended_preset"] = r.preset;

@@ -40,12 +40,15 @@ struct LidarFitRunResult {
     double preset_range_sd_m = NAN;  ///< the preset's range_sigma_m
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;
     std::string preset;  ///< lidar.toml's text: the preset extended by the fitted factors
+    std::vector<int> at_bound;  ///< surfaces whose written factor was held at 0.01 or 10
 };
 
 /// @brief The preset `fitted` extended by each fitted surface's reflectance factor (times the
-/// factor it had), as a preset file's text whose `base` is `base` (TalliedFrames::base).
+/// factor it had, held within 0.01–10), as a preset file's text whose `base` is `base`
+/// (TalliedFrames::base). A surface whose name a preset cannot hold is named in a comment only.
+/// @param at_bound receives the surfaces whose written factor was held at a bound (may be null)
 std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::string>& surface_names,
-                              const LidarSpec& fitted, const std::string& base);
+                              const LidarSpec& fitted, const std::string& base, std::vector<int>* at_bound = nullptr);
 
 /// @brief Reads the frames one at a time, replays each, fits the factors.
 /// @throw Error as tallyLidarFrames, or when no surface has enough usable beams.
