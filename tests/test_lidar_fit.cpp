@@ -15,6 +15,7 @@
 
 #include "error_of.hpp"
 #include "fit/intensity_ratio_residual.hpp"
+#include "scene_text.hpp"
 #include "scratch.hpp"
 #include "smokescan/core/random.hpp"
 #include "smokescan/diagnose/lidar_diagnosis.hpp"
@@ -26,6 +27,7 @@
 
 using namespace smokescan;
 using smokescan::test::errorOf;
+using smokescan::test::SceneText;
 using smokescan::test::scratch;
 
 namespace {
@@ -416,4 +418,47 @@ TEST(LidarFit, TheWrittenPresetHoldsFactorsWithinItsBoundsAndNamesWhatItCannotWr
     EXPECT_EQ(back.extensions.surfaces[1].name, "wall");
     EXPECT_EQ(back.extensions.surfaces[1].reflectance_factor, 0.5);
     EXPECT_EQ(back.name, "vlp16-extended");
+}
+
+TEST(LidarFitRun, SurfacesSharingANameAreOneExtensionFittedAsOne)
+{
+    // Two walls both named "wall" (and a floor), recorded at 0.6 of the scene's reflectance through
+    // a preset that extends "wall": fitted as one surface, written as one table, 0.6.
+    SceneText st;
+    st.raw(
+        "[scene]\nname = \"twins\"\nt_start_s = 0\nt_end_s = 10\n[[materials]]\nname = \"m\"\nalbedo = [0.5, 0.5, "
+        "0.5]\nnir_905 = 0.8\n");
+    st.quad("wall", "m", {8, 0.5, -2}, {0, 5, 0}, {0, 0, 6});
+    st.quad("wall", "m", {8, -5.5, -2}, {0, 5, 0}, {0, 0, 6});
+    st.quad("floor", "m", {-10, -10, -1}, {30, 0, 0}, {0, 20, 0});
+    st.raw("[[sensors]]\nname = \"mount\"\ntype = \"urg04lx\"\nposition = [0, 0, 0]\n");
+    const std::filesystem::path dir = scratch("lidar_fit_twins");
+    std::ofstream(dir / "twins.toml") << st.str();
+    std::ofstream(dir / "dim.toml") << "name = \"dim\"\nbase = \"vlp16\"\n[[extensions.surface]]\nname = \"wall\"\n"
+                                       "reflectance_factor = 0.6\n";
+    const Scene scene = loadScene((dir / "twins.toml").string());
+    LidarRunConfig c;
+    c.sensor = (dir / "dim.toml").string();
+    c.from_s = 0;
+    c.to_s = 0.05;
+    LidarFitRunConfig fc;
+    fc.frames.scene = (dir / "twins.toml").string();
+    fc.frames.points = writeFrames("twins", LidarRun(scene, c).collect());
+    fc.frames.sensor.sensor = "vlp16";
+    const LidarFitRunResult r = runLidarFit(fc);
+    int walls = 0;
+    for (const SurfaceReflectanceFit& f : r.fit.surfaces)
+        if (f.fitted && r.surface_names[size_t(f.surface)] == "wall") {
+            ++walls;
+            EXPECT_EQ(f.surface, 0);  // under the first's index
+            EXPECT_NEAR(f.factor, 0.6, 4 * totalSe(f));
+        }
+    EXPECT_EQ(walls, 1);
+    const auto path = dir / "fitted.toml";
+    std::ofstream(path) << r.preset;
+    const LidarSpec spec = lidarSpec(path.string());
+    ASSERT_EQ(std::count_if(spec.extensions.surfaces.begin(), spec.extensions.surfaces.end(),
+                            [](const LidarSurfaceExtension& x) { return x.name == "wall"; }),
+              1)
+        << r.preset;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <unordered_map>
 
 #include "smokescan/core/format.hpp"
 
@@ -124,9 +125,8 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         for (const Surface& sf : t.scene.surfaces) out.surface_names.push_back(sf.name);
         // Surfaces of one name are one extension: fitted as one, under the first's index.
         std::vector<int> first(out.surface_names.size());
-        for (size_t k = 0; k < first.size(); ++k)
-            first[k] = int(std::find(out.surface_names.begin(), out.surface_names.end(), out.surface_names[k]) -
-                           out.surface_names.begin());
+        std::unordered_map<std::string, int> seen;
+        for (size_t k = 0; k < first.size(); ++k) first[k] = seen.emplace(out.surface_names[k], int(k)).first->second;
         auto byName = [&](std::vector<LidarIntensitySample> s) {
             for (LidarIntensitySample& x : s) x.surface = first[size_t(x.surface)];
             return s;
