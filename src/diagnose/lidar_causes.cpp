@@ -178,18 +178,6 @@ LidarFinding droppingChannel(const LidarTally& t, const LidarDiagnosisConfig& cf
 /// The library's median (core/order_stats) of float residuals.
 double median(const std::vector<float>& v) { return smokescan::median(std::vector<double>(v.begin(), v.end())); }
 
-/// 1.4826 · the median absolute deviation of every channel's residuals in the sets (each by channel).
-double robustSd(std::initializer_list<const std::vector<std::vector<float>>*> sets)
-{
-    std::vector<float> all;
-    for (const auto* by_channel : sets)
-        for (const auto& r : *by_channel) all.insert(all.end(), r.begin(), r.end());
-    if (all.empty()) return NAN;
-    const double m = median(all);
-    for (float& x : all) x = float(std::abs(double(x) - m));
-    return 1.4826 * median(std::move(all));
-}
-
 /// Every `stride`-th of v, at most `cap` of them.
 std::vector<float> strided(const std::vector<float>& v, size_t cap)
 {
@@ -220,7 +208,7 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
     f.cause = LidarCause::BiasedChannel;
     f.floor = cfg.min_bias_sd * range_sigma_m;
     const std::vector<std::vector<float>> a = residualsBut(t.fold(0), skip), b = residualsBut(t.fold(1), skip);
-    const double sd0 = robustSd({&a});
+    const double sd0 = robustResidualSd({&a});
     std::vector<float> all;
     for (const auto& r : a) all.insert(all.end(), r.begin(), r.end());
     const double med0 = median(std::move(all));
@@ -232,7 +220,7 @@ LidarFinding biasedChannel(const LidarTally& t, double range_sigma_m, const Lida
         if (z > best) best = z, f.ring = c;
     }
     if (f.ring < 0 || b[size_t(f.ring)].size() < 10) return f;
-    const double sd = std::max(robustSd({&b}), 1e-6);
+    const double sd = std::max(robustResidualSd({&b}), 1e-6);
     // At most 2e5 residuals on each side: the rest's offset is then known far better than the channel's.
     constexpr size_t kCap = 200'000;
     std::vector<float> rest;
@@ -422,7 +410,7 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
                             "range): nothing to compare");
         d.clear += clear;
     }
-    d.range_sd_m = robustSd({&t.fold(0).residual_m, &t.fold(1).residual_m});
+    d.range_sd_m = robustResidualSd({&t.fold(0).residual_m, &t.fold(1).residual_m});
     const int bins = int(std::lround(360 / cfg.sector_deg));
     for (int c = 0; c < t.channels(); ++c) {
         LidarGroupStats g = groupStats(t, [&](size_t i) { return t.pattern()[i].channel == c; });
@@ -471,6 +459,17 @@ LidarDiagnosis diagnoseLidar(const LidarTally& t, double range_sigma_m, const Li
         if (f.named) d.verdict += (d.verdict.empty() ? "" : ", ") + std::string(lidarCauseName(f.cause));
     if (d.verdict.empty()) d.verdict = "none";
     return d;
+}
+
+double robustResidualSd(std::initializer_list<const std::vector<std::vector<float>>*> sets)
+{
+    std::vector<double> all;
+    for (const auto* by_channel : sets)
+        for (const auto& r : *by_channel) all.insert(all.end(), r.begin(), r.end());
+    if (all.empty()) return NAN;
+    const double m = smokescan::median(all);
+    for (double& x : all) x = double(float(std::abs(x - m)));  // as the residuals are kept: floats
+    return 1.4826 * smokescan::median(std::move(all));
 }
 
 }  // namespace smokescan

@@ -9,6 +9,7 @@
 #include "intensity_ratio_residual.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
+#include "smokescan/core/order_stats.hpp"
 
 namespace smokescan {
 namespace {
@@ -78,16 +79,13 @@ std::vector<size_t> usable(const std::vector<LidarIntensitySample>& s, const std
         r.push_back((recordedPeak(s[i]) - meanAt(s[i], k)) / intensityNoise(s[i], quantum));
     }
     if (u.empty()) return u;
-    std::vector<double> a = r;
-    const auto mid = a.begin() + long(a.size() / 2);
-    std::nth_element(a.begin(), mid, a.end());
-    const double median = *mid;
-    for (double& x : a) x = std::abs(x - median);
-    std::nth_element(a.begin(), a.begin() + long(a.size() / 2), a.end());
-    const double clip = cfg.clip_sd * 1.4826 * a[a.size() / 2];
+    const double mid = median(r);
+    std::vector<double> dev(r.size());
+    std::transform(r.begin(), r.end(), dev.begin(), [&](double x) { return std::abs(x - mid); });
+    const double clip = cfg.clip_sd * 1.4826 * median(std::move(dev));
     std::vector<size_t> kept;
     for (size_t j = 0; j < u.size(); ++j)
-        if (std::abs(r[j] - median) <= clip) kept.push_back(u[j]);
+        if (std::abs(r[j] - mid) <= clip) kept.push_back(u[j]);
     return kept;
 }
 

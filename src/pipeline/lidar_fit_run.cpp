@@ -13,24 +13,19 @@
 namespace smokescan {
 namespace {
 
-/// The clear beams' range residuals' robust sd (1.4826·MAD) and its count, over both folds.
-std::pair<double, size_t> rangeSd(const LidarTally& t)
-{
-    std::vector<float> r;
-    for (int k : {0, 1})
-        for (const std::vector<float>& ring : t.fold(k).residual_m) r.insert(r.end(), ring.begin(), ring.end());
-    if (r.empty()) return {NAN, 0};
-    auto median = [](std::vector<float>& v) {
-        std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-        return double(v[v.size() / 2]);
-    };
-    const double m = median(r);
-    std::vector<float> dev(r.size());
-    std::transform(r.begin(), r.end(), dev.begin(), [&](float x) { return float(std::abs(x - m)); });
-    return {1.4826 * median(dev), r.size()};
-}
-
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+/// Multiplies the factor `name` has in `e` (1 when none: a table is added) by k, held within
+/// 0.01–10. @return the product before it was held
+double multiplyFactor(LidarExtensions& e, const std::string& name, double k)
+{
+    auto it = std::find_if(e.surfaces.begin(), e.surfaces.end(),
+                           [&](const LidarSurfaceExtension& x) { return x.name == name; });
+    if (it == e.surfaces.end()) it = e.surfaces.insert(e.surfaces.end(), {name, 1.0});
+    const double product = it->reflectance_factor * k;
+    it->reflectance_factor = std::clamp(product, 0.01, 10.0);
+    return product;
+}
 
 }  // namespace
 
@@ -47,18 +42,11 @@ std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::
             too_long += " " + printable(name, 60);
             continue;
         }
-        auto it = std::find_if(e.surfaces.begin(), e.surfaces.end(),
-                               [&](const LidarSurfaceExtension& x) { return x.name == name; });
-        if (it == e.surfaces.end()) it = e.surfaces.insert(e.surfaces.end(), {name, 1.0});
         // The replay already had its factor: the fitted one is on top of it.
-        const double k = it->reflectance_factor * f.factor;
-        it->reflectance_factor = std::clamp(k, 0.01, 10.0);
-        if (it->reflectance_factor != k) {
+        const double k = multiplyFactor(e, name, f.factor);
+        if (k < 0.01 || k > 10) {
             if (at_bound) at_bound->push_back(f.surface);
-            std::string shown = printable(name, 80);
-            for (char& c : shown)  // on the comment's one line
-                if (static_cast<unsigned char>(c) < 0x20) c = ' ';
-            clamped += " " + shown + " (" + fmt("%.4g", k) + ")";
+            clamped += " " + printable(name, 80) + " (" + fmt("%.4g", k) + ")";  // (escaped: on one line)
         }
     }
     std::string o = "# The " + fitted.name +
@@ -66,8 +54,6 @@ std::string fittedLidarPreset(const LidarFitResult& fit, const std::vector<std::
         "intensities.\n# Scan with it: smokescan scan SCENE --sensor this_file.toml\n";
     if (!clamped.empty())
         o += "# Held at the bounds 0.01-10 (the scene's reflectance is far off there):" + clamped + "\n";
-    for (char& c : too_long)  // on the comment's one line
-        if (static_cast<unsigned char>(c) < 0x20) c = ' ';
     if (!too_long.empty()) o += "# Not written: names longer than a preset holds (4096 bytes):" + too_long + "\n";
     return o + "name = " + tomlQuoted(extendedPresetName(fitted.name)) + "\nbase = " + tomlQuoted(base) + "\n" +
         lidarExtensionsToml(e);
@@ -78,14 +64,8 @@ namespace {
 /// The spec with each fitted surface's factor (relative to the spec's own) multiplied into its extensions.
 LidarSpec withFactors(LidarSpec spec, const LidarFitResult& fit, const std::vector<std::string>& names)
 {
-    for (const SurfaceReflectanceFit& f : fit.surfaces) {
-        if (!f.fitted) continue;
-        const std::string& name = names[size_t(f.surface)];
-        auto it = std::find_if(spec.extensions.surfaces.begin(), spec.extensions.surfaces.end(),
-                               [&](const LidarSurfaceExtension& x) { return x.name == name; });
-        if (it == spec.extensions.surfaces.end()) it = spec.extensions.surfaces.insert(it, {name, 1.0});
-        it->reflectance_factor = std::clamp(it->reflectance_factor * f.factor, 0.01, 10.0);
-    }
+    for (const SurfaceReflectanceFit& f : fit.surfaces)
+        if (f.fitted) multiplyFactor(spec.extensions, names[size_t(f.surface)], f.factor);
     return spec;
 }
 
@@ -169,7 +149,10 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         // The clear beams and their ranges' spread as the last replay sees them (a surface's
         // factor moves where its echo reads in the smoke).
         out.clear = (long long)last->intensities().size();
-        const auto [sd, n] = rangeSd(*last);
+        const double sd = robustResidualSd({&last->fold(0).residual_m, &last->fold(1).residual_m});
+        size_t n = 0;
+        for (int k : {0, 1})
+            for (const std::vector<float>& ring : last->fold(k).residual_m) n += ring.size();
         out.range_sd_m = sd;
         out.range_sd_se_m = n > 0 ? 1.166 * sd / std::sqrt(double(n)) : NAN;
         out.preset_range_sd_m = given.range_sigma_m;

@@ -26,6 +26,7 @@
 /// reaches its floor (min_dropout for the shares).
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <vector>
@@ -163,6 +164,10 @@ private:
     std::vector<LidarIntensitySample> intensities_;
     bool keep_intensities_ = false;
 };
+
+/// @brief 1.4826 · the median absolute deviation of the residuals in `sets` (each by channel,
+/// as LidarTally::Fold::residual_m) [m]; NaN when there are none.
+double robustResidualSd(std::initializer_list<const std::vector<std::vector<float>>*> sets);
 
 /// @brief The diagnosis of a tally: group tables and each cause's held-out test.
 /// @param range_sigma_m the sensor's datasheet range sd (the bias's floor unit)
