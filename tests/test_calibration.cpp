@@ -34,7 +34,7 @@ std::vector<SaturationPoint> synthetic(uint64_t seed, double sigma = 0.004)
     return pts;
 }
 
-std::string errorOf(const std::vector<SaturationPoint>& pts)
+std::string calibrationErrorOf(const std::vector<SaturationPoint>& pts)
 {
     try {
         fitSaturationCurve(pts);
@@ -101,18 +101,18 @@ TEST(SaturationCurveFit, InversionRoundTripsWithPropagatedError)
 
 TEST(SaturationCurveFit, DegenerateSweepsAreRefused)
 {
-    EXPECT_NE(errorOf({{0.001, 0.5, 0.01}, {0.001, 0.4, 0.01}, {0.001, 0.45, 0.01}, {0.001, 0.5, 0.01}})
+    EXPECT_NE(calibrationErrorOf({{0.001, 0.5, 0.01}, {0.001, 0.4, 0.01}, {0.001, 0.45, 0.01}, {0.001, 0.5, 0.01}})
                   .find("at least 4 distinct densities"),
               std::string::npos);
     std::vector<SaturationPoint> flat;
     for (double r : {0.0, 0.001, 0.002, 0.004, 0.008}) flat.push_back({r, 0.3, 0.01});
-    EXPECT_NE(errorOf(flat).find("does not change"), std::string::npos);
+    EXPECT_NE(calibrationErrorOf(flat).find("does not change"), std::string::npos);
     auto nan = synthetic(1);
     nan[4].saturation = std::nan("");
-    EXPECT_NE(errorOf(nan).find("calibration point 5: is not finite"), std::string::npos);
+    EXPECT_NE(calibrationErrorOf(nan).find("calibration point 5: is not finite"), std::string::npos);
     auto out = synthetic(1);
     out[2].saturation = 1.2;
-    EXPECT_NE(errorOf(out).find("outside [0, 1]"), std::string::npos);
+    EXPECT_NE(calibrationErrorOf(out).find("outside [0, 1]"), std::string::npos);
 }
 
 TEST(Saturation, HsvAndMaskedStatistics)

@@ -19,7 +19,7 @@ namespace {
 /// d sRGB / d linear at v (v above the linear toe).
 double srgbSlope(double v) { return 1.055 / 2.4 * std::pow(v, 1 / 2.4 - 1); }
 
-Image flat(int n, double r, double g, double b)
+Image flatImage(int n, double r, double g, double b)
 {
     Image im(n, n, 3);
     for (int y = 0; y < n; ++y)
@@ -88,7 +88,7 @@ TEST(Develop, FlatGreyPatchReadsTheSaturationItsNoisePredicts)
         s.full_well_e = full_well;
         s.read_noise_e = read_noise;
         s.bits = 0;
-        const Stats st = measure(develop(flat(300, v, v, v), s, 1.0, 7));
+        const Stats st = measure(develop(flatImage(300, v, v, v), s, 1.0, 7));
         const double sigma_y = srgbSlope(v) * std::sqrt(v * full_well + read_noise * read_noise) / full_well;
         const double y = srgbEncode(v);
         EXPECT_NEAR(st.mean_channel, y, 4 * sigma_y / 300);
@@ -109,7 +109,7 @@ TEST(Develop, EightBitNoiseAddsTheQuantisationVariance)
     // The mean over 600² pixels is known to about 0.00002.
     CameraSensor s;
     const double v = 0.18, lsb = 1.0 / 255;
-    const Stats st = measure(develop(flat(600, v, v, v), s, 1.0, 3));
+    const Stats st = measure(develop(flatImage(600, v, v, v), s, 1.0, 3));
     const double sigma_y =
         srgbSlope(v) * std::sqrt(v * s.full_well_e + s.read_noise_e * s.read_noise_e) / s.full_well_e;
     EXPECT_NEAR(st.sd_channel / std::sqrt(sigma_y * sigma_y + lsb * lsb / 12), 1.0, 0.05);
@@ -131,7 +131,7 @@ TEST(Develop, FewPhotonsArePoissonAndTheFullWellClips)
     s.read_noise_e = 0;
     s.bits = 0;
     // 5 electrons on average: the decoded signal's mean and variance are Poisson's (5 and 5).
-    const Image dark = develop(flat(300, 0.005, 0.005, 0.005), s, 1.0, 11);
+    const Image dark = develop(flatImage(300, 0.005, 0.005, 0.005), s, 1.0, 11);
     double m = 0, m2 = 0;
     const double n = 300.0 * 300.0;
     for (int y = 0; y < 300; ++y)
@@ -149,7 +149,7 @@ TEST(Develop, FewPhotonsArePoissonAndTheFullWellClips)
     const double p0 = std::exp(-5.0);
     EXPECT_NEAR(zero / n, p0, 4 * std::sqrt(p0 * (1 - p0) / n));
     // Twice the full well reads 1, whatever the noise.
-    const Image bright = develop(flat(4, 2.0, 2.0, 2.0), s, 1.0, 11);
+    const Image bright = develop(flatImage(4, 2.0, 2.0, 2.0), s, 1.0, 11);
     EXPECT_FLOAT_EQ(bright.at(0, 0, 1), 1.0f);
 }
 

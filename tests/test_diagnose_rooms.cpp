@@ -50,7 +50,10 @@ DiagnosisResult diagnoseRoom(const TrueRun& run, SensorModel model = SensorModel
     return diagnose(replayRun(in, c, ReplayConfig{}));
 }
 
-std::string describe(const RoomRun& r, const DiagnosisResult& d) { return r.room.describe() + ": " + findingsText(d); }
+std::string describeRun(const RoomRun& r, const DiagnosisResult& d)
+{
+    return r.room.describe() + ": " + findingsText(d);
+}
 
 /// One effect planted into a drawn room's run: the cause, its target, the planted value of the
 /// finding's first parameter and of its effect (the cause's floor units).
@@ -223,9 +226,9 @@ TEST(DiagnoseRooms, CleanRunsNameNothingBeyondTheStatedRate)
     for (uint64_t seed = 5000; seed < 5010; ++seed) {
         RoomRun r = simulateRoom(seed);
         const DiagnosisResult d = diagnoseRoom(r.run);
-        if (!d.findings.empty()) ++named, seen += describe(r, d) + "\n";
+        if (!d.findings.empty()) ++named, seen += describeRun(r, d) + "\n";
         // A drawn room's smoke keeps its shape (one volume whose density follows a time line).
-        EXPECT_LT(d.shape_error_ln, 0.05) << describe(r, d);
+        EXPECT_LT(d.shape_error_ln, 0.05) << describeRun(r, d);
     }
     EXPECT_LE(named, 2) << seen;
 }
@@ -250,7 +253,7 @@ TEST(DiagnoseRooms, EachCauseAboveItsDetectabilityIsFoundWithItsTarget)
             ++runs;
             const double needed = detectability(d, p);
             const std::string what = p.cause + " " + p.target + " planted " + std::to_string(p.value) + " (effect " +
-                std::to_string(p.effect) + ", detectable from " + std::to_string(needed) + ") in " + describe(r, d);
+                std::to_string(p.effect) + ", detectable from " + std::to_string(needed) + ") in " + describeRun(r, d);
             if (!(p.effect >= needed)) {
                 std::printf("below its detectability: %s\n", what.c_str());
                 continue;
@@ -301,7 +304,7 @@ TEST(DiagnoseRooms, ThePhysicalModelNamesNothingOnCleanRunsAndFindsWhatActsOnAny
     for (uint64_t seed = 5100; seed < 5105; ++seed) {
         RoomRun r = simulateRoom(seed, sensor);
         const DiagnosisResult d = diagnoseRoom(r.run, SensorModel::Physical);
-        if (!d.findings.empty()) ++named, seen += describe(r, d) + "\n";
+        if (!d.findings.empty()) ++named, seen += describeRun(r, d) + "\n";
     }
     EXPECT_LE(named, 1) << seen;
     // The plants that act on readings whatever made them (the threshold plants act on the paper
@@ -313,7 +316,7 @@ TEST(DiagnoseRooms, ThePhysicalModelNamesNothingOnCleanRunsAndFindsWhatActsOnAny
         const Planted p = plantInRoom(which, r, uint64_t(seed));
         const DiagnosisResult d = diagnoseRoom(r.run, SensorModel::Physical);
         const std::string what =
-            p.cause + " " + p.target + " planted " + std::to_string(p.value) + " in " + describe(r, d);
+            p.cause + " " + p.target + " planted " + std::to_string(p.value) + " in " + describeRun(r, d);
         ASSERT_GE(p.effect, detectability(d, p)) << what;
         ASSERT_EQ(d.findings.size(), 1u) << what;
         const Finding& f = d.findings.front();
@@ -357,7 +360,7 @@ TEST(DiagnoseRooms, Explore)
             (unsigned long long)seed, r.room.describe().c_str(), r.run.scans.size(),
             std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count(),
             p.cause.c_str(), p.target.c_str(), p.value, p.effect, which >= 0 ? detectability(d, p) : 0.0,
-            describe(r, d).c_str());
+            describeRun(r, d).c_str());
         for (const auto& t : d.tried)
             if (t.round == 1)
                 std::printf("   tried %s %s gain %.1f p %.3g level %.2g blocks %.1f effect %.3g±%.2g floor %.3g\n",

@@ -30,7 +30,7 @@ using smokescan::test::scratch;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
+constexpr double kRadPerDeg = M_PI / 180;
 
 /// A spinning pattern: `channels` rings, `columns` columns a turn at 10 Hz, ring c fired c µs
 /// after its column's start.
@@ -39,8 +39,8 @@ std::vector<PatternBeam> spinPattern(int channels, int columns)
     std::vector<PatternBeam> p;
     for (int k = 0; k < columns; ++k)
         for (int c = 0; c < channels; ++c)
-            p.push_back(
-                {-M_PI + 2 * M_PI * (k + 0.5) / columns, (c - channels / 2) * kDeg, c, 0.1 * k / columns + c * 1e-6});
+            p.push_back({-M_PI + 2 * M_PI * (k + 0.5) / columns, (c - channels / 2) * kRadPerDeg, c,
+                         0.1 * k / columns + c * 1e-6});
     return p;
 }
 
@@ -125,7 +125,7 @@ TEST(LidarTally, PointsAreMatchedToTheirBeamByRingAndTimeAndCounted)
     point(5, 9.0f, 0, 0.004);  // ring 1, column 1 fired 4 ms late: still nearest its own beam (gap 12.5 ms)
     point(4 * 7 + 2, 10.0f);  // ring 2, column 7
     point(4 * 7 + 2, 10.0f);  // the same beam again: unmatched
-    point(4 * 4 + 2, 10.0f, 0, 0, 2 * kDeg);  // ring 2, column 4's time, but 2° off its direction: unmatched
+    point(4 * 4 + 2, 10.0f, 0, 0, 2 * kRadPerDeg);  // ring 2, column 4's time, but 2° off its direction: unmatched
     LidarPoint stray = pointOn(pattern[0], 10);
     stray.ring = 9;  // no such ring
     rec.push_back(stray);
@@ -191,7 +191,7 @@ TEST(LidarDiagnosis, ASmudgeOnTheWindowIsFoundAsASectorAroundIt)
     Synthetic s;
     s.pattern = spinPattern(16, 180);
     s.drop = [&](size_t i) {
-        const double u = (s.pattern[i].azimuth_rad / kDeg - 40) / 8;
+        const double u = (s.pattern[i].azimuth_rad / kRadPerDeg - 40) / 8;
         return 0.02 + 0.7 * std::exp(-0.5 * u * u);
     };
     for (uint64_t seed = 1; seed <= 10; ++seed) {
@@ -215,7 +215,7 @@ TEST(LidarDiagnosis, AConstantSectorIsFoundWithItsEdgesAlsoAcross180Degrees)
         Synthetic s;
         s.pattern = spinPattern(16, 360);
         s.drop = [&, from = from, to = to](size_t i) {
-            const double az = s.pattern[i].azimuth_rad / kDeg;
+            const double az = s.pattern[i].azimuth_rad / kRadPerDeg;
             const bool in = from < to ? az >= from && az < to : az >= from || az < to;
             return in ? 0.5 : 0.02;
         };
@@ -336,7 +336,7 @@ TEST(LidarDiagnosis, ASurfaceWhoseCertainEchoesGoMissingIsFoundByNameNotAsASecto
     // window's sector nor a channel is named beside it.
     const std::vector<PatternBeam> pattern = spinPattern(16, 180);
     auto onWall = [&](size_t i) {
-        const double deg = pattern[i].azimuth_rad / kDeg;
+        const double deg = pattern[i].azimuth_rad / kRadPerDeg;
         return deg >= 30 && deg <= 60 && pattern[i].channel < 10;
     };
     for (uint64_t seed : {1, 2, 3}) {
@@ -462,8 +462,8 @@ TEST(FrameIndex, BadLinesAreOneLineErrorsNamingTheLine)
 namespace {
 
 /// Six frames of a lidar (a preset's name or file) in `scene` from t0.
-std::vector<LidarFrame> simulate(const Scene& scene, const std::string& sensor, double t0,
-                                 const std::string& returns = "", double rate_hz = 0)
+std::vector<LidarFrame> simulateLidarRun(const Scene& scene, const std::string& sensor, double t0,
+                                         const std::string& returns = "", double rate_hz = 0)
 {
     LidarRunConfig c;
     c.sensor = sensor;
@@ -480,13 +480,13 @@ std::vector<LidarFrame> simulate(const Scene& scene, const std::string& sensor, 
 /// plant below).
 const std::vector<LidarFrame>& factoryFrames()
 {
-    static const std::vector<LidarFrame> frames = simulate(loadScene("factory_smoke"), "vlp16", 38);
+    static const std::vector<LidarFrame> frames = simulateLidarRun(loadScene("factory_smoke"), "vlp16", 38);
     return frames;
 }
 
 /// The frames with `plant` applied to each, written as `smokescan scan --points` writes them.
-std::string writeFrames(const std::string& name, const std::function<void(LidarFrame&, KeyedRng&)>& plant,
-                        const std::vector<LidarFrame>& frames = factoryFrames())
+std::string writePlantedFrames(const std::string& name, const std::function<void(LidarFrame&, KeyedRng&)>& plant,
+                               const std::vector<LidarFrame>& frames = factoryFrames())
 {
     const std::filesystem::path dir = scratch("lidar_diagnosis_" + name);
     std::ofstream index(dir / "frames.csv");
@@ -574,7 +574,7 @@ void weakenFaintReturns(LidarFrame& f, int ring, KeyedRng& rng)
 
 TEST(LidarDiagnosisRun, SimulatedFramesInSmokeNameNothingAndMatchTheirReplay)
 {
-    const std::string dir = writeFrames("clean", [](LidarFrame&, KeyedRng&) {});
+    const std::string dir = writePlantedFrames("clean", [](LidarFrame&, KeyedRng&) {});
     // Frame 3's recorded start pose 5 cm east of the scene's and turned by 0.5° about its z axis:
     // reported as the poses' difference (the replay keeps the scene's).
     {
@@ -588,7 +588,7 @@ TEST(LidarDiagnosisRun, SimulatedFramesInSmokeNameNothingAndMatchTheirReplay)
         f[4] = std::to_string(std::stod(f[4]) + 0.05);
         const Eigen::Quaterniond q =
             Eigen::Quaterniond(std::stod(f[7]), std::stod(f[8]), std::stod(f[9]), std::stod(f[10])) *
-            Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * kDeg, Vec3::UnitZ()));
+            Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * kRadPerDeg, Vec3::UnitZ()));
         char buf[160];
         std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g", q.w(), q.x(), q.y(), q.z());
         lines[4].clear();
@@ -658,7 +658,7 @@ TEST(LidarDiagnosisRun, ChannelWindowAndBiasPlantedInThePointCloudsAreFoundWithT
         const double at = -180 + (double(densest) + 0.5) * clean.sector_deg;
         const LidarDiagnosis d = diagnoseAgainstReplay(factoryFrames(), [&](LidarFrame& f, KeyedRng& rng) {
             removeIf(f, [&](const LidarPoint& p) {
-                const double u = std::remainder(std::atan2(p.y, p.x) / kDeg - at, 360.0) / 6;
+                const double u = std::remainder(std::atan2(p.y, p.x) / kRadPerDeg - at, 360.0) / 6;
                 return rng.uniform() < 0.8 * std::exp(-0.5 * u * u);
             });
         });
@@ -707,7 +707,7 @@ TEST(LidarDiagnosisRun, TheExtendedPresetExplainsHeldOutFramesOfTheSameFaults)
     };
     LidarDiagnoseRunConfig cfg;
     cfg.scene = "factory_smoke";
-    cfg.points = writeFrames("extend_search", faults);
+    cfg.points = writePlantedFrames("extend_search", faults);
     cfg.sensor.sensor = "vlp16";
     const LidarDiagnoseRunResult found = runLidarDiagnosis(cfg);
     // (The weak channel's faint returns lost on the beams that are not clear also show as a
@@ -725,7 +725,8 @@ TEST(LidarDiagnosisRun, TheExtendedPresetExplainsHeldOutFramesOfTheSameFaults)
                 1e-5);
 
     // Held out: other frames, the same faults.
-    cfg.points = writeFrames("extend_heldout", faults, simulate(loadScene("factory_smoke"), "vlp16", 41));
+    cfg.points =
+        writePlantedFrames("extend_heldout", faults, simulateLidarRun(loadScene("factory_smoke"), "vlp16", 41));
     const LidarDiagnosis before = runLidarDiagnosis(cfg).diagnosis;
     cfg.sensor.sensor = preset;
     const LidarDiagnosis after = runLidarDiagnosis(cfg).diagnosis;
@@ -778,10 +779,11 @@ TEST(LidarDiagnosisRun, SmokeEchoesTakenAsFirstReturnsAreFound)
     preset.replace(preset.find(modes), modes.size(), "return_modes = [\"first\", \"strongest\", \"last\", \"dual\"]");
     std::ofstream((dir / "vlp16_first.toml").string()) << preset;
     const auto none = [](LidarFrame&, KeyedRng&) {};
-    const LidarDiagnosis clean = diagnoseFrames(writeFrames("first_clean", none, simulate(scene, "vlp16", 20)));
+    const LidarDiagnosis clean =
+        diagnoseFrames(writePlantedFrames("first_clean", none, simulateLidarRun(scene, "vlp16", 20)));
     EXPECT_EQ(clean.verdict, "none");
-    const LidarDiagnosis d =
-        diagnoseFrames(writeFrames("first", none, simulate(scene, (dir / "vlp16_first.toml").string(), 20, "first")));
+    const LidarDiagnosis d = diagnoseFrames(
+        writePlantedFrames("first", none, simulateLidarRun(scene, (dir / "vlp16_first.toml").string(), 20, "first")));
     EXPECT_EQ(d.verdict, "smoke_first_returns");
     const LidarFinding& f = triedOf(d, LidarCause::SmokeFirstReturns);
     EXPECT_GT(f.effect, 0.1);  // of the beams in smoke that could return, a tenth more return short (seen 0.15)
@@ -807,7 +809,7 @@ TEST(LidarDiagnosisRun, ASurfaceDarkerThanTheSceneSaysIsFoundByName)
     m.nir_905 *= 0.3;
     dark.materials.push_back(m);
     dark.surfaces[size_t(surface)].material = int(dark.materials.size() - 1);
-    const LidarDiagnosis d = diagnoseAgainstReplay(simulate(dark, "vlp16", 38), [](LidarFrame&, KeyedRng&) {});
+    const LidarDiagnosis d = diagnoseAgainstReplay(simulateLidarRun(dark, "vlp16", 38), [](LidarFrame&, KeyedRng&) {});
     const LidarFinding& f = triedOf(d, LidarCause::SurfaceThreshold);
     EXPECT_TRUE(f.named);
     EXPECT_EQ(f.surface, surface);
@@ -823,7 +825,7 @@ TEST(LidarDiagnosisRun, ASurfaceDarkerThanTheSceneSaysIsFoundByName)
 
 TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
 {
-    const std::string dir = writeFrames("refused", [](LidarFrame&, KeyedRng&) {});
+    const std::string dir = writePlantedFrames("refused", [](LidarFrame&, KeyedRng&) {});
     LidarDiagnoseRunConfig cfg;
     cfg.scene = "factory_smoke";
     cfg.points = dir;
@@ -832,16 +834,17 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("where the hdl32e's frame spans"), std::string::npos);
     // The VLP-16's own frames at 20 Hz (half the columns) diagnosed as at 10 Hz; at their rate, accepted.
     cfg.sensor.sensor = "vlp16";
-    cfg.points = writeFrames(
-        "refused_rate", [](LidarFrame&, KeyedRng&) {}, simulate(loadScene("factory_smoke"), "vlp16", 38, "", 20));
+    cfg.points = writePlantedFrames(
+        "refused_rate", [](LidarFrame&, KeyedRng&) {},
+        simulateLidarRun(loadScene("factory_smoke"), "vlp16", 38, "", 20));
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("another rate or column count"), std::string::npos);
     cfg.sensor.rate_hz = 20;
     EXPECT_EQ(runLidarDiagnosis(cfg).diagnosis.unmatched_points, 0);
     cfg.sensor.rate_hz = 0;
     // The same span and times, but each point turned 3° about z (another numbering of the
     // columns): no point lies along its beam.
-    cfg.points = writeFrames("refused_turned", [](LidarFrame& f, KeyedRng&) {
-        const double c = std::cos(3 * kDeg), sn = std::sin(3 * kDeg);
+    cfg.points = writePlantedFrames("refused_turned", [](LidarFrame& f, KeyedRng&) {
+        const double c = std::cos(3 * kRadPerDeg), sn = std::sin(3 * kRadPerDeg);
         for (LidarPoint& p : f.points) {
             const float x = p.x, y = p.y;
             p.x = float(c * x - sn * y);
@@ -864,7 +867,7 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
               std::string::npos)
         << test::errorOf([&] { runLidarDiagnosis(cfg); });
     // Frames with no points at all: most certain beams unanswered.
-    cfg.points = writeFrames("refused_empty", [](LidarFrame& f, KeyedRng&) { f.points.clear(); });
+    cfg.points = writePlantedFrames("refused_empty", [](LidarFrame& f, KeyedRng&) { f.points.clear(); });
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("have no recorded return"), std::string::npos);
     cfg.points = (scratch("lidar_diagnosis_empty")).string();
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("frames.csv"), std::string::npos);

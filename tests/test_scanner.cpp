@@ -22,7 +22,7 @@ using smokescan::test::tomlNumber;
 
 /// A wall 2.5 m ahead of both sensors, homogeneous smoke from 0.5 m to 2.0 m in front of them
 /// (1.5 m of smoke on the straight-ahead beam; box faces on 0.05 m voxel faces).
-std::string wallScene(double density, const std::string& extra = "")
+std::string fogWallScene(double density, const std::string& extra = "")
 {
     return R"(
 [[materials]]
@@ -78,7 +78,7 @@ TEST(PaperModel, HokuyoThresholdIsPenetrationPower)
     // Column ahead = ρ·1.55 m; the threshold density is 0.007 / 1.55.
     const double rho_star = 0.007 / 1.55;
     for (double f : {0.98, 1.02}) {
-        Rig rig(wallScene(rho_star * f));
+        Rig rig(fogWallScene(rho_star * f));
         Scanner sc(rig.scene, rig.surfaces, ScanConfig{"hokuyo"});
         const int i = aheadBeam(sc);
         ASSERT_GE(i, 0);
@@ -94,7 +94,7 @@ TEST(PaperModel, HokuyoThresholdIsPenetrationPower)
         }
     }
     // USARSim's 0.00575 fails at a lower density.
-    Rig rig(wallScene(0.0040));
+    Rig rig(fogWallScene(0.0040));
     EXPECT_FALSE(rig.scan("hokuyo").beams[341].error);
     EXPECT_TRUE(rig.scan("hokuyo", 0, 1, 0.00575).beams[341].error);
 }
@@ -105,7 +105,7 @@ TEST(PaperModel, SickPassesThroughRegionalSmoke)
     // smoke entirely. So at density 0.5 (an optical depth of 250 over the 2.5 m, far beyond any
     // Hokuyo threshold and any real sensor) it still reads the wall. This pins that rule, not the
     // physics; the physical model (test_physical_model.cpp) is the one that loses the wall.
-    Rig rig(wallScene(0.5));
+    Rig rig(fogWallScene(0.5));
     Scanner sc(rig.scene, rig.surfaces, ScanConfig{"sick"});
     const int i = aheadBeam(sc);
     ASSERT_EQ(i, 180);  // 0.5°: beam 180 is straight ahead
@@ -132,7 +132,7 @@ radius_m = 0.2
 peak_density = 0.05
 voxel = 0.02
 )";
-    Rig rig(wallScene(0.0, plume));
+    Rig rig(fogWallScene(0.0, plume));
     const Scan sick = rig.scan("sick");
     const Scan urg = rig.scan("hokuyo");
     // Puffs born at t=0 only (t = 0): density 0.05·e^{−x²/2σ²} crosses 0.002 at x = σ·√(2 ln 25).
@@ -146,7 +146,7 @@ voxel = 0.02
 
 TEST(PaperModel, NoiseMatchesTheDatasheetSigma)
 {
-    Rig rig(wallScene(0.0));
+    Rig rig(fogWallScene(0.0));
     Scanner sc(rig.scene, rig.surfaces, ScanConfig{"hokuyo"});
     const int i = aheadBeam(sc);
     const int N = 2000;
@@ -164,7 +164,7 @@ TEST(PaperModel, NoiseMatchesTheDatasheetSigma)
 
 TEST(Scanner, DeterministicWhateverTheThreadCount)
 {
-    Rig rig(wallScene(0.002));
+    Rig rig(fogWallScene(0.002));
     Scan a, b;
     {
         tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
@@ -177,7 +177,7 @@ TEST(Scanner, DeterministicWhateverTheThreadCount)
 
 TEST(Scanner, GeometryOfBothSensors)
 {
-    Rig rig(wallScene(0.0));
+    Rig rig(fogWallScene(0.0));
     Scanner urg(rig.scene, rig.surfaces, ScanConfig{"urg04lx"});
     EXPECT_EQ(urg.spec().n_beams, 682);
     EXPECT_NEAR(urg.spec().angle(0), -(384 - 44) * 2 * M_PI / 1024, 1e-12);
@@ -197,7 +197,7 @@ TEST(Scanner, GeometryOfBothSensors)
 
 TEST(LaserLog, RoundTripAndStrictReading)
 {
-    Rig rig(wallScene(0.001));
+    Rig rig(fogWallScene(0.001));
     ScanConfig c{"hokuyo"};
     c.from_s = 0;
     c.to_s = 2;

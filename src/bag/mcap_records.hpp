@@ -54,11 +54,11 @@ public:
     /// The opcode, the content's length, the content.
     std::vector<uint8_t> record(uint8_t op) const
     {
-        std::vector<uint8_t> r(9);
-        r[0] = op;
         const uint64_t n = b_.size();
+        std::vector<uint8_t> r(9 + n);
+        r[0] = op;
         std::memcpy(r.data() + 1, &n, 8);
-        r.insert(r.end(), b_.begin(), b_.end());
+        if (n > 0) std::memcpy(r.data() + 9, b_.data(), n);
         return r;
     }
     const std::vector<uint8_t>& content() const { return b_; }

@@ -17,18 +17,14 @@ uint32_t mcap::crc32(uint32_t crc, const void* p, size_t n)
     return uint32_t(::crc32_z(crc, static_cast<const Bytef*>(p), n));
 }
 
-namespace {
-
 using mcap::Fields;
 
-struct ChunkIndexInfo {
-    uint64_t start_ns, end_ns, offset, length, index_length, compressed, uncompressed;
-    std::map<uint16_t, uint64_t> index_offsets;
-};
-
-}  // namespace
-
 struct McapWriter::Impl {
+    /// A written chunk's Chunk Index record's fields.
+    struct ChunkIndexInfo {
+        uint64_t start_ns, end_ns, offset, length, index_length, compressed, uncompressed;
+        std::map<uint16_t, uint64_t> index_offsets;
+    };
     std::ostream& out;
     McapWriterConfig cfg;
     uint64_t pos = 0;
@@ -211,7 +207,7 @@ McapWriteResult McapWriter::finish()
                .bytes(counts.content().data(), counts.content().size())
                .record(mcap::kStatistics)});
     std::vector<std::vector<uint8_t>> chunk_records;
-    for (const ChunkIndexInfo& ci : m.chunk_indexes) {
+    for (const Impl::ChunkIndexInfo& ci : m.chunk_indexes) {
         Fields map;
         for (const auto& [channel, offset] : ci.index_offsets) map.num(channel).num(offset);
         chunk_records.push_back(Fields()

@@ -49,6 +49,11 @@ void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::str
 CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::string& image_topic,
                                   std::vector<std::string>& rects, std::vector<std::string>& polygons,
                                   const std::string& help);
+/// @brief Whether the run reads a 3D lidar's frames (--points among `given`, the options on the
+/// command line); throws Error naming the first option that does not belong to the run it chose:
+/// one outside `lidar_options` with --points, one of a 3D lidar's own (--points, --returns,
+/// --columns, --rate) without. `run` names the run in the message ("fit", "diagnosis").
+bool lidarRun(const std::vector<std::string>& given, const std::set<std::string>& lidar_options, const char* run);
 /// @brief A bag's files as the run's inputs, which no output may replace: a folder's metadata.yaml
 /// and the files it lists, or the file itself; nothing when `bag` is empty.
 void bagInputs(RunFiles& files, const std::string& bag, const std::string& option);

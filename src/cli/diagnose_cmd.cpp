@@ -96,19 +96,13 @@ void sayDiagnosis(const DiagnoseArgs& a, const DiagnosisResult& r)
 }
 
 /// The options a 3D lidar's diagnosis takes; --returns, --columns and --rate are its alone.
-const std::set<std::string> kLidarOptions = {"--points",  "--scene",   "--out",  "--sensor",
-                                             "--returns", "--columns", "--rate", "--alpha"};
-const std::set<std::string> kLidarOnly = {"--points", "--returns", "--columns", "--rate"};
+const std::set<std::string> kLidarDiagnoseOptions = {"--points",  "--scene",   "--out",  "--sensor",
+                                                     "--returns", "--columns", "--rate", "--alpha"};
 
 /// @param given the options given on the command line
 int runDiagnose(const DiagnoseArgs& a0, const std::vector<std::string>& given)
 {
-    const bool lidar = std::find(given.begin(), given.end(), "--points") != given.end();
-    for (const std::string& o : given) {
-        if (lidar && !kLidarOptions.count(o)) throw Error(o, "is not an option of a 3D lidar's diagnosis (--points)");
-        if (!lidar && kLidarOnly.count(o)) throw Error(o, "is a 3D lidar's option (with --points)");
-    }
-    if (lidar) return diagnoseLidarFrames(a0);
+    if (lidarRun(given, kLidarDiagnoseOptions, "diagnosis")) return diagnoseLidarFrames(a0);
     DiagnoseArgs a = a0;
     FitInputsConfig& in = a.run.in;
     scansSource(in.laser, in.bag, in.topic);

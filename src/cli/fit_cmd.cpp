@@ -92,9 +92,8 @@ int finishFitOmni(const FitArgs& a, RunFiles& files, FitRunResult& r)
 }
 
 /// The options a 3D lidar's fit takes; --points, --returns, --columns and --rate are its alone.
-const std::set<std::string> kLidarOptions = {"--points", "--scene",   "--out",     "--sensor",
-                                             "--report", "--returns", "--columns", "--rate"};
-const std::set<std::string> kLidarOnly = {"--points", "--returns", "--columns", "--rate"};
+const std::set<std::string> kLidarFitOptions = {"--points", "--scene",   "--out",     "--sensor",
+                                                "--report", "--returns", "--columns", "--rate"};
 
 /// A 3D lidar's frames (--points): each surface's reflectance factor from the recorded
 /// intensities, the preset extended by them (--out) and the report (--report).
@@ -164,12 +163,7 @@ int fitLidarFrames(const FitArgs& a0)
 
 int runFit(const FitArgs& a0, const std::vector<std::string>& given)
 {
-    const bool lidar = std::find(given.begin(), given.end(), "--points") != given.end();
-    for (const std::string& o : given) {
-        if (lidar && !kLidarOptions.count(o)) throw Error(o, "is not an option of a 3D lidar's fit (--points)");
-        if (!lidar && kLidarOnly.count(o)) throw Error(o, "is a 3D lidar's option (with --points)");
-    }
-    if (lidar) return fitLidarFrames(a0);
+    if (lidarRun(given, kLidarFitOptions, "fit")) return fitLidarFrames(a0);
     FitArgs a = a0;
     if (a.saturation.empty()) throw Error("--saturation", "is required (or --points: a 3D lidar's frames)");
     if (a.report.empty()) a.report = beside(a.out, "_report.json");

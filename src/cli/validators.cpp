@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "smokescan/bag/bag_input.hpp"
 #include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
 #include "smokescan/io/run_files.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -184,6 +185,18 @@ CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::str
     c->add_option("--rect", rects, "The target in the bag's frames: NAME=x,y,width,height in pixels (repeatable)");
     c->add_option("--polygon", polygons, "The target in the bag's frames: NAME=x1,y1,x2,y2,x3,y3,... (repeatable)");
     return o;
+}
+
+bool lidarRun(const std::vector<std::string>& given, const std::set<std::string>& lidar_options, const char* run)
+{
+    static const std::set<std::string> kLidarOnly = {"--points", "--returns", "--columns", "--rate"};
+    const bool lidar = std::find(given.begin(), given.end(), "--points") != given.end();
+    for (const std::string& o : given) {
+        if (lidar && !lidar_options.count(o))
+            throw Error(o, fmt("is not an option of a 3D lidar's %s (--points)", run));
+        if (!lidar && kLidarOnly.count(o)) throw Error(o, "is a 3D lidar's option (with --points)");
+    }
+    return lidar;
 }
 
 void bagInputs(RunFiles& files, const std::string& bag, const std::string& option)

@@ -10,6 +10,7 @@
 
 #include "candidates.hpp"
 #include "causes.hpp"
+#include "report_json.hpp"
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/io/atomic_file.hpp"
@@ -19,7 +20,7 @@
 namespace smokescan {
 namespace {
 
-nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+using detail::num;
 
 /// A value for a report table; "–" when there is none (not tested, not defined).
 std::string orDash(double v, const char* format) { return std::isfinite(v) ? fmt(format, v) : "–"; }

@@ -2,13 +2,14 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "report_json.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/diagnose/lidar_diagnosis.hpp"
 
 namespace smokescan {
 namespace {
 
-nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+using detail::num;
 
 /// Rounding's residue (a rotation's 3e-15 deg) as 0.
 double tidy(double v) { return std::abs(v) < 1e-9 ? 0.0 : v; }
