@@ -40,14 +40,14 @@ void chunkedSum(size_t n, double* value, double* grad, F&& term)
 class CandidateNll : public ceres::FirstOrderFunction {
 public:
     CandidateNll(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs)
-        : r_(r), m_(m), c_(c), obs_(obs)
+        : r_(r), m_(m), c_(c), obs_(obs), memo_(obs.size())
     {
     }
     bool Evaluate(const double* theta, double* cost, double* gradient) const override
     {
         const CandidateAt at(r_, m_, c_, J(theta[0], 0));
         double ll = 0, g = 0;
-        chunkedSum(obs_.size(), &ll, &g, [&](size_t i) { return at.logLik(obs_[i]); });
+        chunkedSum(obs_.size(), &ll, &g, [&](size_t i) { return at.logLik(obs_[i], &memo_[i]); });
         *cost = -ll;
         if (gradient) gradient[0] = -g;
         return std::isfinite(ll);
@@ -59,6 +59,8 @@ private:
     const ReplayModel& m_;
     const Candidate& c_;
     const std::vector<Obs>& obs_;
+    /// Each observation's, written only by the evaluation of that observation: one thread at a time.
+    mutable std::vector<ObsMemo> memo_;
 };
 
 /// Ends a fit whose θ has walked below the row's nil_below (a width or share sliding to zero).

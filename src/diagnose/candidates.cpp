@@ -74,16 +74,35 @@ bool flatBetween(const Replay::PhysicalTable& t, size_t b, double u0, double u1)
     return reach >= j1;
 }
 
+/// The paper model's stop probability; with a memo, p_s reused while C, ln P and w stay (a
+/// range bias, a noise growth, a dropout, a short return), else ln C while C stays (a threshold).
+template <class T>
+T stopProbabilityOf(const BeamTerms<T>& x, ObsMemo* memo)
+{
+    if constexpr (std::is_same_v<T, J>) {
+        if (memo && x.column > J(0.0) && x.column.v[0] == 0) {
+            ObsMemo& m = *memo;
+            const bool fixed = x.lnP.v[0] == 0 && x.width.v[0] == 0;
+            if (fixed && x.column.a == m.column && x.lnP.a == m.ln_p && x.width.a == m.width) return J(m.stop);
+            if (x.column.a != m.column) m.column = x.column.a, m.ln_column = std::log(x.column.a);
+            const J ps = extended::stopProbabilityLn(J(m.ln_column), x.lnP, x.width);
+            m.ln_p = fixed ? x.lnP.a : NAN, m.width = x.width.a, m.stop = ps.a;
+            return ps;
+        }
+    }
+    return extended::stopProbability(x.column, x.lnP, x.width);
+}
+
 }  // namespace
 
 template <class T>
-void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
+void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo)
 {
     using std::erfc;
     using std::log;
     const ReplayBeam& beam = r.beams[size_t(o.b)];
     if (!r.isPhysical()) {
-        x.ps = extended::stopProbability(x.column, x.lnP, x.width);
+        x.ps = stopProbabilityOf(x, memo);
         x.mu0 = T(beam.range_m);
         x.sd0 = T(beam.sigma_m > 0 ? beam.sigma_m : r.spec.rangeSigma(beam.range_m));
         return;
@@ -111,8 +130,8 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x)
     x.mu0 = tableAt(t, t.range, t.range_clear[b], b, u);
     x.sd0 = tableAt(t, t.sd, t.sd_clear[b], b, u);
 }
-template void finishTerms<double>(const Replay&, const Obs&, BeamTerms<double>&);
-template void finishTerms<J>(const Replay&, const Obs&, BeamTerms<J>&);
+template void finishTerms<double>(const Replay&, const Obs&, BeamTerms<double>&, ObsMemo*);
+template void finishTerms<J>(const Replay&, const Obs&, BeamTerms<J>&, ObsMemo*);
 
 const std::vector<double>& Candidate::starts() const { return causeRow(cause).starts; }
 
@@ -174,13 +193,33 @@ CandidateAt::CandidateAt(const Replay& r, const ReplayModel& m, const Candidate&
 
 CandidateAt::~CandidateAt() = default;
 
-J CandidateAt::logLik(const Obs& o) const
+namespace {
+
+/// The reading's normal density at the recorded range, reused while its mean and variance stay.
+J readingDensityOf(double recorded_m, const J& mean, const J& var, ObsMemo& memo)
+{
+    if (mean.v[0] != 0 || var.v[0] != 0) return readingDensity(recorded_m, mean, var);
+    if (mean.a != memo.mean_m || var.a != memo.var_m2)
+        // a Jet's arithmetic, as without the memo (its division multiplies by the inverse)
+        memo.mean_m = mean.a, memo.var_m2 = var.a, memo.density = readingDensity(recorded_m, mean, var).a;
+    return J(memo.density);
+}
+
+}  // namespace
+
+J CandidateAt::logLik(const Obs& o, ObsMemo* memo) const
 {
     BeamTerms<J> x = baseTerms<J>(r_, m_, o);
     causeRow(c_.cause).apply(r_, m_, c_, o, theta_, scans_.empty() ? nullptr : &scans_[size_t(o.k)], x);
-    finishTerms(r_, o, x);
     const ReplayBeam& beam = r_.beams[size_t(o.b)];
-    return logLikelihood(x, double(r_.range_m[size_t(o.k)][size_t(o.b)]), beam.range_m, r_.spec.range_max_m);
+    const double recorded = double(r_.range_m[size_t(o.k)][size_t(o.b)]);
+    finishTerms(r_, o, x, memo);
+    if (!memo) return logLikelihood(x, recorded, beam.range_m, r_.spec.range_max_m);
+    if (std::isnan(recorded)) return logLikelihoodWith(x, recorded, beam.range_m, r_.spec.range_max_m, J(0.0));
+    const J mean = extended::rangeMean(x.mu0, x.beta, x.column);
+    const J var = extended::rangeVariance(x.sd0, x.gamma, x.column);
+    return logLikelihoodWith(x, recorded, beam.range_m, r_.spec.range_max_m,
+                             readingDensityOf(recorded, mean, var, *memo));
 }
 
 double modelLogLik(const Replay& r, const ReplayModel& m, const Obs& o)

@@ -71,8 +71,21 @@ BeamTerms<T> baseTerms(const Replay& r, const ReplayModel& model, const Obs& o);
 /// candidate's change): the paper model's Φ((ln C − ln P)/w) and L, or the physical model's
 /// tables at the smoke's scale shifted by the threshold, averaged over the width (the normal's
 /// quantiles, core/quadrature.hpp).
+struct ObsMemo;
+/// @param memo the observation's own between a fit's evaluations (J only; ObsMemo), or null
 template <class T>
-void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x);
+void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo = nullptr);
+
+/// What one observation's ln L keeps between a fit's evaluations: the values that did not move
+/// with θ at the last one (an exact reuse: each is a pure function of inputs compared bit for
+/// bit, so a fit gives the same doubles with and without it). Most candidates leave the column
+/// and the reading's mean and variance alone, and ln C, the normal's exp and sqrt are most of a
+/// beam's cost.
+struct ObsMemo {
+    double column = NAN, ln_column = NAN;  ///< ln C at the column C [density·m]
+    double ln_p = NAN, width = NAN, stop = NAN;  ///< the paper model's p_s at (C, ln P, w)
+    double mean_m = NAN, var_m2 = NAN, density = NAN;  ///< the reading's normal density at (mean, var)
+};
 
 struct ScanTerms;
 
@@ -83,8 +96,8 @@ public:
     /// @param r, model, c must outlive this.
     CandidateAt(const Replay& r, const ReplayModel& model, const Candidate& c, const J& theta);
     ~CandidateAt();
-    /// @brief ln L of observation o.
-    J logLik(const Obs& o) const;
+    /// @brief ln L of observation o; `memo`, when given, is o's own between calls (ObsMemo).
+    J logLik(const Obs& o, ObsMemo* memo = nullptr) const;
 
 private:
     const Replay& r_;

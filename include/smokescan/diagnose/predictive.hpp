@@ -57,28 +57,47 @@ struct BeamTerms {
     T sd0;  ///< its noise [m] in clear air: σ₀(L), the datasheet's, for the paper model
 };
 
-/// @brief ln of the probability (error) or density [1/m] (range) of a recorded value.
+/// @brief The normal density [1/m] of a surface reading `recorded_m` about the mean `mu` [m]
+/// with variance `var` [m²].
+template <class T>
+T readingDensity(double recorded_m, const T& mu, const T& var)
+{
+    using std::exp;
+    using std::sqrt;
+    const T r = T(recorded_m) - mu;
+    return exp(-r * r / (T(2.0) * var)) / sqrt(T(2.0 * M_PI) * var);
+}
+
+/// @brief ln of the probability (error) or density [1/m] (range) of a recorded value, given the
+/// surface reading's normal density there (readingDensity at the terms' mean and variance;
+/// unused for an error value).
 /// @param recorded_m the recorded range, NaN for an error value
 /// @param L_m the distance to the surface, @param rmax_m the sensor's maximum range
 template <class T>
-T logLikelihood(const BeamTerms<T>& x, double recorded_m, double L_m, double rmax_m)
+T logLikelihoodWith(const BeamTerms<T>& x, double recorded_m, double L_m, double rmax_m, const T& normal)
 {
-    using std::exp;
     using std::log;
-    using std::sqrt;
     const T& ps = x.ps;
     const T stop = x.d + (T(1.0) - x.d) * ps;  // P(no surface reading)
     if (std::isnan(recorded_m)) {
         const T err = extended::errorShare(x.d, ps, x.q);
         return log(T(0.5 * kLapse) + T(1.0 - kLapse) * err);
     }
-    const T mu = extended::rangeMean(x.mu0, x.beta, x.column);
-    const T var = extended::rangeVariance(x.sd0, x.gamma, x.column);
-    const T r = T(recorded_m) - mu;
-    const T normal = exp(-r * r / (T(2.0) * var)) / sqrt(T(2.0 * M_PI) * var);
     const T surface = (T(1.0) - stop) * (T(1.0 - kOutlier) * normal + T(kOutlier / rmax_m));
     const T shortr = recorded_m < L_m ? (T(1.0) - x.d) * ps * x.q / T(L_m) : T(0.0);
     return log(T(0.5 * kLapse / rmax_m) + T(1.0 - kLapse) * (surface + shortr));
+}
+
+/// @brief ln of the probability (error) or density [1/m] (range) of a recorded value.
+/// @param recorded_m the recorded range, NaN for an error value
+/// @param L_m the distance to the surface, @param rmax_m the sensor's maximum range
+template <class T>
+T logLikelihood(const BeamTerms<T>& x, double recorded_m, double L_m, double rmax_m)
+{
+    if (std::isnan(recorded_m)) return logLikelihoodWith(x, recorded_m, L_m, rmax_m, T(0.0));
+    const T mu = extended::rangeMean(x.mu0, x.beta, x.column);
+    const T var = extended::rangeVariance(x.sd0, x.gamma, x.column);
+    return logLikelihoodWith(x, recorded_m, L_m, rmax_m, readingDensity(recorded_m, mu, var));
 }
 
 }  // namespace smokescan

@@ -102,14 +102,20 @@ struct ModelExtensions {
 /// The extensions' effect on one beam, written once for the simulation (sensors) and the
 /// diagnosis's likelihood (diagnose/predictive.hpp); T a double or a Ceres Jet.
 namespace extended {
-/// @brief P(the smoke stops the beam) at column C under the paper model's threshold ln P' and
-/// onset width w: Φ((ln C − ln P')/w).
+/// @brief P(the smoke stops the beam) at ln C (a column C > 0 [density·m]) under the paper
+/// model's threshold ln P' and onset width w: Φ((ln C − ln P')/w).
+template <class T>
+T stopProbabilityLn(const T& ln_column, const T& lnP, const T& width)
+{
+    using std::erfc;
+    return T(0.5) * erfc(-(ln_column - lnP) / width / T(M_SQRT2));
+}
+/// @brief The same at the column C itself (0 where C ≤ 0: no smoke stops nothing).
 template <class T>
 T stopProbability(const T& column, const T& lnP, const T& width)
 {
-    using std::erfc;
     using std::log;
-    return column > T(0.0) ? T(0.5) * erfc(-(log(column) - lnP) / width / T(M_SQRT2)) : T(0.0);
+    return column > T(0.0) ? stopProbabilityLn(log(column), lnP, width) : T(0.0);
 }
 /// @brief P(error value): the dropout d, else the smoke's stop p_s unless it reads short (q).
 template <class T>
