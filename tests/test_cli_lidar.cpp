@@ -216,6 +216,7 @@ TEST(LidarCli, FitPointsWritesThePresetExtendedByTheSurfacesAndRefusesOtherRunsO
              {base + "--rate 20 --out " + out.string(), "another rate or column count"},
              {base + "--out " + (dir() / "fit_points_noext").string(), "must name a .toml file"},
              {base + "--out ''", "--out: '' must name a .toml file"},
+             {base + "--out " + out.string() + " --report ''", "--report: must not be empty"},
              {"fit --scene factory_smoke --points '' --sensor vlp16 --out " + out.string(),
               "--points: names no folder"},
              // The preset's base is an input too: never written over.
@@ -235,6 +236,7 @@ TEST(LidarCli, FitPointsWritesThePresetExtendedByTheSurfacesAndRefusesOtherRunsO
     const CliRun r = cli(base + "--out " + out.string());
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("wrote " + out.string()), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;  // the room is the recording's
     const nlohmann::json j = nlohmann::json::parse(slurp(report));
     EXPECT_EQ(j["frames"], 1);
     EXPECT_EQ(j["sensor"], "vlp16");
@@ -244,6 +246,7 @@ TEST(LidarCli, FitPointsWritesThePresetExtendedByTheSurfacesAndRefusesOtherRunsO
     for (const auto& s : j["surfaces"]) {
         if (!s["fitted"].get<bool>()) continue;
         ++fitted;
+        EXPECT_FALSE(s["misfit"].get<bool>()) << s.dump();
         EXPECT_NEAR(s["reflectance_factor"].get<double>(), 1,
                     4 * std::hypot(s["reflectance_factor_se"].get<double>(), s["reflectance_factor_sys"].get<double>()))
             << s.dump();

@@ -34,7 +34,7 @@ ColourMixCurve truth()
 const std::vector<double> kDensities = {0.0,    0.0005, 0.001, 0.0015, 0.002, 0.0025, 0.003,
                                         0.0035, 0.004,  0.005, 0.006,  0.008, 0.010,  0.012};
 
-std::vector<PatchPoints> simulate(const ColourMixCurve& c, double sigma, uint64_t seed)
+std::vector<PatchPoints> simulatePatches(const ColourMixCurve& c, double sigma, uint64_t seed)
 {
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> n(0.0, sigma);
@@ -141,7 +141,7 @@ TEST(ColourMix, FitRecoversKnownParametersWithinTheirErrors)
     }();
     std::vector<double> pb, pr, chi;
     for (uint64_t seed = 1; seed <= 60; ++seed) {
-        const ColourMixFit f = fitColourMix(simulate(t, 0.002, seed));
+        const ColourMixFit f = fitColourMix(simulatePatches(t, 0.002, seed));
         ASSERT_TRUE(f.converged) << f.message << " seed " << seed;
         pb.push_back((f.curve.b - t.b) / f.std_error[0]);
         const auto [rho, se] = f.invert(0.14, 0.012);
@@ -180,7 +180,7 @@ TEST(ColourMix, ALightThatDriftsWithDensityIsFoundAndItsThresholdIsUnbiased)
     const double rho_true = tf.invert(0.14, 0.012).first;
     std::vector<double> pr, chi_one, chi_drift;
     for (uint64_t seed = 1; seed <= 20; ++seed) {
-        const auto pts = simulate(t, 0.002, 100 + seed);
+        const auto pts = simulatePatches(t, 0.002, 100 + seed);
         const ColourMixFit one = fitColourMix(pts), drift = fitColourMix(pts, 1 / 2.2, true);
         ASSERT_TRUE(drift.converged) << drift.message << " seed " << seed;
         chi_one.push_back(one.chi2 / one.dof);
@@ -205,11 +205,11 @@ TEST(ColourMix, ALightThatDriftsWithDensityIsFoundAndItsThresholdIsUnbiased)
 
 TEST(ColourMix, DegenerateInputIsRefused)
 {
-    auto pts = simulate(truth(), 0.002, 1);
+    auto pts = simulatePatches(truth(), 0.002, 1);
     pts[0].points.resize(4);
     pts[0].floor.resize(4);
     EXPECT_THROW(fitColourMix(pts), Error);
-    pts = simulate(truth(), 0.002, 1);
+    pts = simulatePatches(truth(), 0.002, 1);
     pts[1].points[3].sigma = 0;
     EXPECT_THROW(fitColourMix(pts), Error);
     ColourMixFit f;

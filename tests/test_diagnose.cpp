@@ -8,9 +8,11 @@
 #include <cstdlib>
 #include <set>
 
+#include "diagnose/candidate_fit.hpp"
 #include "diagnose/candidates.hpp"
 #include "diagnose/causes.hpp"
 #include "diagnose/replay_model.hpp"
+#include "normal_cdf.hpp"
 #include "plant.hpp"
 #include "smokescan/core/random.hpp"
 #include "smokescan/diagnose/diagnosis.hpp"
@@ -63,8 +65,6 @@ struct Planted {
     std::string cause, target, parameter;
     double value = 0;
 };
-
-double normalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
 /// Plants cause `which` at a random magnitude above its stated detectability into run r.
 Planted plantCause(int which, TrueRun& r, uint64_t seed)
@@ -268,6 +268,81 @@ TEST(CauseTable, EveryCauseHasOneRowAndItsOwnName)
         EXPECT_NO_THROW(smokescan::residualsBy(smokescan::Replay{}, {}, row.covariate)) << row.name;
     }
     EXPECT_EQ(smokescan::detail::causeRow("no_such_cause"), nullptr);
+}
+
+/// Whether two Jets are the same doubles (a value NaN in both counts as the same; ±0 alike).
+bool sameDoubles(const smokescan::detail::J& a, const smokescan::detail::J& b)
+{
+    const bool value = a.a == b.a || (std::isnan(a.a) && std::isnan(b.a));
+    const bool slope = a.v[0] == b.v[0] || (std::isnan(a.v[0]) && std::isnan(b.v[0]));
+    return value && slope;
+}
+
+/// Every observation's ln L and its derivative with and without one memo per observation, kept
+/// through every cause's starts (each twice: the memo's values reused; and a step away: its
+/// inputs moved), model after model (each moving one of the memo's inputs without a derivative). Returns how many differ;
+/// `kept` counts the memo's slots that hold both values at the end.
+long memoMismatches(const smokescan::Replay& replay, long& kept)
+{
+    using namespace smokescan::detail;
+    // Models that each move one of the memo's inputs: the column (a clock offset: the smoke read at
+    // other times, and with it the width its error sets), ln P (a threshold factor), the width,
+    // the reading's mean (a range bias) and its variance (a noise growth).
+    std::vector<smokescan::ModelExtensions> ext(6);
+    ext[1].clock_offset_s = 1.5;
+    const int seen = replay.beams[replay.beams.size() / 2].surface;  // the surface ahead
+    ext[2].surfaces[replay.surface_names[size_t(seen)]].threshold_factor = 0.3;
+    ext[3].threshold_width = 0.2;
+    ext[4].surfaces[replay.surface_names[size_t(seen)]].range_bias = 10;
+    ext[5].range_noise_growth_m = 2;
+    std::vector<ReplayModel> models;
+    for (const auto& e : ext) models.emplace_back(replay, e);
+    std::vector<const ReplayModel*> order;  // base, one moved, base, another moved, …: one input at a time
+    for (size_t k = 1; k < models.size(); ++k) order.insert(order.end(), {&models[0], &models[k]});
+    Candidate all;
+    all.cause = Cause::ClockOffset;
+    const std::vector<Obs> every = touched(replay, all, -1);
+    std::vector<Obs> obs;  // 3000 spread over the run (its smoke comes and goes)
+    for (size_t i = 0; i < every.size(); i += std::max<size_t>(1, every.size() / 3000)) obs.push_back(every[i]);
+    std::vector<ObsMemo> memo(obs.size());
+    long bad = 0;
+    for (Cause cause : kCauses)
+        for (const ReplayModel* model : order) {
+            const ReplayModel& m = *model;
+            Candidate c;
+            c.cause = cause;
+            c.surface = seen;
+            c.from_rad = replay.beams[100].angle_rad, c.to_rad = replay.beams[300].angle_rad;
+            const std::vector<double>& starts = c.starts();
+            const size_t n = std::min<size_t>(3, starts.size());  // three at most, first to last
+            for (size_t s = 0; s < n; ++s) {
+                const double start = starts[n > 1 ? s * (starts.size() - 1) / (n - 1) : 0];
+                for (double theta : {start, start, start + 1e-3}) {
+                    const CandidateAt at(replay, m, c, J(theta, 0));
+                    for (size_t i = 0; i < obs.size(); ++i)
+                        bad += !sameDoubles(at.logLik(obs[i]), at.logLik(obs[i], &memo[i]));
+                }
+            }
+        }
+    kept = 0;  // slots holding a p_s and a reading's density
+    for (const ObsMemo& o : memo) kept += !std::isnan(o.density) && !std::isnan(o.stop);
+    return bad;
+}
+
+TEST(CandidateLikelihood, TheMemoGivesTheDoublesOfRecomputingThem)
+{
+    // ObsMemo reuses what θ did not move; it must change no double of any fit, paper or
+    // physical model, for any cause: a memo that missed one of its inputs, or reused a value
+    // whose inputs moved without a derivative (another model), fails here.
+    const TrueRun r = simulateBocas(5, 60, 1);
+    const FitInputs in = inputsOf(r);
+    for (SensorModel model : {SensorModel::Paper, SensorModel::Physical}) {
+        SensorConfig config = in.mount.config;
+        config.model = model;
+        long kept = 0;
+        EXPECT_EQ(memoMismatches(replayRun(in, config, ReplayConfig{}), kept), 0) << int(model);
+        EXPECT_GT(kept, 2000) << "the memo was not used";
+    }
 }
 
 /// A replay in clear air: 40 beams 0.01 rad apart on one wall at 3 m, 200 scans in 10 blocks;

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <memory>
 
+#include "normal_cdf.hpp"
 #include "plant.hpp"
 #include "random_room.hpp"
 #include "scratch.hpp"
@@ -61,8 +62,6 @@ struct Planted {
     std::string cause, target;
     double value = 0, effect = 0;
 };
-
-double normalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
 /// The mean of L/σ₀ over the first scan's beams on `surface` ("" every surface), and of 1/σ₀
 /// [1/m]: the scale a range bias or noise growth is measured in (docs/diagnosis.md §4).

@@ -52,7 +52,7 @@ Replay plantedReplay(const FitInputsConfig& c, double max_range_m = 3.8)
     return replayOmniRun(o, readOmniSensorFile(file("omni_onset.toml")), rc);
 }
 
-const Finding* findingOf(const DiagnosisResult& r, const std::string& cause)
+const Finding* omniFindingOf(const DiagnosisResult& r, const std::string& cause)
 {
     for (const Finding& f : r.findings)
         if (f.cause == cause) return &f;
@@ -63,15 +63,15 @@ const Finding* findingOf(const DiagnosisResult& r, const std::string& cause)
 /// [deg] (from the first scanline on, so that it may cross ±180°).
 void expectPlanted(const DiagnosisResult& r, double sector_from_deg, double sector_to_deg)
 {
-    const Finding* q = findingOf(r, "smoke_obstacle_return");
+    const Finding* q = omniFindingOf(r, "smoke_obstacle_return");
     ASSERT_NE(q, nullptr) << r.verdict;
     EXPECT_GT(q->parameters.at(0).second.value, 0.95) << r.verdict;
-    const Finding* north = findingOf(r, "surface_threshold");
+    const Finding* north = omniFindingOf(r, "surface_threshold");
     ASSERT_NE(north, nullptr) << r.verdict;
     EXPECT_EQ(north->target, "wall_north");
     const Estimate theta = north->parameters.at(0).second;
     EXPECT_NEAR(theta.value, -0.7, 4 * theta.se + 0.01) << theta.se;
-    const Finding* smudge = findingOf(r, "sector_dropout");
+    const Finding* smudge = omniFindingOf(r, "sector_dropout");
     ASSERT_NE(smudge, nullptr) << r.verdict;
     EXPECT_NEAR(smudge->parameters.at(0).second.value, 0.5, 0.05);
     ASSERT_EQ(r.model.sectors.size(), 1u);

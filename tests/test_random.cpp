@@ -5,13 +5,14 @@
 #include <cmath>
 #include <vector>
 
+#include "normal_cdf.hpp"
 #include "smokescan/core/random.hpp"
 
 using namespace smokescan;
 
 namespace {
 
-double normalCdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+using smokescan::test::normalCdf;
 
 /// Draws n normals by the ziggurat, each beam-like stream (seed, k) giving 16.
 std::vector<double> zigguratDraws(uint64_t seed, size_t n)

@@ -93,6 +93,8 @@ const RosType kMultiEchoLaserScanType = {
     "float32 time_increment\nfloat32 scan_time\nfloat32 range_min\nfloat32 range_max\n"
     "sensor_msgs/LaserEcho[] ranges\nsensor_msgs/LaserEcho[] intensities\n" SMOKESCAN_SEPARATOR
     "MSG: sensor_msgs/LaserEcho\nfloat32[] echoes\n" SMOKESCAN_HEADER_DEPS};
+#undef SMOKESCAN_HEADER_DEPS
+#undef SMOKESCAN_SEPARATOR
 
 std::vector<uint8_t> encode(const MultiEchoLaserScanMsg& m)
 {

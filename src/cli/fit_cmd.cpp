@@ -145,8 +145,10 @@ int fitLidarFrames(const FitArgs& a0)
         "noise sd; range sd %.4g +/- %.2g m (the preset's %.4g m)\n",
         r.frames, r.sensor.c_str(), r.fit.beams, r.clear, r.fit.scatter, r.fit.scatter_se, r.range_sd_m,
         r.range_sd_se_m, r.preset_range_sd_m);
+    int misfit = 0;
     for (const SurfaceReflectanceFit& f : r.fit.surfaces) {
         const std::string name = printable(r.surface_names[size_t(f.surface)]);
+        misfit += misfits(f);
         if (!f.fitted && f.candidates >= cfg.fit.min_beams)
             say("  %s: not fitted (%lld beams answered at it, fewer than %lld bright enough)\n", name.c_str(),
                 f.candidates, cfg.fit.min_beams);
@@ -156,7 +158,12 @@ int fitLidarFrames(const FitArgs& a0)
                 std::find(r.at_bound.begin(), r.at_bound.end(), f.surface) != r.at_bound.end()
                     ? " (written at the bound 0.01-10: is the scene's reflectance right?)"
                     : "");
+        if (misfits(f)) say("    its intensities scatter %.3g noise sd about the fit\n", f.scatter);
     }
+    if (misfit > 0)
+        say("warning: %d surface%s intensities are not a factor times the replay's (scatter over %g noise sd): "
+            "glossy, or the scene or sensor not the recording's; their factors explain a mean, not the surface\n",
+            misfit, misfit > 1 ? "s'" : "'s", kMisfitScatter);
     say("wrote %s (the %s extended by the factors) and %s\n", a.out.c_str(), r.sensor.c_str(), a.report.c_str());
     return 0;
 }
@@ -352,11 +359,14 @@ void addFit(CLI::App& app, Runner& run)
         ->capture_default_str();
     c->add_option("--reference", a->cfg.reference,
                   "Group whose penetration power goes into the sensor file (default: most beams)");
-    c->add_option("--report", a->report, "JSON report (default: OUT's name + _report.json)");
-    c->add_option("--plots", a->plots, "Plot path prefix: PREFIX_fig5.png, PREFIX_fig9.png (default: OUT's name)");
-    c->add_option("--aligned", a->aligned, "Also write the aligned streams (CSV)");
+    // An empty name would be taken as no option: the default path, or nothing written.
+    c->add_option("--report", a->report, "JSON report (default: OUT's name + _report.json)")->check(nonEmpty());
+    c->add_option("--plots", a->plots, "Plot path prefix: PREFIX_fig5.png, PREFIX_fig9.png (default: OUT's name)")
+        ->check(nonEmpty());
+    c->add_option("--aligned", a->aligned, "Also write the aligned streams (CSV)")->check(nonEmpty());
     c->add_option("--covariates", a->covariates,
-                  "Also write per-beam, per-scan covariates from the scene (CSV; needs --scene)");
+                  "Also write per-beam, per-scan covariates from the scene (CSV; needs --scene)")
+        ->check(nonEmpty());
     c->add_flag("--covariates-all", a->covariates_all, "Covariates for every beam, not only the groups'");
     c->add_option("--points", a->points,
                   "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "

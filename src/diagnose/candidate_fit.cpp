@@ -36,18 +36,23 @@ void chunkedSum(size_t n, double* value, double* grad, F&& term)
     }
 }
 
+/// Observations a fit keeps an ObsMemo for (88 bytes each: about 350 MB); a larger fit runs
+/// without (the same doubles, recomputed).
+constexpr size_t kMemoObservations = 4'000'000;
+
 /// The candidate's negative log-likelihood over a set of observations, for Ceres.
 class CandidateNll : public ceres::FirstOrderFunction {
 public:
     CandidateNll(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs)
-        : r_(r), m_(m), c_(c), obs_(obs), memo_(obs.size())
+        : r_(r), m_(m), c_(c), obs_(obs), memo_(obs.size() <= kMemoObservations ? obs.size() : 0)
     {
     }
     bool Evaluate(const double* theta, double* cost, double* gradient) const override
     {
         const CandidateAt at(r_, m_, c_, J(theta[0], 0));
         double ll = 0, g = 0;
-        chunkedSum(obs_.size(), &ll, &g, [&](size_t i) { return at.logLik(obs_[i], &memo_[i]); });
+        chunkedSum(obs_.size(), &ll, &g,
+                   [&](size_t i) { return at.logLik(obs_[i], memo_.empty() ? nullptr : &memo_[i]); });
         *cost = -ll;
         if (gradient) gradient[0] = -g;
         return std::isfinite(ll);

@@ -74,35 +74,32 @@ bool flatBetween(const Replay::PhysicalTable& t, size_t b, double u0, double u1)
     return reach >= j1;
 }
 
-/// The paper model's stop probability; with a memo, p_s reused while C, ln P and w stay (a
-/// range bias, a noise growth, a dropout, a short return), else ln C while C stays (a threshold).
+/// Whether a Jet carries no derivative: θ did not move it.
+bool still(const J& v) { return v.v[0] == 0; }
+
+/// ln(C / ref) (ref 1: ln C); with a memo, reused while C stays.
 template <class T>
-T stopProbabilityOf(const BeamTerms<T>& x, ObsMemo* memo)
+T lnScale(const T& column, double ref, ObsMemo* memo)
 {
+    using std::log;
+    const auto ln = [&] { return ref == 1 ? log(column) : log(column / T(ref)); };
     if constexpr (std::is_same_v<T, J>) {
-        if (memo && x.column > J(0.0) && x.column.v[0] == 0) {
-            ObsMemo& m = *memo;
-            const bool fixed = x.lnP.v[0] == 0 && x.width.v[0] == 0;
-            if (fixed && x.column.a == m.column && x.lnP.a == m.ln_p && x.width.a == m.width) return J(m.stop);
-            if (x.column.a != m.column) m.column = x.column.a, m.ln_column = std::log(x.column.a);
-            const J ps = extended::stopProbabilityLn(J(m.ln_column), x.lnP, x.width);
-            m.ln_p = fixed ? x.lnP.a : NAN, m.width = x.width.a, m.stop = ps.a;
-            return ps;
+        if (memo && still(column)) {
+            if (column.a != memo->scale_column) memo->scale_column = column.a, memo->ln_scale = ln().a;
+            return J(memo->ln_scale);
         }
     }
-    return extended::stopProbability(x.column, x.lnP, x.width);
+    return ln();
 }
 
-}  // namespace
-
+/// finishTerms' work; `memo` for ln C alone.
 template <class T>
-void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo)
+void finish(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo)
 {
-    using std::erfc;
-    using std::log;
     const ReplayBeam& beam = r.beams[size_t(o.b)];
     if (!r.isPhysical()) {
-        x.ps = stopProbabilityOf(x, memo);
+        // extended::stopProbability, with ln C from the memo
+        x.ps = x.column > T(0.0) ? extended::stopProbabilityLn(lnScale(x.column, 1, memo), x.lnP, x.width) : T(0.0);
         x.mu0 = T(beam.range_m);
         x.sd0 = T(beam.sigma_m > 0 ? beam.sigma_m : r.spec.rangeSigma(beam.range_m));
         return;
@@ -116,7 +113,7 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo)
         return;
     }
     // The smoke's scale against the reference, with the threshold's shift: ln s − (ln P' − ln P).
-    const T u = log(x.column / T(beam.column_ref)) - x.lnP;
+    const T u = lnScale(x.column, beam.column_ref, memo) - x.lnP;
     const double* z = normalNodes();
     // Where the table is flat across the spread (clear air, dense smoke: most beams) the average
     // is its value; else the average over the normal's quantiles.
@@ -129,6 +126,29 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo)
     }
     x.mu0 = tableAt(t, t.range, t.range_clear[b], b, u);
     x.sd0 = tableAt(t, t.sd, t.sd_clear[b], b, u);
+}
+
+}  // namespace
+
+template <class T>
+void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo)
+{
+    if constexpr (std::is_same_v<T, J>) {
+        if (memo) {
+            // p_s, L and σ₀ depend on the beam and on C, ln P and w alone: reused while those stay.
+            ObsMemo& m = *memo;
+            const bool fixed = still(x.column) && still(x.lnP) && still(x.width);
+            if (fixed && x.column.a == m.column && x.lnP.a == m.ln_p && x.width.a == m.width) {
+                x.ps = J(m.stop), x.mu0 = J(m.mu0_m), x.sd0 = J(m.sd0_m);
+                return;
+            }
+            finish(r, o, x, memo);
+            m.column = fixed ? x.column.a : NAN, m.ln_p = x.lnP.a, m.width = x.width.a;
+            m.stop = x.ps.a, m.mu0_m = x.mu0.a, m.sd0_m = x.sd0.a;
+            return;
+        }
+    }
+    finish(r, o, x, nullptr);
 }
 template void finishTerms<double>(const Replay&, const Obs&, BeamTerms<double>&, ObsMemo*);
 template void finishTerms<J>(const Replay&, const Obs&, BeamTerms<J>&, ObsMemo*);

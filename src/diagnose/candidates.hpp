@@ -82,8 +82,9 @@ void finishTerms(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo =
 /// and the reading's mean and variance alone, and ln C, the normal's exp and sqrt are most of a
 /// beam's cost.
 struct ObsMemo {
-    double column = NAN, ln_column = NAN;  ///< ln C at the column C [density·m]
-    double ln_p = NAN, width = NAN, stop = NAN;  ///< the paper model's p_s at (C, ln P, w)
+    double scale_column = NAN, ln_scale = NAN;  ///< ln C (physical: ln C/C_ref) at C [density·m]
+    double column = NAN, ln_p = NAN, width = NAN;  ///< finishTerms' inputs at its last outputs:
+    double stop = NAN, mu0_m = NAN, sd0_m = NAN;  ///< p_s, L and σ₀
     double mean_m = NAN, var_m2 = NAN, density = NAN;  ///< the reading's normal density at (mean, var)
 };
 

@@ -192,6 +192,7 @@ std::string lidarFitJson(const LidarFitRunResult& r)
              {"reflectance_factor_se", f.fitted ? num(f.factor_se) : nullptr},
              {"reflectance_factor_sys", f.fitted ? num(f.factor_sys) : nullptr},
              {"intensity_scatter", f.fitted ? num(f.scatter) : nullptr},
+             {"misfit", misfits(f)},
              {"written_at_bound", std::find(r.at_bound.begin(), r.at_bound.end(), f.surface) != r.at_bound.end()}});
     }
     j["surfaces"] = s;

@@ -96,6 +96,13 @@ struct SurfaceReflectanceFit {
     bool fitted = false;  ///< false: fewer than min_beams usable beams
 };
 
+/// The scatter [noise sd] above which a fitted surface's intensities are not its factor times
+/// the replay's: the surfaces of the recorded room read 0.9–1.3 (tests/test_lidar_fit.cpp), a
+/// glossy wall hundreds, as does a scene that is not the recording's.
+constexpr double kMisfitScatter = 3;
+/// @brief Whether a fitted surface's factor leaves its intensities unexplained (kMisfitScatter).
+inline bool misfits(const SurfaceReflectanceFit& f) { return f.fitted && f.scatter > kMisfitScatter; }
+
 struct LidarFitResult {
     std::vector<SurfaceReflectanceFit> surfaces;  ///< every surface with samples, by index
     long long beams = 0;  ///< beams used in all
