@@ -77,6 +77,17 @@ bool flatBetween(const Replay::PhysicalTable& t, size_t b, double u0, double u1)
 /// Whether a Jet carries no derivative: θ did not move it.
 bool still(const J& v) { return v.v[0] == 0; }
 
+/// The reading's normal density at the recorded range; with a memo, reused while its mean and
+/// variance stay.
+J readingDensityOf(double recorded_m, const J& mean, const J& var, ObsMemo* memo)
+{
+    if (!memo || !still(mean) || !still(var)) return readingDensity(recorded_m, mean, var);
+    if (mean.a != memo->mean_m || var.a != memo->var_m2)
+        // a Jet's arithmetic, as without the memo (its division multiplies by the inverse)
+        memo->mean_m = mean.a, memo->var_m2 = var.a, memo->density = readingDensity(recorded_m, mean, var).a;
+    return J(memo->density);
+}
+
 /// ln(C / ref) (ref 1: ln C); with a memo, reused while C stays.
 template <class T>
 T lnScale(const T& column, double ref, ObsMemo* memo)
@@ -213,20 +224,6 @@ CandidateAt::CandidateAt(const Replay& r, const ReplayModel& m, const Candidate&
 
 CandidateAt::~CandidateAt() = default;
 
-namespace {
-
-/// The reading's normal density at the recorded range, reused while its mean and variance stay.
-J readingDensityOf(double recorded_m, const J& mean, const J& var, ObsMemo& memo)
-{
-    if (mean.v[0] != 0 || var.v[0] != 0) return readingDensity(recorded_m, mean, var);
-    if (mean.a != memo.mean_m || var.a != memo.var_m2)
-        // a Jet's arithmetic, as without the memo (its division multiplies by the inverse)
-        memo.mean_m = mean.a, memo.var_m2 = var.a, memo.density = readingDensity(recorded_m, mean, var).a;
-    return J(memo.density);
-}
-
-}  // namespace
-
 J CandidateAt::logLik(const Obs& o, ObsMemo* memo) const
 {
     BeamTerms<J> x = baseTerms<J>(r_, m_, o);
@@ -234,12 +231,12 @@ J CandidateAt::logLik(const Obs& o, ObsMemo* memo) const
     const ReplayBeam& beam = r_.beams[size_t(o.b)];
     const double recorded = double(r_.range_m[size_t(o.k)][size_t(o.b)]);
     finishTerms(r_, o, x, memo);
-    if (!memo) return logLikelihood(x, recorded, beam.range_m, r_.spec.range_max_m);
+    // logLikelihood, with the reading's density from the memo
     if (std::isnan(recorded)) return logLikelihoodWith(x, recorded, beam.range_m, r_.spec.range_max_m, J(0.0));
     const J mean = extended::rangeMean(x.mu0, x.beta, x.column);
     const J var = extended::rangeVariance(x.sd0, x.gamma, x.column);
     return logLikelihoodWith(x, recorded, beam.range_m, r_.spec.range_max_m,
-                             readingDensityOf(recorded, mean, var, *memo));
+                             readingDensityOf(recorded, mean, var, memo));
 }
 
 double modelLogLik(const Replay& r, const ReplayModel& m, const Obs& o)
