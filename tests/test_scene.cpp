@@ -165,3 +165,37 @@ TEST(SceneErrors, OneLineWithFileAndLine)
                   "bocass: no such scene file (built-in scenes: bocas, factory, factory_smoke, maze, plume)");
     }
 }
+
+TEST(Surfaces, PacketsOfFourGiveTheSingleRaysHits)
+{
+    // The plume scene's posts, trees, cart and walls from its lidar's place: every ray of a packet
+    // (1 to 4 rays, misses and grazing edges among them) hits what it hits alone, at the same t.
+    const Scene s = loadScene("plume");
+    const SurfaceSet set(s);
+    const Vec3 o(0.1, 0.05, 0.55);
+    int hits = 0, misses = 0, compared = 0;
+    for (int i = 0; i < 4000; ++i) {
+        Ray rays[4];
+        const int n = 1 + i % 4;
+        for (int k = 0; k < n; ++k) {
+            const double az = 2 * M_PI * (i * 4 + k) / 16000.0 * 7.0, el = std::sin(0.37 * (i * 4 + k)) * 0.5;
+            rays[k] = Ray{o, Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el))};
+        }
+        SurfaceHit packet[4];
+        set.closest4(rays, n, 30.0, packet);
+        for (int k = 0; k < n; ++k) {
+            const SurfaceHit one = set.closest(rays[k], 30.0);
+            ASSERT_EQ(packet[k].hit, one.hit) << i << " " << k;
+            ASSERT_EQ(packet[k].surface, one.surface);
+            ASSERT_EQ(packet[k].t_m, one.t_m) << i << " " << k;
+            ASSERT_EQ(packet[k].normal, one.normal);
+            (one.hit ? hits : misses) += 1;
+            ++compared;
+        }
+    }
+    EXPECT_GT(hits, compared / 8);
+    EXPECT_GT(misses, compared / 10);
+    SurfaceHit out[4];
+    EXPECT_THROW(set.closest4(nullptr, 0, 1.0, out), Error);
+    EXPECT_THROW(set.closest4(nullptr, 5, 1.0, out), Error);
+}

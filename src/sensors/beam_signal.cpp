@@ -67,8 +67,15 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
     hits.resize(dirs.size());
     blocked.resize(dirs.size());
     double t_end = 0;
+    // The central ray alone, the others (the footprint's ring) four at a time in packets.
+    hits[0] = surfaces.closest(ray, reach);
+    for (size_t j = 1; j < dirs.size(); j += 4) {
+        Ray packet[4];
+        const int m = int(std::min<size_t>(4, dirs.size() - j));
+        for (int k = 0; k < m; ++k) packet[k] = Ray{ray.o, dirs[j + size_t(k)]};
+        surfaces.closest4(packet, m, reach, &hits[j]);
+    }
     for (size_t j = 0; j < dirs.size(); ++j) {
-        hits[j] = surfaces.closest(Ray{ray.o, dirs[j]}, reach);
         blocked[j] = hits[j].endOr(reach);
         t_end = std::max(t_end, blocked[j]);
         if (hits[j].hit && hits[j].t_m <= range_max_m) sig.surface_in_range = true;
