@@ -95,16 +95,28 @@ double refinedLead(const Waveform& f, const WaveformEcho& e, double height, doub
 /// Keys the extensions' dropout draws apart from the receiver's noise.
 constexpr uint64_t kDropoutKey = 0x64726f706f7574ULL;
 
+/// The echoes of the waveform `f` (the receiver's noise added to it in place when rng is given).
+std::vector<LidarEcho> receiveEchoesIn(const LidarSpec& spec, const BeamSignal& s, Waveform& f, KeyedRng* rng);
+
 }  // namespace
 
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
 {
     // Two samples per pulse σ: the peak and the leading edge each from a log-parabola through the
     // samples around them, exact for a lone Gaussian pulse.
-    return receiveEchoes(spec, s, pulsedWaveform(spec.range_max_m, spec.receiver, s, 2), rng);
+    thread_local Waveform f;  // storage kept for the thread's next beam
+    pulsedWaveform(spec.range_max_m, spec.receiver, s, 2, f);
+    return receiveEchoesIn(spec, s, f, rng);
 }
 
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, Waveform f, KeyedRng* rng)
+{
+    return receiveEchoesIn(spec, s, f, rng);
+}
+
+namespace {
+
+std::vector<LidarEcho> receiveEchoesIn(const LidarSpec& spec, const BeamSignal& s, Waveform& f, KeyedRng* rng)
 {
     const PhysicalParams& p = spec.receiver;
     std::vector<LidarEcho> out;
@@ -115,7 +127,9 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
     // A peak must rise out of the signal before it by as much as an echo must rise out of the
     // noise, and by one noise sd at least (a receiver asked for its faint echoes at a threshold
     // of 0 would otherwise split its runs at every pair of equal samples).
-    for (const WaveformPeak& w : waveformPeaks(f, threshold, std::max(threshold, p.noise_floor))) {
+    thread_local std::vector<WaveformPeak> peaks;  // storage kept for the thread's next beam
+    waveformPeaks(f, threshold, std::max(threshold, p.noise_floor), peaks);
+    for (const WaveformPeak& w : peaks) {
         const WaveformEcho& e = w.echo;
         // A run whose leading edge the waveform does not hold (nearer than half the pulse's
         // length) has no measurable range: the blind zone every pulsed lidar has. Its first peak
@@ -136,6 +150,8 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
     }
     return out;
 }
+
+}  // namespace
 
 std::vector<size_t> selectReturns(const std::vector<LidarEcho>& e, ReturnMode mode, bool dual_second_strongest)
 {
@@ -225,12 +241,12 @@ LidarScanner::FrameSetup LidarScanner::setup(double start_s) const
     return f;
 }
 
-BeamSignal LidarScanner::signal(const FrameSetup& f, size_t i, SurfaceHit* hit) const
+void LidarScanner::signal(const FrameSetup& f, size_t i, SurfaceHit* hit, BeamSignal& out) const
 {
     const Pose pose = mount_.robot >= 0 ? scene_.sensorAt(mount_, f.start_s + pattern_[i].time_s).pose : f.start_pose;
     const Ray ray{pose.t, pose.rotate(local_[i]).normalized()};
-    return traceBeamSignal(ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_, surfaces_, f.field, hit,
-                           nullptr, reflectance_.empty() ? nullptr : &reflectance_);
+    traceBeamSignalInto(out, ray, spec_.wavelength_nm, spec_.range_max_m, spec_.receiver, scene_, surfaces_, f.field,
+                        hit, nullptr, reflectance_.empty() ? nullptr : &reflectance_);
 }
 
 double returnTolerance_m(const LidarSpec& spec)
@@ -299,7 +315,8 @@ ExpectedBeam LidarScanner::expectedBeam(const FrameSetup& f, const LidarSpec& lo
 {
     const PhysicalParams& p = spec_.receiver;
     SurfaceHit hit;
-    const BeamSignal sig = signal(f, i, &hit);
+    thread_local BeamSignal sig;  // storage kept for the thread's next beam
+    signal(f, i, &hit, sig);
     ExpectedBeam x;
     const Waveform base = pulsedWaveform(spec_.range_max_m, p, sig, 2);
     // What the receiver could see with the noise: its echoes at a threshold kClearMarginSd sd lower.
@@ -396,7 +413,8 @@ LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
         const PatternBeam& b = pattern_[i];
         const Vec3& local = local_[i];
-        const BeamSignal sig = signal(f, i, nullptr);
+        thread_local BeamSignal sig;  // storage kept for the thread's next beam
+        signal(f, i, nullptr, sig);
         KeyedRng rng(seed_, index, uint64_t(i));
         const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
         // The extensions: a beam lost whole at its channel's and sector's dropout (its own draw,

@@ -17,7 +17,8 @@ void runPeaks(const Waveform& f, int k0, int k1, double prominence, std::vector<
         int from;
         int valley;
     };
-    std::vector<Found> found;
+    thread_local std::vector<Found> found;  // storage kept for the thread's next run
+    found.clear();
     int kp = k0, from = k0, kv = k0;
     double pedestal = 0, fall = 0;
     bool rising = true;  // looking for the peak (else for the valley after it)
@@ -52,8 +53,15 @@ void runPeaks(const Waveform& f, int k0, int k1, double prominence, std::vector<
 
 std::vector<WaveformPeak> waveformPeaks(const Waveform& f, double threshold, double prominence)
 {
-    if (!(prominence > 0)) throw std::invalid_argument("waveformPeaks: the prominence must be > 0");
     std::vector<WaveformPeak> out;
+    waveformPeaks(f, threshold, prominence, out);
+    return out;
+}
+
+void waveformPeaks(const Waveform& f, double threshold, double prominence, std::vector<WaveformPeak>& out)
+{
+    if (!(prominence > 0)) throw std::invalid_argument("waveformPeaks: the prominence must be > 0");
+    out.clear();
     const std::vector<double>& w = f.w;
     const int n = int(w.size());
     for (int k0 = 0; k0 < n;) {
@@ -64,7 +72,6 @@ std::vector<WaveformPeak> waveformPeaks(const Waveform& f, double threshold, dou
         runPeaks(f, k0, k1, prominence, out);
         k0 = k1 + 1;
     }
-    return out;
 }
 
 }  // namespace smokescan

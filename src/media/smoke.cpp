@@ -40,11 +40,25 @@ SmokeField SmokeField::scaledRegional(double k) const
 BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q) const
 {
     BeamSmoke out;
-    std::vector<std::vector<ProfileSegment>> parts, beta_parts;
+    trace(ray, t0, t1, q, out);
+    return out;
+}
+
+void SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q, BeamSmoke& out) const
+{
+    out.column_regional = out.column_local = out.tau = 0;
+    out.first_local_m = kInf;
+    out.sigma_t_profile.clear();
+    out.beta_profile.clear();
+    // Each volume's profile, kept for each thread with its storage (a frame traces many beams).
+    thread_local std::vector<std::vector<ProfileSegment>> parts, beta_parts;
+    size_t used = 0;  // volumes with smoke on the beam, in parts[0, used)
     for (const Entry& e : entries_) {
         const double sigma = e.wavelength_nm == q.wavelength_nm ? e.sigma_t : e.volume->medium.sigmaT(q.wavelength_nm);
-        std::vector<ProfileSegment> prof;
-        const double col = e.scale * e.grid->integrate(ray, t0, t1, q.recon, q.want_profile ? &prof : nullptr);
+        if (q.want_profile && parts.size() <= used) parts.resize(used + 1), beta_parts.resize(used + 1);
+        std::vector<ProfileSegment>* prof = q.want_profile ? &parts[used] : nullptr;
+        if (prof) prof->clear();
+        const double col = e.scale * e.grid->integrate(ray, t0, t1, q.recon, prof);
         out.tau += sigma * col;
         if (e.volume->role == SmokeRole::Regional) {
             out.column_regional += col;
@@ -54,42 +68,54 @@ BeamSmoke SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuer
                 out.first_local_m =
                     std::min(out.first_local_m, e.grid->firstAbove(ray, t0, t1, q.local_threshold / e.scale));
         }
-        if (q.want_profile && !prof.empty()) {
-            for (auto& s : prof) s.density *= e.scale * sigma;
-            std::vector<ProfileSegment> beta = prof;
+        if (prof && !prof->empty()) {
+            for (auto& s : *prof) s.density *= e.scale * sigma;
+            std::vector<ProfileSegment>& beta = beta_parts[used];
+            beta = *prof;
             const double bpe = e.volume->medium.backscatterPerExtinction();
             for (auto& s : beta) s.density *= bpe;
-            parts.push_back(std::move(prof));
-            beta_parts.push_back(std::move(beta));
+            ++used;
         }
     }
-    if (q.want_profile && parts.size() == 1) {  // one volume on the beam: its own profiles
-        out.sigma_t_profile = std::move(parts.front());
-        out.beta_profile = std::move(beta_parts.front());
-    } else if (q.want_profile) {
-        out.sigma_t_profile = sumProfiles(parts);
-        out.beta_profile = sumProfiles(beta_parts);
+    if (!q.want_profile || used == 0) return;
+    if (used == 1) {  // one volume on the beam: its own profiles
+        out.sigma_t_profile = parts.front();
+        out.beta_profile = beta_parts.front();
+    } else {
+        sumProfiles(parts.data(), used, out.sigma_t_profile);
+        sumProfiles(beta_parts.data(), used, out.beta_profile);
     }
-    return out;
 }
 
 std::vector<ProfileSegment> sumProfiles(const std::vector<std::vector<ProfileSegment>>& parts)
 {
-    if (parts.size() == 1) return parts.front();
-    std::vector<double> cuts;
-    for (const auto& p : parts)
-        for (const auto& s : p) {
+    std::vector<ProfileSegment> out;
+    sumProfiles(parts.data(), parts.size(), out);
+    return out;
+}
+
+void sumProfiles(const std::vector<ProfileSegment>* parts, size_t n_parts, std::vector<ProfileSegment>& out)
+{
+    out.clear();
+    if (n_parts == 1) {
+        out = parts[0];
+        return;
+    }
+    thread_local std::vector<double> cuts;
+    thread_local std::vector<size_t> idx;
+    cuts.clear();
+    for (size_t k = 0; k < n_parts; ++k)
+        for (const auto& s : parts[k]) {
             cuts.push_back(s.t0_m);
             cuts.push_back(s.t1_m);
         }
     std::sort(cuts.begin(), cuts.end());
     cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-    std::vector<ProfileSegment> out;
-    std::vector<size_t> idx(parts.size(), 0);
+    idx.assign(n_parts, 0);
     for (size_t i = 0; i + 1 < cuts.size(); ++i) {
         const double a = cuts[i], b = cuts[i + 1], m = 0.5 * (a + b);
         double v = 0;
-        for (size_t k = 0; k < parts.size(); ++k) {
+        for (size_t k = 0; k < n_parts; ++k) {
             const auto& p = parts[k];
             while (idx[k] < p.size() && p[idx[k]].t1_m <= m) ++idx[k];
             if (idx[k] < p.size() && p[idx[k]].t0_m <= m) v += p[idx[k]].density;
@@ -100,7 +126,6 @@ std::vector<ProfileSegment> sumProfiles(const std::vector<std::vector<ProfileSeg
         else
             out.push_back({a, b, v});
     }
-    return out;
 }
 
 }  // namespace smokescan

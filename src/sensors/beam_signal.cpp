@@ -47,6 +47,17 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
                            const std::vector<double>* reflectance_factor)
 {
     BeamSignal sig;
+    traceBeamSignalInto(sig, ray, wavelength_nm, range_max_m, p, scene, surfaces, field, central_hit, central_smoke,
+                        reflectance_factor);
+    return sig;
+}
+
+void traceBeamSignalInto(BeamSignal& sig, const Ray& ray, double wavelength_nm, double range_max_m,
+                         const PhysicalParams& p, const Scene& scene, const SurfaceSet& surfaces,
+                         const SmokeField& field, SurfaceHit* central_hit, BeamSmoke* central_smoke,
+                         const std::vector<double>* reflectance_factor)
+{
+    sig.clear();
     auto factor = [&](int surface) {
         return reflectance_factor && surface >= 0 && size_t(surface) < reflectance_factor->size()
             ? (*reflectance_factor)[size_t(surface)]
@@ -88,7 +99,8 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
     BeamQuery q;
     q.wavelength_nm = wl;
     q.want_profile = true;
-    BeamSmoke smoke = field.trace(ray, 0.0, t_end, q);
+    thread_local BeamSmoke smoke, ms;  // the central ray's smoke, a mirror path's
+    field.trace(ray, 0.0, t_end, q, smoke);
     const TauProfile tau(smoke.sigma_t_profile);
     std::sort(blocked.begin(), blocked.end());
     if (p.smoke_cell_m > 0)
@@ -123,7 +135,7 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
         if (u_max <= 0) continue;
         const SurfaceHit mh = surfaces.closest(mray, u_max);
         const double u_end = mh.endOr(u_max);
-        BeamSmoke ms = field.trace(mray, 0.0, u_end, q);
+        field.trace(mray, 0.0, u_end, q, ms);
         const TauProfile mtau(ms.sigma_t_profile);
         appendSmokeEchoes(p, mtau, ms.beta_profile, 0.0, u_end, h.t_m, gain, lobe_ratio, {}, EchoSource::Mirror, sig);
         if (mh.hit) {
@@ -144,9 +156,8 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
         const double t_c = hits[0].endOr(range_max_m);
         BeamQuery qc;
         qc.wavelength_nm = wl;
-        *central_smoke = t_c == t_end ? std::move(smoke) : field.trace(ray, 0.0, t_c, qc);
+        *central_smoke = t_c == t_end ? smoke : field.trace(ray, 0.0, t_c, qc);
     }
-    return sig;
 }
 
 }  // namespace smokescan

@@ -363,6 +363,15 @@ double pulseSigma_m(const PhysicalParams& p)
 Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s, int samples_per_sigma)
 {
     Waveform f;
+    pulsedWaveform(range_max_m, p, s, samples_per_sigma, f);
+    return f;
+}
+
+void pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s, int samples_per_sigma,
+                    Waveform& f)
+{
+    f.lo = 0;
+    f.w.clear();
     f.sig_p = pulseSigma_m(p);
     f.dr = f.sig_p / samples_per_sigma;
     const double reach = 4 * f.sig_p;
@@ -395,7 +404,7 @@ Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamS
             hi = std::max(hi, double(k1) * s.smoke_cell_m + reach);
         }
     }
-    if (!(hi > lo)) return f;
+    if (!(hi > lo)) return;
     f.lo = lo = cells ? std::max(0.0, std::floor(lo / f.dr)) * f.dr : std::max(0.0, lo);
     hi = std::min(hi, r_end);
     const int n = int(std::ceil((hi - lo) / f.dr)) + 1;
@@ -416,7 +425,6 @@ Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamS
             ratio *= shrink;
         }
     }
-    return f;
 }
 
 std::vector<WaveformEcho> waveformEchoes(const Waveform& f, double thr, int max_echoes)

@@ -161,7 +161,8 @@ private:
     struct FrameSetup;
     FrameSetup setup(double start_s) const;
     /// Beam i's signal in the frame `f`; the central ray's hit into `hit` (may be null).
-    BeamSignal signal(const FrameSetup& f, size_t i, SurfaceHit* hit) const;
+    /// Into `out`, whose storage is reused.
+    void signal(const FrameSetup& f, size_t i, SurfaceHit* hit, BeamSignal& out) const;
     /// Beam i of the frame `f` replayed; `low` is the spec with the threshold kClearMarginSd lower.
     ExpectedBeam expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i, bool dimmer) const;
 };

@@ -38,5 +38,7 @@ struct WaveformPeak {
 /// @param prominence how far a peak must stand above the valley before it, and the peak before
 /// that above the valley (normalised power, > 0) @throw std::invalid_argument when it is not > 0
 std::vector<WaveformPeak> waveformPeaks(const Waveform& f, double threshold, double prominence);
+/// @brief The same into `out`, whose storage is reused.
+void waveformPeaks(const Waveform& f, double threshold, double prominence, std::vector<WaveformPeak>& out);
 
 }  // namespace smokescan

@@ -71,6 +71,8 @@ public:
 
     /// @brief Integrates the beam over [t0_m, t1_m].
     BeamSmoke trace(const Ray& ray, double t0_m, double t1_m, const BeamQuery& q) const;
+    /// @brief The same into `out`, whose storage is reused (a frame's beams, one after another).
+    void trace(const Ray& ray, double t0_m, double t1_m, const BeamQuery& q, BeamSmoke& out) const;
 
     const std::vector<Entry>& entries() const { return entries_; }
 
@@ -88,5 +90,7 @@ private:
 
 /// Sums piecewise-constant profiles into one (breakpoints merged, zero pieces dropped).
 std::vector<ProfileSegment> sumProfiles(const std::vector<std::vector<ProfileSegment>>& parts);
+/// The same for parts[0, n_parts) into `out` (its storage reused).
+void sumProfiles(const std::vector<ProfileSegment>* parts, size_t n_parts, std::vector<ProfileSegment>& out);
 
 }  // namespace smokescan

@@ -48,6 +48,16 @@ struct BeamSignal {
     /// between them so that its centre stays; empty otherwise, and the smoke is in `echoes`.
     std::vector<double> smoke_cells;
     double smoke_cell_m = 0;
+
+    /// Empty, as constructed, keeping the vectors' storage for the next beam.
+    void clear()
+    {
+        echoes.clear();
+        smoke_cells.clear();
+        surface_power = smoke_power = mirror_power = 0;
+        surface_in_range = mixed_surfaces = false;
+        smoke_cell_m = 0;
+    }
 };
 
 /// Optical depth along a beam from a piecewise-constant σ_t profile: τ(r) in O(log n).
@@ -124,6 +134,11 @@ BeamSignal traceBeamSignal(const Ray& ray, double wavelength_nm, double range_ma
                            const Scene& scene, const SurfaceSet& surfaces, const SmokeField& field,
                            SurfaceHit* central_hit, BeamSmoke* central_smoke,
                            const std::vector<double>* reflectance_factor = nullptr);
+/// @brief The same into `out`, whose storage is reused (a frame's beams, one after another).
+void traceBeamSignalInto(BeamSignal& out, const Ray& ray, double wavelength_nm, double range_max_m,
+                         const PhysicalParams& p, const Scene& scene, const SurfaceSet& surfaces,
+                         const SmokeField& field, SurfaceHit* central_hit, BeamSmoke* central_smoke,
+                         const std::vector<double>* reflectance_factor);
 
 /// @brief URG-04LX: amplitude and phase of the summed echoes at two modulation frequencies.
 /// Codes: 18 strong reflection (amplitude above saturation), 1 low intensity, 8 intensity
@@ -170,6 +185,9 @@ struct Waveform {
 /// beyond), `samples_per_sigma` samples per pulse σ: noise alone stays below a detection threshold
 /// of 6 σ (probability ~1e-9 a sample).
 Waveform pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s, int samples_per_sigma = 4);
+/// @brief The same into `out`, whose storage is reused (a frame's beams, one after another).
+void pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSignal& s, int samples_per_sigma,
+                    Waveform& out);
 
 /// One echo found in a waveform: a run of samples at or above the detection threshold.
 struct WaveformEcho {
