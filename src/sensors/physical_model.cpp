@@ -140,6 +140,7 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     out.smoke_cell_m = c;
     if (beta.empty()) return;
     out.smoke_cells.assign(size_t(std::max(0.0, std::min(beta.back().t1_m, s1)) * inv_c) + 2, 0.0);
+    out.smoke_first = out.smoke_cells.size();  // lowered to the first point given power
     const double settled = p.overlapSettled_m(), O_settled = p.overlap(settled);
     const double n_sub = blocked.empty() ? 1.0 : double(blocked.size());
     auto blockedAfter = blocked.begin();  // the first sub-ray stop beyond the piece's start
@@ -185,6 +186,7 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
                 const double P = open * density_pi * O / (r * r) * T2 * integral;
                 if (P > 0) {
                     const double f = std::clamp(r * inv_c - double(k), 0.0, 1.0);
+                    out.smoke_first = std::min(out.smoke_first, size_t(k));
                     out.smoke_cells[size_t(k)] += (1 - f) * P;
                     out.smoke_cells[size_t(k) + 1] += f * P;
                     out.smoke_power += P;
@@ -317,9 +319,9 @@ double amcwErrorProbability(const LrfSpec& spec, const PhysicalParams& p, const 
 
 namespace {
 
-/// The smoke's points (q to a sample, point m at m·dr/q) convolved with the pulse onto the
-/// waveform: exp(−x²/2σ²) at whole multiples of the points' spacing, ± reach.
-void addSmokeCells(Waveform& f, const std::vector<double>& cells, int q, double reach, int n)
+/// The smoke's points (q to a sample, point m at m·dr/q; 0 before first_cell) convolved with the
+/// pulse onto the waveform: exp(−x²/2σ²) at whole multiples of the points' spacing, ± reach.
+void addSmokeCells(Waveform& f, const std::vector<double>& cells, size_t first_cell, int q, double reach, int n)
 {
     // kernel[r][t + K]: the weight of a point r points past sample j_c on sample j_c + t.
     const long K = long(std::ceil(reach / f.dr - 1e-9));
@@ -340,7 +342,7 @@ void addSmokeCells(Waveform& f, const std::vector<double>& cells, int q, double 
     }
     const long first = std::lround(f.lo / f.dr);  // the waveform's first sample
     double* w = f.w.data();
-    for (size_t m = 0; m < cells.size(); ++m) {
+    for (size_t m = first_cell; m < cells.size(); ++m) {  // the points before first_cell hold 0
         const double P = cells[m];
         if (!(P > 0)) continue;
         const long jc = long(m) / q, r = long(m) - q * jc;
@@ -393,7 +395,7 @@ void pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSigna
                             std::to_string(f.dr) + " m");
         size_t k0 = 0, k1 = 0;
         bool any = false;
-        for (size_t k = 0; k < s.smoke_cells.size(); ++k)
+        for (size_t k = s.smoke_first; k < s.smoke_cells.size(); ++k)
             if (s.smoke_cells[k] > 0 && double(k) * s.smoke_cell_m < r_end) {
                 if (!any) k0 = k;
                 k1 = k;
@@ -409,7 +411,7 @@ void pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSigna
     hi = std::min(hi, r_end);
     const int n = int(std::ceil((hi - lo) / f.dr)) + 1;
     f.w.assign(size_t(n), 0.0);
-    if (cells) addSmokeCells(f, s.smoke_cells, q, reach, n);
+    if (cells) addSmokeCells(f, s.smoke_cells, s.smoke_first, q, reach, n);
     // Each echo's pulse exp(−x²/2σ²) on the grid by its recurrence: from one sample to the next
     // the value is multiplied by a ratio that itself shrinks by exp(−dr²/σ²) (two exps an echo).
     const double inv2s2 = 1.0 / (2 * f.sig_p * f.sig_p), shrink = std::exp(-2 * f.dr * f.dr * inv2s2);

@@ -48,6 +48,7 @@ struct BeamSignal {
     /// between them so that its centre stays; empty otherwise, and the smoke is in `echoes`.
     std::vector<double> smoke_cells;
     double smoke_cell_m = 0;
+    size_t smoke_first = 0;  ///< smoke_cells[k] is 0 for every k below this (the smoke starts there)
 
     /// Empty, as constructed, keeping the vectors' storage for the next beam.
     void clear()
@@ -57,6 +58,7 @@ struct BeamSignal {
         surface_power = smoke_power = mirror_power = 0;
         surface_in_range = mixed_surfaces = false;
         smoke_cell_m = 0;
+        smoke_first = 0;
     }
 };
 
