@@ -364,10 +364,12 @@ void bindAnalysis(py::module_& m)
     m.def(
         "diagnose_lidar",
         [](const py::object& scene, const py::object& points, const std::string& sensor, const std::string& returns,
-           int columns, double rate_hz, double alpha, const py::object& out, py::object progress) {
+           int columns, double rate_hz, double alpha, const py::object& out, py::object progress,
+           const std::string& topic) {
             LidarDiagnoseRunConfig cfg;
             cfg.scene = pathArg(scene, "scene");
             cfg.points = pathArg(points, "--points");
+            cfg.topic = topic;
             if (sensor.empty()) throw Error("--sensor", "names the lidar whose frames points= holds");
             cfg.sensor.sensor = sensor;
             cfg.sensor.returns = returns;
@@ -389,9 +391,9 @@ void bindAnalysis(py::module_& m)
         },
         py::arg("scene"), py::kw_only(), py::arg("points"), py::arg("sensor"), py::arg("returns") = "",
         py::arg("columns") = 0, py::arg("rate_hz") = 0.0, py::arg("alpha") = 0.05, py::arg("out") = py::none(),
-        py::arg("progress") = py::none(),
+        py::arg("progress") = py::none(), py::arg("topic") = "",
         "`smokescan diagnose --points`: a 3D lidar's recorded frames (points=, a folder as scan --points "
-        "writes it) against their replay in the scene: a dropping channel, a dirty-window sector, a biased "
+        "writes it, or a ROS 2 bag of PointCloud2 frames on topic=, default its only one) against their replay in the scene: a dropping channel, a dirty-window sector, a biased "
         "channel, smoke echoes taken as first returns, a surface's threshold. Returns a Report with "
         "diagnosis.json's fields (docs/diagnosis.md, \"A 3D lidar's frames\"; extended_preset: the preset "
         "extended by what was named, docs/lidar.md); out= also writes diagnosis.json, report.md and lidar.toml, "
@@ -400,10 +402,11 @@ void bindAnalysis(py::module_& m)
     m.def(
         "fit_lidar",
         [](const py::object& scene, const py::object& points, const std::string& sensor, const std::string& returns,
-           int columns, double rate_hz, const py::object& out, py::object progress) {
+           int columns, double rate_hz, const py::object& out, py::object progress, const std::string& topic) {
             LidarFitRunConfig cfg;
             cfg.frames.scene = pathArg(scene, "scene");
             cfg.frames.points = pathArg(points, "--points");
+            cfg.frames.topic = topic;
             if (sensor.empty()) throw Error("--sensor", "names the lidar whose frames points= holds");
             cfg.frames.sensor.sensor = sensor;
             cfg.frames.sensor.returns = returns;
@@ -425,8 +428,9 @@ void bindAnalysis(py::module_& m)
         },
         py::arg("scene"), py::kw_only(), py::arg("points"), py::arg("sensor"), py::arg("returns") = "",
         py::arg("columns") = 0, py::arg("rate_hz") = 0.0, py::arg("out") = py::none(), py::arg("progress") = py::none(),
+        py::arg("topic") = "",
         "`smokescan fit --points`: each surface's reflectance factor from a 3D lidar's recorded intensities (points=, "
-        "a folder as scan --points writes it) against their replay in the scene, and the receiver's noise. Returns a "
+        "a folder as scan --points writes it, or a ROS 2 bag of PointCloud2 frames on topic=) against their replay in the scene, and the receiver's noise. Returns a "
         "Report with the fit report's fields (docs/lidar.md, \"Fitted from the intensities\"; extended_preset: "
         "the preset extended by the factors); out= also writes that preset. progress(done, total) counts frames");
 }

@@ -563,3 +563,137 @@ TEST(Bag, APatternIsAPlanarFanOnlyInOnePlaneWithEvenSteps)
     LidarSpec vlp = lidarSpec("vlp16");
     EXPECT_FALSE(planarFan(framePattern(vlp)).has_value()) << "16 channels";
 }
+
+TEST(BagCli, ReadsThePointCloudsAnIndependentWriterWroteInOustersLayout)
+{
+    SMOKESCAN_NEED_READERS();
+    const std::string mcap = (dir() / "independent_clouds.mcap").string();
+    const std::string cmd = "node " + readersDir() + "/write_bag.mjs " + mcap + " 1 682 0 4";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    // The writer's rule (tests/js/write_bag.mjs): 48-byte points, rows padded to 160 bytes, Ouster's
+    // `t` in ns, point (1, 2) without a return.
+    std::vector<double> starts;
+    const std::string topic =
+        readBagPointClouds(mcap, "", [&](PointCloudFile&& pc, double start_s, const std::string& what) {
+            const size_t k = starts.size();
+            starts.push_back(start_s);
+            EXPECT_NE(what.find("/ouster/points"), std::string::npos) << what;
+            EXPECT_EQ(pc.fields,
+                      (std::vector<std::string>{"x", "y", "z", "intensity", "t", "reflectivity", "ring", "ambient",
+                                                "range"}));
+            EXPECT_EQ(pc.skipped, 1u);
+            ASSERT_EQ(pc.points.size(), 5u);
+            for (size_t i = 0; i < pc.points.size(); ++i) {
+                const LidarPoint& p = pc.points[i];
+                const int r = int(i / 3), c = int(i % 3);
+                EXPECT_EQ(p.x, float(double(k) + 0.25 * c)) << k << " " << i;
+                EXPECT_EQ(p.y, float(r));
+                EXPECT_EQ(p.z, -0.5f);
+                EXPECT_EQ(p.intensity, float(10 * k + size_t(c)));
+                EXPECT_EQ(p.ring, uint16_t(r));
+                EXPECT_EQ(p.time_s, float(1000e-9 * (c + 1)));
+                EXPECT_EQ(p.return_index, 0);
+                EXPECT_FLOAT_EQ(p.range_m, std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
+            }
+        });
+    EXPECT_EQ(topic, "/ouster/points");  // the only PointCloud2 topic, beside /front/scan and /tf
+    ASSERT_EQ(starts.size(), 4u);
+    for (size_t k = 0; k < starts.size(); ++k) EXPECT_DOUBLE_EQ(starts[k], 10 + 0.1 * double(k));
+    try {
+        (void)readBagPointClouds(mcap, "/front/scan", [](PointCloudFile&&, double, const std::string&) {});
+        ADD_FAILURE() << "a LaserScan topic read as point clouds";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("/front/scan is sensor_msgs/msg/LaserScan"), std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(Bag, APointCloudsLayoutIsCheckedBeforeItsPointsAreRead)
+{
+    PointCloud2Msg m;
+    m.width = 2;
+    m.point_step = 12;
+    m.row_step = 24;
+    m.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}};
+    m.data.assign(24, 0);
+    EXPECT_EQ(pointCloudFileOf(m, "m").points.size(), 2u);
+    auto refused = [](PointCloud2Msg bad, const std::string& says) {
+        try {
+            (void)pointCloudFileOf(bad, "msg 7");
+            ADD_FAILURE() << says;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+            EXPECT_EQ(std::string(e.what()).rfind("msg 7", 0), 0u) << e.what();
+        }
+    };
+    PointCloud2Msg b = m;
+    b.is_bigendian = true;
+    refused(b, "big-endian");
+    b = m;
+    b.data.resize(20);  // shorter than its row
+    refused(b, "row_step");
+    b = m;
+    b.fields[2].offset = 10;  // z past the point's 12 bytes
+    refused(b, "field 'z' (at byte 10) does not fit");
+    b = m;
+    b.fields[1].datatype = 9;
+    refused(b, "field 'y' has datatype 9");
+    b = m;
+    b.fields.pop_back();
+    refused(b, "has no field 'z'");
+    b = m;
+    b.width = 1u << 31;
+    b.height = 4;
+    refused(b, "points (at most");
+}
+
+TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
+{
+    // A VLP-16 whose ring 3 reads 0.25 m long (the preset's extension, the planted effect), scanned
+    // into a frames folder and a bag at once; each diagnosed and fitted with the plain preset.
+    const fs::path pts = dir() / "lidar_bag_pts", bag = dir() / "lidar_bag";
+    fs::remove_all(pts);
+    fs::remove_all(bag);
+    const std::string preset = file("lidar_bag_biased.toml",
+                                    "name = \"biased\"\nbase = \"vlp16\"\n[extensions]\n[[extensions.channel]]\n"
+                                    "ring = 3\nrange_offset_m = 0.25\n");
+    CliRun r = cli("scan factory_smoke --sensor " + preset + " --from 38 --to 38.35 --points " + pts.string() +
+                   " --bag " + bag.string() + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string common = " --scene factory_smoke --sensor vlp16 ";
+    std::map<std::string, nlohmann::json> diagnosis;
+    for (const fs::path& in : {pts, bag, bag / "lidar_bag_0.mcap"}) {
+        const fs::path out = dir() / ("lidar_bag_diag_" + in.filename().string());
+        fs::remove_all(out);
+        r = cli("diagnose --points " + in.string() + common + "--out " + out.string());
+        ASSERT_EQ(r.status, 0) << in << r.err << r.out;
+        EXPECT_NE(r.out.find("biased_channel on ring 3"), std::string::npos) << in << r.out;
+        nlohmann::json j = nlohmann::json::parse(slurp(out / "diagnosis.json"));
+        const bool from_bag = in != pts;
+        EXPECT_EQ(j["pose_mismatch_m"].is_null(), from_bag) << in;
+        EXPECT_EQ(slurp(out / "report.md").find("carry no recorded pose") != std::string::npos, from_bag);
+        j.erase("pose_mismatch_m");
+        j.erase("pose_mismatch_deg");
+        diagnosis[in.string()] = j;
+        EXPECT_EQ(slurp(out / "lidar.toml"), slurp(dir() / "lidar_bag_diag_lidar_bag_pts" / "lidar.toml"));
+    }
+    EXPECT_EQ(diagnosis[bag.string()], diagnosis[pts.string()]);
+    EXPECT_EQ(diagnosis[(bag / "lidar_bag_0.mcap").string()], diagnosis[pts.string()]);
+    // The fit reads the bag's intensities as the folder's.
+    for (const fs::path& in : {pts, bag}) {
+        const std::string out = file("lidar_bag_fit_" + in.filename().string() + ".toml");
+        r = cli("fit --points " + in.string() + common + "--out " + out);
+        ASSERT_EQ(r.status, 0) << r.err;
+    }
+    EXPECT_EQ(slurp(file("lidar_bag_fit_lidar_bag.toml")), slurp(file("lidar_bag_fit_lidar_bag_pts.toml")));
+    // A topic that is not there, --topic with a folder, a bag whose files an output would replace.
+    expectBad("diagnose --points " + bag.string() + common + "--topic /nope --out " + file("lidar_bag_d1"),
+              "has no topic /nope", file("lidar_bag_d1"));
+    expectBad("diagnose --points " + pts.string() + common + "--topic /points --out " + file("lidar_bag_d2"),
+              "--topic: names a bag's topic", file("lidar_bag_d2"));
+    const std::string meta = slurp(bag / "metadata.yaml");
+    expectBad("fit --points " + bag.string() + common + "--out " + file("lidar_bag_f3.toml") + " --report " +
+                  (bag / "metadata.yaml").string(),
+              "metadata.yaml", file("lidar_bag_f3.toml"));
+    EXPECT_EQ(slurp(bag / "metadata.yaml"), meta);
+}

@@ -17,6 +17,7 @@
 #include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/io/text_input.hpp"
+#include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/sensor_config/laser_kind.hpp"
 
 namespace smokescan {
@@ -213,6 +214,58 @@ std::string readBagImages(const std::string& path, const std::string& topic,
         return detail::readRos1Images(path, topic, checked);
     return readTopic(path, topic, kImageType, "Image",
                      [&](McapMessage&& m, const std::string& what) { checked(decodeImage(m.data, what), what); });
+}
+
+PointCloudFile pointCloudFileOf(const PointCloud2Msg& m, const std::string& what)
+{
+    if (m.is_bigendian) throw Error(what, "is big-endian (smokescan reads little-endian point clouds)");
+    static const std::pair<char, int> kTypes[] = {{'I', 1}, {'U', 1}, {'I', 2}, {'U', 2},
+                                                  {'I', 4}, {'U', 4}, {'F', 4}, {'F', 8}};
+    std::vector<PointRecordField> fields;
+    for (const PointFieldMsg& f : m.fields) {
+        if (f.datatype < 1 || f.datatype > 8)
+            throw Error(what, "field '" + f.name + "' has datatype " + std::to_string(f.datatype) + " (1 to 8)");
+        const auto [type, size] = kTypes[f.datatype - 1];
+        fields.push_back({f.name, type, size, int(std::min<uint32_t>(f.count, 1u << 20)), size_t(f.offset)});
+    }
+    const uint64_t n = uint64_t(m.width) * uint64_t(m.height);
+    if (n > uint64_t(2 * lidar_limits::kBeamsPerFrame))
+        throw Error(what,
+                    std::to_string(m.width) + " × " + std::to_string(m.height) + " points (at most " +
+                        std::to_string(2 * lidar_limits::kBeamsPerFrame) + " a frame)");
+    const uint64_t row = uint64_t(m.point_step) * m.width;
+    if (m.height > 0 && (m.row_step < row || uint64_t(m.row_step) * m.height > m.data.size()))
+        throw Error(what,
+                    fmt("has rows of %u bytes (row_step) for %u points of %u bytes, and %zu bytes for %u rows",
+                        m.row_step, m.width, m.point_step, m.data.size(), m.height));
+    // The points one after another: rows padded past their points (row_step) are closed up.
+    std::string bytes;
+    bytes.reserve(size_t(row * m.height));
+    for (uint32_t r = 0; r < m.height; ++r)
+        bytes.append(reinterpret_cast<const char*>(m.data.data()) + size_t(r) * m.row_step, size_t(row));
+    return readPointRecords(bytes, (long long)n, m.point_step, fields, what);
+}
+
+std::string readBagPointClouds(const std::string& path, const std::string& topic,
+                               const std::function<void(PointCloudFile&&, double, const std::string&)>& each)
+{
+    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
+        throw Error(path, "is a ROS 1 bag: smokescan reads a 3D lidar's PointCloud2 frames from ROS 2 bags (MCAP)");
+    RosTime last;
+    bool first = true;
+    return readTopic(path, topic, kPointCloud2Type, "PointCloud2", [&](McapMessage&& msg, const std::string& what) {
+        const PointCloud2Msg m = decodePointCloud2(msg.data, what);
+        const RosTime& t = m.header.stamp;
+        if (t.sec < 0 || t.nanosec >= 1000000000u)
+            throw Error(what,
+                        "has the stamp " + std::to_string(t.sec) + " s " + std::to_string(t.nanosec) +
+                            " ns, which is not a time (sec ≥ 0, nanosec < 1e9)");
+        if (!first && t.nanoseconds() <= last.nanoseconds())
+            throw Error(what, "has a stamp that does not follow the previous frame's (stamps must increase)");
+        first = false;
+        last = t;
+        each(pointCloudFileOf(m, what), double(t.sec) + 1e-9 * double(t.nanosec), what);
+    });
 }
 
 RecordedLog recordedLogOf(const BagLaserScans& bag, const LrfSpec& spec)

@@ -57,6 +57,9 @@ bool lidarRun(const std::vector<std::string>& given, const std::set<std::string>
 /// @brief A bag's files as the run's inputs, which no output may replace: a folder's metadata.yaml
 /// and the files it lists, or the file itself; nothing when `bag` is empty.
 void bagInputs(RunFiles& files, const std::string& bag, const std::string& option);
+/// @brief The inputs of a 3D lidar's recorded frames (--points), which no output may replace: a
+/// frames folder's frames.csv, or a ROS 2 bag's files.
+void lidarFramesInputs(RunFiles& files, const std::string& points);
 /// @brief The --saturation input's files (a bag's metadata.yaml and the files it lists, or the CSV).
 void saturationInputs(RunFiles& files, const std::string& saturation);
 

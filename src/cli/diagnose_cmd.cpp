@@ -35,8 +35,9 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
     if (cfg.sensor.sensor.empty())
         throw Error("--sensor", "names the lidar whose frames --points holds (a preset or a preset file)");
     cfg.diag.level = a.run.diag.alpha;
+    cfg.topic = a.run.in.topic;
     RunFiles files;
-    files.input(cfg.points + "/frames.csv", "--points");
+    lidarFramesInputs(files, cfg.points);
     files.input(cfg.sensor.sensor, "--sensor");
     files.outputFolder(a.out, "--out");
     // The frames' folder is an input: nothing is written into it.
@@ -65,10 +66,13 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
     long long missed = 0;
     for (const LidarGroupStats& g : d.rings) missed += g.missed;
     auto tidy = [](double v) { return std::abs(v) < 1e-9 ? 0.0 : v; };
-    say("%zu frames, %lld clear beams compared, %.2f %% of them unanswered; %lld points matched no beam; recorded "
-        "poses within %.3g m and %.3g deg of the scene's\n",
-        d.frames, d.clear, d.clear ? 100.0 * double(missed) / double(d.clear) : 0.0, d.unmatched_points,
-        tidy(d.pose_mismatch_m), tidy(d.pose_mismatch_deg));
+    say("%zu frames, %lld clear beams compared, %.2f %% of them unanswered; %lld points matched no beam; ", d.frames,
+        d.clear, d.clear ? 100.0 * double(missed) / double(d.clear) : 0.0, d.unmatched_points);
+    if (std::isnan(d.pose_mismatch_m))
+        say("no recorded poses (a bag's frames: the scene's taken)\n");
+    else
+        say("recorded poses within %.3g m and %.3g deg of the scene's\n", tidy(d.pose_mismatch_m),
+            tidy(d.pose_mismatch_deg));
     say("wrote %s/diagnosis.json, %s/report.md and %s/lidar.toml (the preset extended by what was named)\n",
         a.out.c_str(), a.out.c_str(), a.out.c_str());
     return 0;
@@ -96,8 +100,8 @@ void sayDiagnosis(const DiagnoseArgs& a, const DiagnosisResult& r)
 }
 
 /// The options a 3D lidar's diagnosis takes; --returns, --columns and --rate are its alone.
-const std::set<std::string> kLidarDiagnoseOptions = {"--points",  "--scene",   "--out",  "--sensor",
-                                                     "--returns", "--columns", "--rate", "--alpha"};
+const std::set<std::string> kLidarDiagnoseOptions = {"--points",  "--scene", "--out",   "--sensor", "--returns",
+                                                     "--columns", "--rate",  "--alpha", "--topic"};
 
 /// @param given the options given on the command line
 int runDiagnose(const DiagnoseArgs& a0, const std::vector<std::string>& given)
@@ -149,7 +153,8 @@ void addDiagnose(CLI::App& app, Runner& run)
                          "time line is replayed)");
     c->add_option("--points", a->lidar.points,
                   "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
-                  "with ring and time fields); --sensor names the lidar");
+                  "with ring and time fields) or a ROS 2 bag of PointCloud2 frames (--topic); --sensor names the "
+                  "lidar");
     c->add_option("--returns", a->lidar.sensor.returns, "3D lidar: the frames' return mode (default: the preset's)");
     c->add_option("--columns", a->lidar.sensor.columns, "3D lidar: columns a turn (default: the preset's)")
         ->check(positive());

@@ -92,8 +92,8 @@ int finishFitOmni(const FitArgs& a, RunFiles& files, FitRunResult& r)
 }
 
 /// The options a 3D lidar's fit takes; --points, --returns, --columns and --rate are its alone.
-const std::set<std::string> kLidarFitOptions = {"--points", "--scene",   "--out",     "--sensor",
-                                                "--report", "--returns", "--columns", "--rate"};
+const std::set<std::string> kLidarFitOptions = {"--points",  "--scene",   "--out",  "--sensor", "--report",
+                                                "--returns", "--columns", "--rate", "--topic"};
 
 /// A 3D lidar's frames (--points): each surface's reflectance factor from the recorded
 /// intensities, the preset extended by them (--out) and the report (--report).
@@ -113,8 +113,9 @@ int fitLidarFrames(const FitArgs& a0)
     cfg.frames.points = a.points;
     cfg.frames.sensor = a.lidar;
     cfg.frames.sensor.sensor = a.sensor;
+    cfg.frames.topic = a.topic;
     RunFiles files;
-    files.input(a.points + "/frames.csv", "--points");
+    lidarFramesInputs(files, a.points);
     files.input(a.sensor, "--sensor");
     if (isLidarPresetFile(a.sensor)) {  // and what it reads: its base, its pattern file
         const LidarSpec spec = lidarSpec(a.sensor);
@@ -370,7 +371,8 @@ void addFit(CLI::App& app, Runner& run)
     c->add_flag("--covariates-all", a->covariates_all, "Covariates for every beam, not only the groups'");
     c->add_option("--points", a->points,
                   "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
-                  "with ring, time and intensity fields); --sensor names the lidar, --scene its scene; --out the "
+                  "with ring, time and intensity fields) or a ROS 2 bag of PointCloud2 frames (--topic); --sensor "
+                  "names the lidar, --scene its scene; --out the "
                   "preset extended by each surface's reflectance factor");
     c->add_option("--returns", a->lidar.returns, "3D lidar: the frames' return mode (default: the preset's)");
     c->add_option("--columns", a->lidar.columns, "3D lidar: columns a turn (default: the preset's)")->check(positive());

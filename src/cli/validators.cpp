@@ -11,6 +11,7 @@
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/io/run_files.hpp"
+#include "smokescan/pipeline/lidar_frames.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
 namespace smokescan::cli {
@@ -169,7 +170,9 @@ void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::str
         "--bag", bag,
         "Or a bag: a rosbag2 folder, .mcap or ROS 1 .bag file whose sensor_msgs/LaserScan topic holds the scans "
         "(docs/bags.md)");
-    c->add_option("--topic", topic, "The bag's LaserScan topic (default: its only one)")->check(nonEmpty());
+    c->add_option("--topic", topic,
+                  "The bag's LaserScan topic (default: its only one); with --points, a bag's PointCloud2 topic")
+        ->check(nonEmpty());
 }
 
 CLI::Option* addSaturationOptions(CLI::App* c, std::string& saturation, std::string& image_topic,
@@ -203,6 +206,12 @@ void bagInputs(RunFiles& files, const std::string& bag, const std::string& optio
 {
     if (bag.empty()) return;
     for (const std::string& f : bagInputFiles(bag)) files.input(f, option);
+}
+
+void lidarFramesInputs(RunFiles& files, const std::string& points)
+{
+    if (isLidarFramesBag(points)) return bagInputs(files, points, "--points");
+    files.input(points + "/frames.csv", "--points");
 }
 
 void saturationInputs(RunFiles& files, const std::string& saturation)

@@ -128,8 +128,11 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
         fmt("%zu frames, %lld beams, %lld of them clear (the replay's certain surface echoes); %lld recorded points "
             "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",
             d.frames, d.beams, d.clear, d.unmatched_points, d.range_sd_m);
-    s += fmt("The frames' recorded start poses differ from the scene's by %.3g m and %.3g deg at most.\n\n",
-             tidy(d.pose_mismatch_m), tidy(d.pose_mismatch_deg));
+    if (std::isnan(d.pose_mismatch_m))
+        s += "The frames carry no recorded pose (a bag's PointCloud2 frames): the scene's poses were taken.\n\n";
+    else
+        s += fmt("The frames' recorded start poses differ from the scene's by %.3g m and %.3g deg at most.\n\n",
+                 tidy(d.pose_mismatch_m), tidy(d.pose_mismatch_deg));
     s += "Each cause's candidate was searched on the even frames and tested on the odd ones.\n\n";
     s += "| cause | target | effect | se | floor | held-out gain [nats] | p | named |\n";
     s += "|---|---|---|---|---|---|---|---|\n";

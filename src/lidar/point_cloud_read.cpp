@@ -33,11 +33,11 @@ enum class Slot { X, Y, Z, Intensity, Ring, Return, Time, TimeNs, Source, None }
 
 Slot slotOf(const std::string& name)
 {
-    static const std::pair<const char*, Slot> kNames[] = {{"x", Slot::X},          {"y", Slot::Y},
-                                                          {"z", Slot::Z},          {"intensity", Slot::Intensity},
-                                                          {"ring", Slot::Ring},    {"return_index", Slot::Return},
-                                                          {"time", Slot::Time},    {"t", Slot::TimeNs},
-                                                          {"source", Slot::Source}};
+    static const std::pair<const char*, Slot> kNames[] = {{"x", Slot::X},           {"y", Slot::Y},
+                                                          {"z", Slot::Z},           {"intensity", Slot::Intensity},
+                                                          {"ring", Slot::Ring},     {"return_index", Slot::Return},
+                                                          {"return", Slot::Return}, {"time", Slot::Time},
+                                                          {"t", Slot::TimeNs},      {"source", Slot::Source}};
     for (const auto& [n, s] : kNames)
         if (name == n) return s;
     return Slot::None;
@@ -160,14 +160,16 @@ void put(LidarPoint& p, Slot s, double v)
 }
 
 /// The points of a body, binary or ascii, `n` records of `fields`.
+/// `stride`: bytes from one binary record to the next (0: the fields' sizes, packed).
 void readBody(const std::string& bytes, size_t at, bool binary, long long n, const std::vector<Field>& fields,
-              const std::string& path, PointCloudFile& out)
+              const std::string& path, PointCloudFile& out, size_t stride = 0)
 {
     size_t record = 0, tokens = 0;
     for (const Field& f : fields) {
         record += size_t(f.size) * size_t(f.count);
         tokens += size_t(f.count);
     }
+    if (stride > 0) record = stride;
     std::vector<Slot> slots;
     for (const Field& f : fields) slots.push_back(slotOf(f.name));
     auto finish = [&](LidarPoint& p) {
@@ -374,6 +376,35 @@ PointCloudFile readPly(const std::string& path, const std::string& bytes)
 }
 
 }  // namespace
+
+PointCloudFile readPointRecords(const std::string& bytes, long long n, size_t stride,
+                                const std::vector<PointRecordField>& given, const std::string& name)
+{
+    if (n < 0 || n > 2 * lidar_limits::kBeamsPerFrame)
+        throw Error(
+            name,
+            std::to_string(n) + " points (at most " + std::to_string(2 * lidar_limits::kBeamsPerFrame) + " a frame)");
+    if (given.empty() || given.size() > 256)
+        throw Error(name, "1 to 256 fields a point, not " + std::to_string(given.size()));
+    if (stride == 0) throw Error(name, "points of 0 bytes");
+    std::vector<Field> fields;
+    for (const PointRecordField& g : given) {
+        Field f{g.name, g.type, g.size, g.count, g.offset};
+        if (f.count < 1 || f.count > 1024)
+            throw Error(name, "field '" + f.name + "' has a count of " + std::to_string(f.count));
+        checkType(f, name);
+        if (f.offset > stride || size_t(f.size) * size_t(f.count) > stride - f.offset)
+            throw Error(name,
+                        "field '" + f.name + "' (at byte " + std::to_string(f.offset) +
+                            ") does not fit in a point of " + std::to_string(stride) + " bytes");
+        fields.push_back(f);
+    }
+    requireXyz(fields, name);
+    PointCloudFile out;
+    readBody(bytes, 0, true, n, fields, name, out, stride);
+    for (const Field& f : fields) out.fields.push_back(f.name);
+    return out;
+}
 
 PointCloudFile parsePointCloud(const std::string& bytes, const std::string& name)
 {

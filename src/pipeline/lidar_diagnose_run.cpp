@@ -10,7 +10,7 @@ namespace smokescan {
 
 LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, const RunControl& control)
 {
-    LidarFramesConfig fc{cfg.scene, cfg.points, cfg.sensor, cfg.on_scene, {}, false, false};
+    LidarFramesConfig fc{cfg.scene, cfg.points, cfg.sensor, cfg.on_scene, {}, false, false, cfg.topic};
     fc.on_run = [](const LidarRun& run) {  // room in lidar.toml for one more sector
         if (run.spec().extensions.sectors.size() >= lidar_limits::kExtensionSectors)
             throw Error("--sensor",

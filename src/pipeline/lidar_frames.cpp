@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "smokescan/bag/bag_input.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/lidar/frame_index.hpp"
@@ -27,9 +28,9 @@ constexpr double kMaxMissedShare = 0.4;
 /// The frames' listing against the sensor, before any work: every file there, each frame as long
 /// as the sensor's at its rate (another rate or column count is another span), none overlapping.
 void checkListing(const std::vector<FrameIndexEntry>& frames, size_t min_frames, const std::string& dir,
-                  const LidarScanner& scanner, const std::string& sensor)
+                  const LidarScanner& scanner, const std::string& sensor, bool bag)
 {
-    const std::string index = dir + "/frames.csv";
+    const std::string index = bag ? dir : dir + "/frames.csv";
     if (frames.size() < min_frames)
         throw Error(index,
                     "holds " + std::to_string(frames.size()) + (frames.size() == 1 ? " frame" : " frames") +
@@ -38,6 +39,14 @@ void checkListing(const std::vector<FrameIndexEntry>& frames, size_t min_frames,
     const double span = scanner.pattern().back().time_s;
     for (size_t k = 0; k < frames.size(); ++k) {
         const FrameIndexEntry& e = frames[k];
+        if (bag) {  // a frame a message, from its stamp: the sensor's span, none overlapping
+            if (k > 0 && e.start_s < frames[k - 1].end_s - kTimeTolerance_s)
+                throw Error(e.file,
+                            fmt("starts %.6g s after the previous frame, before it ends (the %s's frame spans %.6g "
+                                "s: another rate or column count?)",
+                                e.start_s - frames[k - 1].start_s, sensor.c_str(), span));
+            continue;
+        }
         const std::string where = index + ", frame " + std::to_string(e.frame) + " (" + e.file + ")";
         if (!std::filesystem::is_regular_file(dir + "/" + e.file))
             throw Error(where, "its file is missing or not a file");
@@ -58,9 +67,9 @@ std::pair<double, double> poseOffset(const Pose& scene_pose, const Pose& recorde
             Eigen::AngleAxisd(scene_pose.R.transpose() * recorded.R).angle() * 180 / M_PI};
 }
 
-/// @return the recorded start pose's offset from the scene's (poseOffset)
+/// @return the recorded start pose's offset from the scene's (poseOffset); NaN without one
 std::pair<double, double> checkFrame(const PointCloudFile& pc, const FrameIndexEntry& e, const Pose& scene_pose,
-                                     const std::string& path)
+                                     const std::string& path, bool recorded_pose)
 {
     const auto has = [&](const char* a, const char* b) {
         return std::any_of(pc.fields.begin(), pc.fields.end(), [&](const std::string& f) { return f == a || f == b; });
@@ -72,6 +81,7 @@ std::pair<double, double> checkFrame(const PointCloudFile& pc, const FrameIndexE
                             " field: the diagnosis tells a point's beam by its ring and firing time");
     if (std::isfinite(pc.start_s) && std::abs(pc.start_s - e.start_s) > kTimeTolerance_s)
         throw Error(path, fmt("starts at %.9g s by its header, at %.9g s by frames.csv", pc.start_s, e.start_s));
+    if (!recorded_pose) return {NAN, NAN};
     const auto [off_m, off_deg] = poseOffset(scene_pose, e.start_pose);
     if (off_m > kMaxPoseOff_m || off_deg > kMaxPoseOff_deg)
         throw Error(path,
@@ -114,21 +124,57 @@ void checkWhole(const LidarTally& t, long long first, long long second, ReturnMo
 
 }  // namespace
 
+bool isLidarFramesBag(const std::string& points)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(points, ec))
+        return !fs::exists(fs::path(points) / "frames.csv", ec) && fs::exists(fs::path(points) / "metadata.yaml", ec);
+    return fs::is_regular_file(points, ec) && isBagPath(points);
+}
+
+namespace {
+
+/// A bag's frames as a listing: one a PointCloud2 message, starting at its stamp and spanning the
+/// sensor's frame (set by the caller); `file` names the message.
+std::vector<FrameIndexEntry> bagListing(const std::string& bag, const std::string& topic)
+{
+    std::vector<FrameIndexEntry> frames;
+    readBagPointClouds(bag, topic, [&](PointCloudFile&&, double start_s, const std::string& what) {
+        if (int64_t(frames.size()) >= limits::kFrames)
+            throw Error(what, "is past the " + std::to_string(limits::kFrames) + " frames a run may hold");
+        FrameIndexEntry e;
+        e.frame = frames.size();
+        e.file = what;
+        e.start_s = e.end_s = start_s;
+        frames.push_back(e);
+    });
+    return frames;
+}
+
+}  // namespace
+
 void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const RunControl& control,
                       const std::function<void(const TalliedFrames&)>& use)
 {
     if (cfg.points.empty()) throw Error("--points", "names no folder");
-    if (!std::filesystem::is_directory(cfg.points)) throw Error("--points", cfg.points + " is not a folder");
+    const bool bag = isLidarFramesBag(cfg.points);
+    if (!bag && !std::filesystem::is_directory(cfg.points))
+        throw Error("--points", cfg.points + " is not a folder of frames or a ROS 2 bag");
+    if (!bag && !cfg.topic.empty())
+        throw Error("--topic", "names a bag's topic, and " + cfg.points + " is a folder of frames (frames.csv)");
     const Scene scene = loadScene(cfg.scene);
     if (cfg.on_scene) cfg.on_scene(scene);
-    const std::vector<FrameIndexEntry> frames = readFrameIndex(cfg.points);
+    std::vector<FrameIndexEntry> frames = bag ? bagListing(cfg.points, cfg.topic) : readFrameIndex(cfg.points);
     LidarRunConfig sc = cfg.sensor;
     sc.from_s = frames.empty() ? NAN : frames.front().start_s;
     sc.to_s = NAN;
     const LidarRun run(scene, sc);
     const LidarScanner& scanner = run.scanner();
     const std::string sensor = run.spec().name;
-    checkListing(frames, min_frames, cfg.points, scanner, sensor);
+    if (bag)
+        for (FrameIndexEntry& e : frames) e.end_s = e.start_s + scanner.pattern().back().time_s;
+    checkListing(frames, min_frames, cfg.points, scanner, sensor, bag);
     // What lidar.toml will name, checked before any work: the base as the file system resolves
     // it, a text TOML and JSON can hold.
     std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
@@ -150,12 +196,11 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     double mismatch_m = 0, mismatch_deg = 0;
     std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
     long long first = 0, second = 0;
-    for (size_t k = 0; k < frames.size(); ++k) {
+    // Frame k of the listing, its points read from `path`.
+    auto tallyFrame = [&](size_t k, PointCloudFile&& pc, const std::string& path) {
         checkCancel(control);
         const FrameIndexEntry& e = frames[k];
-        const std::string path = cfg.points + "/" + e.file;
-        const PointCloudFile pc = readPointCloud(path);
-        const auto [off_m, off_deg] = checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path);
+        const auto [off_m, off_deg] = checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path, !bag);
         if (cfg.intensities && std::find(pc.fields.begin(), pc.fields.end(), "intensity") == pc.fields.end())
             throw Error(path, "has no intensity field: the fit reads each point's intensity");
         long long frame_first = 0;
@@ -163,11 +208,26 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         first += frame_first;
         const long long before = tally.unmatched();
         tally.add(scanner.expected(e.start_s, cfg.intensities), pc.points, int(k % 2));
-        if (cfg.keep_points) recorded.emplace_back(e.start_s, pc.points);
+        if (cfg.keep_points) recorded.emplace_back(e.start_s, std::move(pc.points));
         checkMatched(tally.unmatched() - before, frame_first, path, sensor);
         mismatch_m = std::max(mismatch_m, off_m);
         mismatch_deg = std::max(mismatch_deg, off_deg);
         reportProgress(control, (long long)k + 1, (long long)frames.size());
+    };
+    if (bag) {
+        size_t k = 0;
+        readBagPointClouds(cfg.points, cfg.topic, [&](PointCloudFile&& pc, double start_s, const std::string& what) {
+            if (k >= frames.size() || frames[k].start_s != start_s)
+                throw Error(what, "is not the frame the first reading found there (did the bag change?)");
+            tallyFrame(k++, std::move(pc), what);
+        });
+        if (k != frames.size()) throw Error(cfg.points, "lost frames between two readings (did the bag change?)");
+        mismatch_m = mismatch_deg = NAN;  // a bag's frames carry no pose
+    } else {
+        for (size_t k = 0; k < frames.size(); ++k) {
+            const std::string path = cfg.points + "/" + frames[k].file;
+            tallyFrame(k, readPointCloud(path), path);
+        }
     }
     checkWhole(tally, first, second, run.mode(), cfg.points);
     use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded)});

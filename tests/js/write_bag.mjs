@@ -7,15 +7,21 @@
 // With FRAMES, an Image topic /cam/image too (bgra8, rows padded to 40 bytes): frame k, 8×6 px at
 // stamp 10 + 0.5 k s, grey (128) but for the block x 2…5, y 1…3, which is (R, G, B) =
 // (200, 200 − 20 k, 200 − 40 k): HSV saturation 0.2 k.
-// Usage: node write_bag.mjs FILE.mcap SCANS BEAMS [FRAMES]
+// With CLOUDS, a PointCloud2 topic /ouster/points too, laid out as Ouster's ROS 2 driver lays out
+// its points (48 bytes: x y z float32 at 0, 4, 8, intensity float32 at 16, t uint32 [ns] at 20,
+// reflectivity uint16 at 24, ring uint16 at 26, ambient uint16 at 28, range uint32 [mm] at 32),
+// organised 2 rows × 3 points with each row padded to 160 bytes (row_step): cloud k at stamp
+// 10 + 0.1 k s, point (r, c) at x = k + 0.25 c, y = r, z = −0.5, intensity 10 k + c, t 1000 (c + 1)
+// ns, ring r; point (1, 2) has NaN x, y, z (no return).
+// Usage: node write_bag.mjs FILE.mcap SCANS BEAMS [FRAMES [CLOUDS]]
 import { open } from "node:fs/promises";
 import { McapWriter } from "@mcap/core";
 import { parse } from "@foxglove/rosmsg";
 import { MessageWriter } from "@foxglove/rosmsg2-serialization";
 import zstd from "@foxglove/wasm-zstd";
 
-const [file, scansArg, beamsArg, framesArg] = process.argv.slice(2);
-const scans = Number(scansArg), beams = Number(beamsArg), frames = Number(framesArg ?? 0);
+const [file, scansArg, beamsArg, framesArg, cloudsArg] = process.argv.slice(2);
+const scans = Number(scansArg), beams = Number(beamsArg), frames = Number(framesArg ?? 0), clouds = Number(cloudsArg ?? 0);
 await zstd.isLoaded;
 const handle = await open(file, "w");
 let position = 0n;
@@ -89,6 +95,47 @@ if (frames > 0) {
       }
     const image = { header: { stamp, frame_id: "cam" }, height, width, encoding: "bgra8", is_bigendian: 0, step, data };
     await writer.addMessage({ channelId: imageChannel, sequence: k, logTime: ns + 1_000_000n, publishTime: ns + 1_000_000n, data: imageWriter.writeMessage(image) });
+  }
+}
+const cloudDef =
+  "std_msgs/Header header\nuint32 height\nuint32 width\nsensor_msgs/PointField[] fields\nbool is_bigendian\n" +
+  "uint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n" + sep + header + sep + time + sep +
+  "MSG: sensor_msgs/PointField\nuint8 INT8=1\nuint8 UINT8=2\nuint8 INT16=3\nuint8 UINT16=4\nuint8 INT32=5\n" +
+  "uint8 UINT32=6\nuint8 FLOAT32=7\nuint8 FLOAT64=8\nstring name\nuint32 offset\nuint8 datatype\nuint32 count\n";
+if (clouds > 0) {
+  const cloudSchema = await writer.registerSchema({ name: "sensor_msgs/msg/PointCloud2", encoding: "ros2msg", data: enc.encode(cloudDef) });
+  const cloudChannel = await writer.registerChannel({ schemaId: cloudSchema, topic: "/ouster/points", messageEncoding: "cdr", metadata: new Map() });
+  const cloudWriter = new MessageWriter(parse(cloudDef, { ros2: true }));
+  const F32 = 7, U32 = 6, U16 = 4;
+  const fields = [
+    { name: "x", offset: 0, datatype: F32, count: 1 }, { name: "y", offset: 4, datatype: F32, count: 1 },
+    { name: "z", offset: 8, datatype: F32, count: 1 }, { name: "intensity", offset: 16, datatype: F32, count: 1 },
+    { name: "t", offset: 20, datatype: U32, count: 1 }, { name: "reflectivity", offset: 24, datatype: U16, count: 1 },
+    { name: "ring", offset: 26, datatype: U16, count: 1 }, { name: "ambient", offset: 28, datatype: U16, count: 1 },
+    { name: "range", offset: 32, datatype: U32, count: 1 },
+  ];
+  const height = 2, width = 3, pointStep = 48, rowStep = 160;
+  for (let k = 0; k < clouds; k++) {
+    const ns = 10_000_000_000n + BigInt(k) * 100_000_000n;
+    const stamp = { sec: Number(ns / 1_000_000_000n), nanosec: Number(ns % 1_000_000_000n) };
+    const data = new Uint8Array(rowStep * height).fill(0xAB);  // padding: never read
+    const view = new DataView(data.buffer);
+    for (let r = 0; r < height; r++)
+      for (let c = 0; c < width; c++) {
+        const at = r * rowStep + c * pointStep, none = r === 1 && c === 2;
+        view.setFloat32(at + 0, none ? NaN : k + 0.25 * c, true);
+        view.setFloat32(at + 4, none ? NaN : r, true);
+        view.setFloat32(at + 8, none ? NaN : -0.5, true);
+        view.setFloat32(at + 16, 10 * k + c, true);
+        view.setUint32(at + 20, 1000 * (c + 1), true);
+        view.setUint16(at + 24, 77, true);
+        view.setUint16(at + 26, r, true);
+        view.setUint16(at + 28, 5, true);
+        view.setUint32(at + 32, 1234, true);
+      }
+    const cloud = { header: { stamp, frame_id: "os_lidar" }, height, width, fields, is_bigendian: false,
+      point_step: pointStep, row_step: rowStep, data, is_dense: false };
+    await writer.addMessage({ channelId: cloudChannel, sequence: k, logTime: ns + 1_000_000n, publishTime: ns + 1_000_000n, data: cloudWriter.writeMessage(cloud) });
   }
 }
 await writer.end();

@@ -293,6 +293,12 @@ def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_chann
     with pytest.raises(smokescan.Error, match=r"^--alpha: "):
         smokescan.diagnose_lidar("factory_smoke", points=frames, sensor="vlp16", alpha=0.9, out=tmp_path / "never")
     assert not (tmp_path / "never").exists()
+    # The same run as a ROS 2 bag of PointCloud2 frames: read in place of the folder, without poses.
+    cli("scan", "factory_smoke", "--sensor", "vlp16", "--from", "20", "--to", "20.35", "--bag", str(tmp_path / "bag"))
+    b = smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/points")
+    assert b.verdict == "none" and b.frames == 4 and b.pose_mismatch_m is None
+    with pytest.raises(smokescan.Error, match=r"has no topic /nope"):
+        smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/nope")
 
 
 def scale_intensities(folder, factor):

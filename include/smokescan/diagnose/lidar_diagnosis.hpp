@@ -101,7 +101,8 @@ struct LidarDiagnosis {
     std::vector<std::string> surface_names;  ///< the scene's surfaces (set by the caller), for reports
     std::string verdict;  ///< "none" or the named causes, comma-separated
     /// The largest difference between a frame's recorded start pose and the scene's pose of the
-    /// sensor then (set by the caller that reads the frames): position [m] and angle [deg].
+    /// sensor then (set by the caller that reads the frames): position [m] and angle [deg]; NaN
+    /// when the frames carry no pose (a bag's PointCloud2 frames).
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;
     std::string sensor, returns, scene;  ///< what was diagnosed (set by the caller), for reports
     /// lidar.toml's text: the diagnosed preset extended by the named findings (set by the caller:

@@ -53,6 +53,22 @@ PointCloudFile readPointCloud(const std::string& path);
 /// @brief The same from the file's bytes; `name` names it in errors.
 PointCloudFile parsePointCloud(const std::string& bytes, const std::string& name);
 
+/// One field of a binary point record, as a ROS PointCloud2's PointField or a PCD header gives it.
+struct PointRecordField {
+    std::string name;
+    char type = 'F';  ///< F float, U unsigned, I signed
+    int size = 4;  ///< bytes of one value: 1, 2, 4 or 8 (F: 4 or 8)
+    int count = 1;  ///< values a point
+    size_t offset = 0;  ///< bytes from the record's start
+};
+
+/// @brief Points from `n` little-endian records, `stride` bytes apart from the first byte of
+/// `bytes` (a PointCloud2's data): the fields PointCloudFile takes, as readPointCloud does.
+/// @throw Error naming `name` for: more than 2·lidar_limits::kBeamsPerFrame points, a field of
+/// another type or outside its record, no x, y or z, fewer bytes than n records.
+PointCloudFile readPointRecords(const std::string& bytes, long long n, size_t stride,
+                                const std::vector<PointRecordField>& fields, const std::string& name);
+
 /// @brief frames.csv's header line (with its newline): frame, file, start_s, end_s, then the
 /// start pose (start_x_m … start_qz) and the end pose (end_x_m … end_qz), quaternions w x y z.
 std::string frameIndexHeader();

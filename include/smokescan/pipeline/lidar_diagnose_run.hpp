@@ -31,6 +31,7 @@ struct LidarDiagnoseRunConfig {
     LidarDiagnosisConfig diag;
     /// Called once the scene is read, before any frame (a caller protects its files).
     std::function<void(const Scene&)> on_scene;
+    std::string topic;  ///< when `points` is a ROS 2 bag: its PointCloud2 topic ("" = its only one)
 };
 
 struct LidarDiagnoseRunResult {

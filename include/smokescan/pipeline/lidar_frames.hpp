@@ -1,13 +1,14 @@
 #pragma once
 /// @file lidar_frames.hpp
 /// @brief A 3D lidar's recorded frames (a folder as `smokescan scan --points` writes it:
-/// frames.csv and one point cloud per frame) replayed in their scene one at a time and tallied
+/// frames.csv and one point cloud per frame, or a ROS 2 bag's PointCloud2 topic) replayed in their scene one at a time and tallied
 /// beam by beam (LidarTally): what `smokescan diagnose --points` and `smokescan fit --points` share.
 ///
 /// | field  | default | unit | meaning                                                              |
 /// |--------|---------|------|----------------------------------------------------------------------|
 /// | scene  | –       | –    | the scene the frames were recorded in (a built-in name or a file)   |
-/// | points | –       | –    | the frames' folder                                                   |
+/// | points | –       | –    | the frames' folder, or a ROS 2 bag (rosbag2 folder or .mcap file)    |
+/// | topic  | ""      | –    | a bag's PointCloud2 topic ("": its only one)                         |
 /// | sensor | vlp16   | –    | the lidar: sensor, returns, rate_hz, columns as LidarRunConfig (its from/to are the frames') |
 ///
 /// The lidar sits on the scene's default lidar mount, as when the frames were simulated. Every
@@ -32,7 +33,14 @@ struct LidarFramesConfig {
     std::function<void(const LidarRun&)> on_run;
     bool intensities = false;  ///< the tally keeps each clear beam's intensities (LidarTally::intensities)
     bool keep_points = false;  ///< TalliedFrames::recorded holds every frame's points (to replay them again)
+    /// When `points` is a ROS 2 bag (a rosbag2 folder or an .mcap file): its PointCloud2 topic
+    /// ("" = its only one). Each message is a frame starting at its stamp (scene time [s]).
+    std::string topic;
 };
+
+/// @brief Whether `points` names a ROS 2 bag rather than a frames folder: an .mcap file, or a
+/// folder with metadata.yaml and without frames.csv.
+bool isLidarFramesBag(const std::string& points);
 
 /// The frames tallied, for the caller to read while they live.
 struct TalliedFrames {
@@ -42,7 +50,9 @@ struct TalliedFrames {
     /// The preset as a written preset's `base` names it: the preset's own base when it extends
     /// one, a file made absolute as the file system resolves it.
     std::string base;
-    double pose_mismatch_m = 0, pose_mismatch_deg = 0;  ///< the largest recorded start pose's off the scene's
+    /// The largest recorded start pose's off the scene's; NaN for a bag's frames, which carry no
+    /// pose (the scene's is taken).
+    double pose_mismatch_m = 0, pose_mismatch_deg = 0;
     /// Each frame's start time [s] and points, in the listing's order (LidarFramesConfig::keep_points).
     std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
 };
