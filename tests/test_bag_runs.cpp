@@ -25,6 +25,8 @@
 #include "smokescan/io/recorded.hpp"
 #include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/omni/omni_scan_message.hpp"
+#include "smokescan/pipeline/lidar_frames.hpp"
+#include "smokescan/pipeline/run_control.hpp"
 #include "smokescan/scene/scene_io.hpp"
 #include "smokescan/sensor_config/lms200.hpp"
 
@@ -107,6 +109,30 @@ TEST(BagCli, RenderedFramesGoOnCameraImageInTheCamerasOpticalFrame)
     EXPECT_FALSE(j["topics"].contains("/tf")) << "a fixed camera: no robot, no /tf";
     // /tf_static offered transient-local and reliable (durability 1, reliability 1), as tf2's
     // static broadcaster offers it, so that a played bag reaches late subscribers.
+    // Frames closer than the sensor's span: another rate.
+    const fs::path fast = dir() / "lidar_bag_20hz";
+    fs::remove_all(fast);
+    ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --rate 20 --from 38 --to 38.2 --bag " + fast.string() + " --quiet")
+                  .status,
+              0);
+    expectBad(
+        "diagnose --points " + fast.string() + " --scene factory_smoke --sensor vlp16 --out " + file("lidar_bag_d4"),
+        "before it ends (the vlp16's frame spans 0.0999", file("lidar_bag_d4"));
+    // A cancel asked while the bag is read stops it as a cancel, whether the topic is named or not.
+    for (const std::string topic : {"", "/points"}) {
+        LidarFramesConfig cfg;
+        cfg.scene = "factory_smoke";
+        cfg.points = bag.string();
+        cfg.sensor.sensor = "vlp16";
+        cfg.sensor.returns = "dual";
+        cfg.topic = topic;
+        int asked = 0, used = 0;
+        RunControl control;
+        control.cancel = [&] { return ++asked > 3; };
+        EXPECT_THROW(tallyLidarFrames(cfg, 2, control, [&](const TalliedFrames&) { ++used; }), Cancelled) << topic;
+        EXPECT_EQ(asked, 4) << topic;  // stopped at once
+        EXPECT_EQ(used, 0);
+    }
     const std::string meta = slurp(bag / "metadata.yaml");
     const size_t tf_static = meta.find("name: /tf_static");
     ASSERT_NE(tf_static, std::string::npos) << meta;
@@ -636,8 +662,15 @@ TEST(Bag, APointCloudsLayoutIsCheckedBeforeItsPointsAreRead)
     b.fields[2].offset = 10;  // z past the point's 12 bytes
     refused(b, "field 'z' (at byte 10) does not fit");
     b = m;
+    b.height = 2;
+    b.row_step = 12;  // rows shorter than their points
+    b.data.assign(48, 0);
+    refused(b, "row_step");
+    b = m;
     b.fields[1].datatype = 9;
     refused(b, "field 'y' has datatype 9");
+    b.fields[1].datatype = 0;
+    refused(b, "field 'y' has datatype 0");
     b = m;
     b.fields.pop_back();
     refused(b, "has no field 'z'");
@@ -657,10 +690,11 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
     const std::string preset = file("lidar_bag_biased.toml",
                                     "name = \"biased\"\nbase = \"vlp16\"\n[extensions]\n[[extensions.channel]]\n"
                                     "ring = 3\nrange_offset_m = 0.25\n");
-    CliRun r = cli("scan factory_smoke --sensor " + preset + " --from 38 --to 38.35 --points " + pts.string() +
-                   " --bag " + bag.string() + " --quiet");
+    CliRun r = cli("scan factory_smoke --sensor " + preset + " --from 38 --to 38.35 --returns dual --points " +
+                   pts.string() + " --bag " + bag.string() + " --quiet");
     ASSERT_EQ(r.status, 0) << r.err;
-    const std::string common = " --scene factory_smoke --sensor vlp16 ";
+    // Dual returns: the bag's `return` field tells a beam's second point from its first.
+    const std::string common = " --scene factory_smoke --sensor vlp16 --returns dual ";
     std::map<std::string, nlohmann::json> diagnosis;
     for (const fs::path& in : {pts, bag, bag / "lidar_bag_0.mcap"}) {
         const fs::path out = dir() / ("lidar_bag_diag_" + in.filename().string());
@@ -691,6 +725,30 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
               "has no topic /nope", file("lidar_bag_d1"));
     expectBad("diagnose --points " + pts.string() + common + "--topic /points --out " + file("lidar_bag_d2"),
               "--topic: names a bag's topic", file("lidar_bag_d2"));
+    // Frames closer than the sensor's span: another rate.
+    const fs::path fast = dir() / "lidar_bag_20hz";
+    fs::remove_all(fast);
+    ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --rate 20 --from 38 --to 38.2 --bag " + fast.string() + " --quiet")
+                  .status,
+              0);
+    expectBad(
+        "diagnose --points " + fast.string() + " --scene factory_smoke --sensor vlp16 --out " + file("lidar_bag_d4"),
+        "before it ends (the vlp16's frame spans 0.0999", file("lidar_bag_d4"));
+    // A cancel asked while the bag is read stops it as a cancel, whether the topic is named or not.
+    for (const std::string topic : {"", "/points"}) {
+        LidarFramesConfig cfg;
+        cfg.scene = "factory_smoke";
+        cfg.points = bag.string();
+        cfg.sensor.sensor = "vlp16";
+        cfg.sensor.returns = "dual";
+        cfg.topic = topic;
+        int asked = 0, used = 0;
+        RunControl control;
+        control.cancel = [&] { return ++asked > 3; };
+        EXPECT_THROW(tallyLidarFrames(cfg, 2, control, [&](const TalliedFrames&) { ++used; }), Cancelled) << topic;
+        EXPECT_EQ(asked, 4) << topic;  // stopped at once
+        EXPECT_EQ(used, 0);
+    }
     const std::string meta = slurp(bag / "metadata.yaml");
     expectBad("fit --points " + bag.string() + common + "--out " + file("lidar_bag_f3.toml") + " --report " +
                   (bag / "metadata.yaml").string(),

@@ -173,18 +173,27 @@ TEST(Surfaces, PacketsOfFourGiveTheSingleRaysHits)
     const Scene s = loadScene("plume");
     const SurfaceSet set(s);
     const Vec3 o(0.1, 0.05, 0.55);
-    int hits = 0, misses = 0, compared = 0;
+    int hits = 0, misses = 0, compared = 0, beyond = 0;
     for (int i = 0; i < 4000; ++i) {
         Ray rays[4];
         const int n = 1 + i % 4;
+        // Half the packets a beam's footprint (rays 1.5 mrad apart), half rays far apart from
+        // origins a few centimetres apart; a range limit that cuts some hits off.
+        const bool footprint = i % 2 == 0;
         for (int k = 0; k < n; ++k) {
-            const double az = 2 * M_PI * (i * 4 + k) / 16000.0 * 7.0, el = std::sin(0.37 * (i * 4 + k)) * 0.5;
-            rays[k] = Ray{o, Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el))};
+            const int m = footprint ? i * 4 : i * 4 + k;
+            const double az = 2 * M_PI * m / 16000.0 * 7.0 + (footprint ? 0.0015 * k : 0.0),
+                         el = std::sin(0.37 * m) * 0.5 + (footprint ? 0.0015 * (k % 2) : 0.0);
+            const Vec3 from = footprint ? o : o + Vec3(0.03 * k, -0.02 * k, 0.01 * k);
+            rays[k] = Ray{from, Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el))};
         }
+        const double t_max = i % 3 == 0 ? 5.0 : 30.0;
         SurfaceHit packet[4];
-        set.closest4(rays, n, 30.0, packet);
+        set.closest4(rays, n, t_max, packet);
         for (int k = 0; k < n; ++k) {
-            const SurfaceHit one = set.closest(rays[k], 30.0);
+            const SurfaceHit one = set.closest(rays[k], t_max);
+            beyond += t_max == 5.0 && !one.hit && set.closest(rays[k], 30.0).hit;
+            ASSERT_EQ(packet[k].material, one.material);
             ASSERT_EQ(packet[k].hit, one.hit) << i << " " << k;
             ASSERT_EQ(packet[k].surface, one.surface);
             ASSERT_EQ(packet[k].t_m, one.t_m) << i << " " << k;
@@ -195,6 +204,7 @@ TEST(Surfaces, PacketsOfFourGiveTheSingleRaysHits)
     }
     EXPECT_GT(hits, compared / 8);
     EXPECT_GT(misses, compared / 10);
+    EXPECT_GT(beyond, 50);  // hits the 5 m limit cut off
     SurfaceHit out[4];
     EXPECT_THROW(set.closest4(nullptr, 0, 1.0, out), Error);
     EXPECT_THROW(set.closest4(nullptr, 5, 1.0, out), Error);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "smokescan/bag/bag_input.hpp"
 #include "smokescan/core/format.hpp"
@@ -135,12 +136,37 @@ bool isLidarFramesBag(const std::string& points)
 
 namespace {
 
+/// Thrown through the bag's reader to stop it at once (not an Error, which the reader may keep
+/// until the bag's end to name the right one).
+struct StopReading {};
+
+/// Each PointCloud2 of the bag's topic to `each`, in order; a cancel asked of `control` stops the
+/// reading at once and throws Cancelled.
+void eachBagCloud(const std::string& bag, const std::string& topic, const RunControl& control,
+                  const std::function<void(PointCloudFile&&, double, const std::string&)>& each)
+{
+    std::optional<Cancelled> cancelled;
+    try {
+        readBagPointClouds(bag, topic, [&](PointCloudFile&& pc, double start_s, const std::string& what) {
+            try {
+                checkCancel(control);
+                each(std::move(pc), start_s, what);
+            } catch (const Cancelled& c) {
+                cancelled = c;
+                throw StopReading{};
+            }
+        });
+    } catch (const StopReading&) {
+        throw *cancelled;
+    }
+}
+
 /// A bag's frames as a listing: one a PointCloud2 message, starting at its stamp and spanning the
 /// sensor's frame (set by the caller); `file` names the message.
-std::vector<FrameIndexEntry> bagListing(const std::string& bag, const std::string& topic)
+std::vector<FrameIndexEntry> bagListing(const std::string& bag, const std::string& topic, const RunControl& control)
 {
     std::vector<FrameIndexEntry> frames;
-    readBagPointClouds(bag, topic, [&](PointCloudFile&&, double start_s, const std::string& what) {
+    eachBagCloud(bag, topic, control, [&](PointCloudFile&&, double start_s, const std::string& what) {
         if (int64_t(frames.size()) >= limits::kFrames)
             throw Error(what, "is past the " + std::to_string(limits::kFrames) + " frames a run may hold");
         FrameIndexEntry e;
@@ -165,7 +191,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         throw Error("--topic", "names a bag's topic, and " + cfg.points + " is a folder of frames (frames.csv)");
     const Scene scene = loadScene(cfg.scene);
     if (cfg.on_scene) cfg.on_scene(scene);
-    std::vector<FrameIndexEntry> frames = bag ? bagListing(cfg.points, cfg.topic) : readFrameIndex(cfg.points);
+    std::vector<FrameIndexEntry> frames = bag ? bagListing(cfg.points, cfg.topic, control) : readFrameIndex(cfg.points);
     LidarRunConfig sc = cfg.sensor;
     sc.from_s = frames.empty() ? NAN : frames.front().start_s;
     sc.to_s = NAN;
@@ -216,7 +242,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     };
     if (bag) {
         size_t k = 0;
-        readBagPointClouds(cfg.points, cfg.topic, [&](PointCloudFile&& pc, double start_s, const std::string& what) {
+        eachBagCloud(cfg.points, cfg.topic, control, [&](PointCloudFile&& pc, double start_s, const std::string& what) {
             if (k >= frames.size() || frames[k].start_s != start_s)
                 throw Error(what, "is not the frame the first reading found there (did the bag change?)");
             tallyFrame(k++, std::move(pc), what);

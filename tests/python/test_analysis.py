@@ -299,6 +299,8 @@ def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_chann
     assert b.verdict == "none" and b.frames == 4 and b.pose_mismatch_m is None
     with pytest.raises(smokescan.Error, match=r"has no topic /nope"):
         smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/nope")
+    with pytest.raises(smokescan.Error, match=r"has no topic /nope"):
+        smokescan.fit_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/nope")
 
 
 def scale_intensities(folder, factor):
