@@ -109,30 +109,6 @@ TEST(BagCli, RenderedFramesGoOnCameraImageInTheCamerasOpticalFrame)
     EXPECT_FALSE(j["topics"].contains("/tf")) << "a fixed camera: no robot, no /tf";
     // /tf_static offered transient-local and reliable (durability 1, reliability 1), as tf2's
     // static broadcaster offers it, so that a played bag reaches late subscribers.
-    // Frames closer than the sensor's span: another rate.
-    const fs::path fast = dir() / "lidar_bag_20hz";
-    fs::remove_all(fast);
-    ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --rate 20 --from 38 --to 38.2 --bag " + fast.string() + " --quiet")
-                  .status,
-              0);
-    expectBad(
-        "diagnose --points " + fast.string() + " --scene factory_smoke --sensor vlp16 --out " + file("lidar_bag_d4"),
-        "before it ends (the vlp16's frame spans 0.0999", file("lidar_bag_d4"));
-    // A cancel asked while the bag is read stops it as a cancel, whether the topic is named or not.
-    for (const std::string topic : {"", "/points"}) {
-        LidarFramesConfig cfg;
-        cfg.scene = "factory_smoke";
-        cfg.points = bag.string();
-        cfg.sensor.sensor = "vlp16";
-        cfg.sensor.returns = "dual";
-        cfg.topic = topic;
-        int asked = 0, used = 0;
-        RunControl control;
-        control.cancel = [&] { return ++asked > 3; };
-        EXPECT_THROW(tallyLidarFrames(cfg, 2, control, [&](const TalliedFrames&) { ++used; }), Cancelled) << topic;
-        EXPECT_EQ(asked, 4) << topic;  // stopped at once
-        EXPECT_EQ(used, 0);
-    }
     const std::string meta = slurp(bag / "metadata.yaml");
     const size_t tf_static = meta.find("name: /tf_static");
     ASSERT_NE(tf_static, std::string::npos) << meta;
@@ -753,5 +729,18 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
     expectBad("fit --points " + bag.string() + common + "--out " + file("lidar_bag_f3.toml") + " --report " +
                   (bag / "metadata.yaml").string(),
               "metadata.yaml", file("lidar_bag_f3.toml"));
+    // The same through the bag's .mcap: its folder is the bag's.
+    expectBad("fit --points " + (bag / "lidar_bag_0.mcap").string() + common + "--out " + file("lidar_bag_f4.toml") +
+                  " --report " + (bag / "metadata.yaml").string(),
+              "lies in the frames' folder", file("lidar_bag_f4.toml"));
     EXPECT_EQ(slurp(bag / "metadata.yaml"), meta);
+    // Frames stamped outside the scene's time (factory_smoke: 0 to 48 s), as a recording's
+    // wall-clock stamps would be.
+    const fs::path late = dir() / "lidar_bag_late";
+    fs::remove_all(late);
+    ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --from 60 --to 60.2 --bag " + late.string() + " --quiet").status,
+              0);
+    expectBad(
+        "diagnose --points " + late.string() + " --scene factory_smoke --sensor vlp16 --out " + file("lidar_bag_d5"),
+        "message 0 on /points: runs from 60 to 60.0999", file("lidar_bag_d5"));
 }

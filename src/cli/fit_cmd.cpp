@@ -127,10 +127,11 @@ int fitLidarFrames(const FitArgs& a0)
     // The frames' folder is an input: nothing is written into it.
     for (const auto& [path, option] : {std::pair{a.out, "--out"}, std::pair{a.report, "--report"}}) {
         std::error_code ec;
-        const fs::path inside = fs::weakly_canonical(fs::absolute(path), ec)
-                                    .lexically_relative(fs::weakly_canonical(fs::absolute(a.points), ec));
+        const fs::path inside =
+            fs::weakly_canonical(fs::absolute(path), ec)
+                .lexically_relative(fs::weakly_canonical(fs::absolute(lidarFramesFolder(a.points)), ec));
         if (!ec && !inside.empty() && *inside.begin() != "..")
-            throw Error(option, path + " lies in the frames' folder " + a.points + " (an input)");
+            throw Error(option, path + " lies in the frames' folder " + lidarFramesFolder(a.points) + " (an input)");
     }
     cfg.frames.on_scene = [&](const Scene& scene) { recordSceneInputs(files, a.scene, scene); };
     Progress bar("fit", "frames");

@@ -214,6 +214,15 @@ void lidarFramesInputs(RunFiles& files, const std::string& points)
     files.input(points + "/frames.csv", "--points");
 }
 
+std::string lidarFramesFolder(const std::string& points)
+{
+    std::error_code ec;
+    namespace fs = std::filesystem;
+    const fs::path folder = fs::absolute(points, ec).parent_path();
+    if (fs::is_regular_file(points, ec) && fs::exists(folder / "metadata.yaml", ec)) return folder.string();
+    return points;
+}
+
 void saturationInputs(RunFiles& files, const std::string& saturation)
 {
     if (saturation.empty() || !isBagPath(saturation)) return files.input(saturation, "--saturation");

@@ -29,7 +29,7 @@ constexpr double kMaxMissedShare = 0.4;
 /// The frames' listing against the sensor, before any work: every file there, each frame as long
 /// as the sensor's at its rate (another rate or column count is another span), none overlapping.
 void checkListing(const std::vector<FrameIndexEntry>& frames, size_t min_frames, const std::string& dir,
-                  const LidarScanner& scanner, const std::string& sensor, bool bag)
+                  const LidarScanner& scanner, const std::string& sensor, bool bag, const Scene& scene)
 {
     const std::string index = bag ? dir : dir + "/frames.csv";
     if (frames.size() < min_frames)
@@ -40,6 +40,13 @@ void checkListing(const std::vector<FrameIndexEntry>& frames, size_t min_frames,
     const double span = scanner.pattern().back().time_s;
     for (size_t k = 0; k < frames.size(); ++k) {
         const FrameIndexEntry& e = frames[k];
+        // Within the scene's time: a recording's wall-clock stamps (seconds since 1970) would
+        // replay a scene nobody described there and name causes for what is only the clock.
+        if (e.start_s < scene.t_start_s - kTimeTolerance_s || e.end_s > scene.t_end_s + kTimeTolerance_s)
+            throw Error(bag ? e.file : index + ", frame " + std::to_string(e.frame) + " (" + e.file + ")",
+                        fmt("runs from %.9g to %.9g s, outside the scene's time, %g to %g s (a recording's "
+                            "stamps must be brought to the scene's clock: docs/bags.md)",
+                            e.start_s, e.end_s, scene.t_start_s, scene.t_end_s));
         if (bag) {  // a frame a message, from its stamp: the sensor's span, none overlapping
             if (k > 0 && e.start_s < frames[k - 1].end_s - kTimeTolerance_s)
                 throw Error(e.file,
@@ -200,7 +207,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     const std::string sensor = run.spec().name;
     if (bag)
         for (FrameIndexEntry& e : frames) e.end_s = e.start_s + scanner.pattern().back().time_s;
-    checkListing(frames, min_frames, cfg.points, scanner, sensor, bag);
+    checkListing(frames, min_frames, cfg.points, scanner, sensor, bag, scene);
     // What lidar.toml will name, checked before any work: the base as the file system resolves
     // it, a text TOML and JSON can hold.
     std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
