@@ -178,6 +178,26 @@ std::string readTopic(const std::string& path, const std::string& topic, const R
     return chosen;
 }
 
+/// A topic's frames' stamps: each a time (sec ≥ 0, nanosec < 1e9) after the previous frame's.
+class FrameStamps {
+public:
+    void check(const RosTime& t, const std::string& what)
+    {
+        if (t.sec < 0 || t.nanosec >= 1000000000u)
+            throw Error(what,
+                        "has the stamp " + std::to_string(t.sec) + " s " + std::to_string(t.nanosec) +
+                            " ns, which is not a time (sec ≥ 0, nanosec < 1e9)");
+        if (!first_ && t.nanoseconds() <= last_.nanoseconds())
+            throw Error(what, "has a stamp that does not follow the previous frame's (stamps must increase)");
+        first_ = false;
+        last_ = t;
+    }
+
+private:
+    RosTime last_;
+    bool first_ = true;
+};
+
 }  // namespace
 
 BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic)
@@ -195,19 +215,10 @@ BagLaserScans readBagLaserScans(const std::string& path, const std::string& topi
 std::string readBagImages(const std::string& path, const std::string& topic,
                           const std::function<void(ImageMsg&&, const std::string& what)>& each)
 {
-    RosTime last;
-    bool first = true;
     // Stamps that are times and increase, then the caller's.
+    FrameStamps stamps;
     const auto checked = [&](ImageMsg&& img, const std::string& what) {
-        const RosTime& t = img.header.stamp;
-        if (t.sec < 0 || t.nanosec >= 1000000000u)
-            throw Error(what,
-                        "has the stamp " + std::to_string(t.sec) + " s " + std::to_string(t.nanosec) +
-                            " ns, which is not a time (sec ≥ 0, nanosec < 1e9)");
-        if (!first && t.nanoseconds() <= last.nanoseconds())
-            throw Error(what, "has a stamp that does not follow the previous frame's (stamps must increase)");
-        first = false;
-        last = t;
+        stamps.check(img.header.stamp, what);
         each(std::move(img), what);
     };
     if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
@@ -251,19 +262,11 @@ std::string readBagPointClouds(const std::string& path, const std::string& topic
 {
     if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
         throw Error(path, "is a ROS 1 bag: smokescan reads a 3D lidar's PointCloud2 frames from ROS 2 bags (MCAP)");
-    RosTime last;
-    bool first = true;
+    FrameStamps stamps;
     return readTopic(path, topic, kPointCloud2Type, "PointCloud2", [&](McapMessage&& msg, const std::string& what) {
         const PointCloud2Msg m = decodePointCloud2(msg.data, what);
         const RosTime& t = m.header.stamp;
-        if (t.sec < 0 || t.nanosec >= 1000000000u)
-            throw Error(what,
-                        "has the stamp " + std::to_string(t.sec) + " s " + std::to_string(t.nanosec) +
-                            " ns, which is not a time (sec ≥ 0, nanosec < 1e9)");
-        if (!first && t.nanoseconds() <= last.nanoseconds())
-            throw Error(what, "has a stamp that does not follow the previous frame's (stamps must increase)");
-        first = false;
-        last = t;
+        stamps.check(t, what);
         each(pointCloudFileOf(m, what), double(t.sec) + 1e-9 * double(t.nanosec), what);
     });
 }
