@@ -8,11 +8,11 @@
 #include <sys/stat.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <mutex>
 
 #include "smokescan/core/error.hpp"
@@ -273,7 +273,6 @@ DensityGrid DensityGrid::fromBlobs(const std::vector<Blob>& blobs, double voxel_
         openvdb::Coord lo, hi;
     };
     std::vector<Cube> cubes;
-    int x_lo = std::numeric_limits<int>::max(), x_hi = std::numeric_limits<int>::min();
     for (const Blob& b : blobs) {
         if (!(b.sigma_m > 0) || !(b.peak > 0)) continue;
         Cube q;
@@ -285,30 +284,38 @@ DensityGrid DensityGrid::fromBlobs(const std::vector<Blob>& blobs, double voxel_
                               int(std::floor(q.c.z() - q.r)));
         q.hi =
             openvdb::Coord(int(std::ceil(q.c.x() + q.r)), int(std::ceil(q.c.y() + q.r)), int(std::ceil(q.c.z() + q.r)));
-        x_lo = std::min(x_lo, q.lo.x());
-        x_hi = std::max(x_hi, q.hi.x());
         cubes.push_back(q);
     }
     // Slabs one leaf thick along x, rasterised in parallel: a voxel lies in one slab and sums its
-    // blobs there in their order, so the grid is the same whatever the thread count.
-    constexpr int kLeaf = openvdb::FloatTree::LeafNodeType::DIM;
-    const int slab0 = cubes.empty() ? 0 : x_lo & ~(kLeaf - 1);
-    const int slabs = cubes.empty() ? 0 : (x_hi - slab0) / kLeaf + 1;
-    std::vector<openvdb::FloatGrid::Ptr> parts(size_t(std::max(slabs, 0)));
-    tbb::parallel_for(0, slabs, [&](int s) {
+    // blobs there in their order, so the grid is the same whatever the thread count. Only the
+    // slabs some cube reaches, each with the cubes that reach it (the work stays the voxels').
+    constexpr int kLog2Leaf = openvdb::FloatTree::LeafNodeType::LOG2DIM;
+    std::vector<std::pair<int, size_t>> reach;  // (slab, cube), sorted: the cubes in order in each slab
+    for (size_t n = 0; n < cubes.size(); ++n)
+        for (int slab = cubes[n].lo.x() >> kLog2Leaf; slab <= cubes[n].hi.x() >> kLog2Leaf; ++slab)
+            reach.emplace_back(slab, n);
+    std::sort(reach.begin(), reach.end());
+    std::vector<size_t> starts;  // where each slab's run of `reach` starts
+    for (size_t k = 0; k < reach.size(); ++k)
+        if (k == 0 || reach[k].first != reach[k - 1].first) starts.push_back(k);
+    starts.push_back(reach.size());
+    std::vector<openvdb::FloatGrid::Ptr> parts(starts.size() - 1);
+    tbb::parallel_for(size_t(0), parts.size(), [&](size_t g) {
         auto part = openvdb::FloatGrid::create(0.0f);
         auto acc = part->getAccessor();
-        const int a = slab0 + s * kLeaf, b = a + kLeaf - 1;
-        for (const Cube& q : cubes)
+        const int a = reach[starts[g]].first * (1 << kLog2Leaf), b = a + (1 << kLog2Leaf) - 1;
+        for (size_t k = starts[g]; k < starts[g + 1]; ++k) {
+            const Cube& q = cubes[reach[k].second];
             for (int i = std::max(q.lo.x(), a); i <= std::min(q.hi.x(), b); ++i)
                 for (int j = q.lo.y(); j <= q.hi.y(); ++j)
-                    for (int k = q.lo.z(); k <= q.hi.z(); ++k) {
-                        const double d2 = (Vec3(i, j, k) - q.c).squaredNorm();
+                    for (int k2 = q.lo.z(); k2 <= q.hi.z(); ++k2) {
+                        const double d2 = (Vec3(i, j, k2) - q.c).squaredNorm();
                         if (d2 > q.r * q.r) continue;
-                        const openvdb::Coord ijk(i, j, k);
+                        const openvdb::Coord ijk(i, j, k2);
                         acc.setValueOn(ijk, acc.getValue(ijk) + float(q.peak * std::exp(-d2 * q.inv2s2)));
                     }
-        parts[size_t(s)] = part;
+        }
+        parts[g] = part;
     });
     auto grid = openvdb::FloatGrid::create(0.0f);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size_m));
