@@ -576,7 +576,8 @@ TEST(BagCli, ReadsThePointCloudsAnIndependentWriterWroteInOustersLayout)
     // `t` in ns, point (1, 2) without a return.
     std::vector<double> starts;
     const std::string topic =
-        readBagPointClouds(mcap, "", [&](PointCloudFile&& pc, double start_s, const std::string& what) {
+        readBagPointClouds(mcap, "", [&](const PointCloud2Msg& m, double start_s, const std::string& what) {
+            const PointCloudFile pc = pointCloudFileOf(m, what);
             const size_t k = starts.size();
             starts.push_back(start_s);
             EXPECT_NE(what.find("/ouster/points"), std::string::npos) << what;
@@ -602,7 +603,7 @@ TEST(BagCli, ReadsThePointCloudsAnIndependentWriterWroteInOustersLayout)
     ASSERT_EQ(starts.size(), 4u);
     for (size_t k = 0; k < starts.size(); ++k) EXPECT_DOUBLE_EQ(starts[k], 10 + 0.1 * double(k));
     try {
-        (void)readBagPointClouds(mcap, "/front/scan", [](PointCloudFile&&, double, const std::string&) {});
+        (void)readBagPointClouds(mcap, "/front/scan", [](const PointCloud2Msg&, double, const std::string&) {});
         ADD_FAILURE() << "a LaserScan topic read as point clouds";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("/front/scan is sensor_msgs/msg/LaserScan"), std::string::npos)

@@ -178,6 +178,12 @@ std::string readTopic(const std::string& path, const std::string& topic, const R
     return chosen;
 }
 
+/// Whether `path` is a ROS 1 bag file (read by librosbag; the others are MCAP).
+bool isRos1BagFile(const std::string& path)
+{
+    return !fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path);
+}
+
 /// A topic's frames' stamps: each a time (sec ≥ 0, nanosec < 1e9) after the previous frame's.
 class FrameStamps {
 public:
@@ -202,8 +208,7 @@ private:
 
 BagLaserScans readBagLaserScans(const std::string& path, const std::string& topic)
 {
-    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
-        return detail::readRos1LaserScans(path, topic);
+    if (isRos1BagFile(path)) return detail::readRos1LaserScans(path, topic);
     BagLaserScans out;
     out.source = path;
     out.topic = readTopic(path, topic, kLaserScanType, "LaserScan", [&](McapMessage&& m, const std::string& what) {
@@ -221,8 +226,7 @@ std::string readBagImages(const std::string& path, const std::string& topic,
         stamps.check(img.header.stamp, what);
         each(std::move(img), what);
     };
-    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
-        return detail::readRos1Images(path, topic, checked);
+    if (isRos1BagFile(path)) return detail::readRos1Images(path, topic, checked);
     return readTopic(path, topic, kImageType, "Image",
                      [&](McapMessage&& m, const std::string& what) { checked(decodeImage(m.data, what), what); });
 }
@@ -258,16 +262,16 @@ PointCloudFile pointCloudFileOf(const PointCloud2Msg& m, const std::string& what
 }
 
 std::string readBagPointClouds(const std::string& path, const std::string& topic,
-                               const std::function<void(PointCloudFile&&, double, const std::string&)>& each)
+                               const std::function<void(const PointCloud2Msg&, double, const std::string&)>& each)
 {
-    if (!fs::is_directory(path) && fs::exists(path) && detail::isRos1Bag(path))
+    if (isRos1BagFile(path))
         throw Error(path, "is a ROS 1 bag: smokescan reads a 3D lidar's PointCloud2 frames from ROS 2 bags (MCAP)");
     FrameStamps stamps;
     return readTopic(path, topic, kPointCloud2Type, "PointCloud2", [&](McapMessage&& msg, const std::string& what) {
         const PointCloud2Msg m = decodePointCloud2(msg.data, what);
         const RosTime& t = m.header.stamp;
         stamps.check(t, what);
-        each(pointCloudFileOf(m, what), double(t.sec) + 1e-9 * double(t.nanosec), what);
+        each(m, double(t.sec) + 1e-9 * double(t.nanosec), what);
     });
 }
 

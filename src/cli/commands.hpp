@@ -60,9 +60,9 @@ void bagInputs(RunFiles& files, const std::string& bag, const std::string& optio
 /// @brief The inputs of a 3D lidar's recorded frames (--points), which no output may replace: a
 /// frames folder's frames.csv, or a ROS 2 bag's files.
 void lidarFramesInputs(RunFiles& files, const std::string& points);
-/// @brief The folder no output may lie in: `points` itself, or the rosbag2 folder holding an .mcap
-/// file (its metadata.yaml beside it).
-std::string lidarFramesFolder(const std::string& points);
+/// @brief Refuses an output `path` (given as `option`) inside the recorded frames' folder, an
+/// input: `points` itself, or the rosbag2 folder holding an .mcap file (its metadata.yaml beside it).
+void outsideLidarFrames(const std::string& path, const char* option, const std::string& points);
 /// @brief The --saturation input's files (a bag's metadata.yaml and the files it lists, or the CSV).
 void saturationInputs(RunFiles& files, const std::string& saturation);
 

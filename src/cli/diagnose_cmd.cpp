@@ -40,14 +40,7 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
     lidarFramesInputs(files, cfg.points);
     files.input(cfg.sensor.sensor, "--sensor");
     files.outputFolder(a.out, "--out");
-    // The frames' folder is an input: nothing is written into it.
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path inside =
-        fs::weakly_canonical(fs::absolute(a.out), ec)
-            .lexically_relative(fs::weakly_canonical(fs::absolute(lidarFramesFolder(cfg.points)), ec));
-    if (!ec && !inside.empty() && *inside.begin() != "..")
-        throw Error("--out", a.out + " lies in the frames' folder " + lidarFramesFolder(cfg.points) + " (an input)");
+    outsideLidarFrames(a.out, "--out", cfg.points);
     AtomicFolder out(a.out, "the diagnosis folder", "--out");
     cfg.on_scene = [&](const Scene& scene) { recordSceneInputs(files, cfg.scene, scene); };
     Progress bar("diagnose", "frames");

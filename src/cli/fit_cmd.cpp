@@ -124,15 +124,8 @@ int fitLidarFrames(const FitArgs& a0)
     }
     files.output(a.out, "--out");
     files.output(a.report, "--report");
-    // The frames' folder is an input: nothing is written into it.
-    for (const auto& [path, option] : {std::pair{a.out, "--out"}, std::pair{a.report, "--report"}}) {
-        std::error_code ec;
-        const fs::path inside =
-            fs::weakly_canonical(fs::absolute(path), ec)
-                .lexically_relative(fs::weakly_canonical(fs::absolute(lidarFramesFolder(a.points)), ec));
-        if (!ec && !inside.empty() && *inside.begin() != "..")
-            throw Error(option, path + " lies in the frames' folder " + lidarFramesFolder(a.points) + " (an input)");
-    }
+    outsideLidarFrames(a.out, "--out", a.points);
+    outsideLidarFrames(a.report, "--report", a.points);
     cfg.frames.on_scene = [&](const Scene& scene) { recordSceneInputs(files, a.scene, scene); };
     Progress bar("fit", "frames");
     RunControl control;

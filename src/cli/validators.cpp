@@ -214,13 +214,18 @@ void lidarFramesInputs(RunFiles& files, const std::string& points)
     files.input(points + "/frames.csv", "--points");
 }
 
-std::string lidarFramesFolder(const std::string& points)
+void outsideLidarFrames(const std::string& path, const char* option, const std::string& points)
 {
-    std::error_code ec;
     namespace fs = std::filesystem;
-    const fs::path folder = fs::absolute(points, ec).parent_path();
-    if (fs::is_regular_file(points, ec) && fs::exists(folder / "metadata.yaml", ec)) return folder.string();
-    return points;
+    std::error_code ec;
+    // The folder no output may lie in: `points` itself, or the rosbag2 folder holding an .mcap.
+    std::string folder = points;
+    const fs::path parent = fs::absolute(points, ec).parent_path();
+    if (fs::is_regular_file(points, ec) && fs::exists(parent / "metadata.yaml", ec)) folder = parent.string();
+    const fs::path inside =
+        fs::weakly_canonical(fs::absolute(path), ec).lexically_relative(fs::weakly_canonical(fs::absolute(folder), ec));
+    if (!ec && !inside.empty() && *inside.begin() != "..")
+        throw Error(option, path + " lies in the frames' folder " + folder + " (an input)");
 }
 
 void saturationInputs(RunFiles& files, const std::string& saturation)

@@ -150,14 +150,14 @@ struct StopReading {};
 /// Each PointCloud2 of the bag's topic to `each`, in order; a cancel asked of `control` stops the
 /// reading at once and throws Cancelled.
 void eachBagCloud(const std::string& bag, const std::string& topic, const RunControl& control,
-                  const std::function<void(PointCloudFile&&, double, const std::string&)>& each)
+                  const std::function<void(const PointCloud2Msg&, double, const std::string&)>& each)
 {
     std::optional<Cancelled> cancelled;
     try {
-        readBagPointClouds(bag, topic, [&](PointCloudFile&& pc, double start_s, const std::string& what) {
+        readBagPointClouds(bag, topic, [&](const PointCloud2Msg& m, double start_s, const std::string& what) {
             try {
                 checkCancel(control);
-                each(std::move(pc), start_s, what);
+                each(m, start_s, what);
             } catch (const Cancelled& c) {
                 cancelled = c;
                 throw StopReading{};
@@ -173,7 +173,8 @@ void eachBagCloud(const std::string& bag, const std::string& topic, const RunCon
 std::vector<FrameIndexEntry> bagListing(const std::string& bag, const std::string& topic, const RunControl& control)
 {
     std::vector<FrameIndexEntry> frames;
-    eachBagCloud(bag, topic, control, [&](PointCloudFile&&, double start_s, const std::string& what) {
+    // The stamps alone: the points are read in the tally's pass.
+    eachBagCloud(bag, topic, control, [&](const PointCloud2Msg&, double start_s, const std::string& what) {
         if (int64_t(frames.size()) >= limits::kFrames)
             throw Error(what, "is past the " + std::to_string(limits::kFrames) + " frames a run may hold");
         FrameIndexEntry e;
@@ -249,11 +250,12 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     };
     if (bag) {
         size_t k = 0;
-        eachBagCloud(cfg.points, cfg.topic, control, [&](PointCloudFile&& pc, double start_s, const std::string& what) {
-            if (k >= frames.size() || frames[k].start_s != start_s)
-                throw Error(what, "is not the frame the first reading found there (did the bag change?)");
-            tallyFrame(k++, std::move(pc), what);
-        });
+        eachBagCloud(cfg.points, cfg.topic, control,
+                     [&](const PointCloud2Msg& m, double start_s, const std::string& what) {
+                         if (k >= frames.size() || frames[k].start_s != start_s)
+                             throw Error(what, "is not the frame the first reading found there (did the bag change?)");
+                         tallyFrame(k++, pointCloudFileOf(m, what), what);
+                     });
         if (k != frames.size()) throw Error(cfg.points, "lost frames between two readings (did the bag change?)");
         mismatch_m = mismatch_deg = NAN;  // a bag's frames carry no pose
     } else {

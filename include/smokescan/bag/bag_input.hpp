@@ -44,19 +44,20 @@ std::string readBagImages(const std::string& path, const std::string& topic,
                           const std::function<void(ImageMsg&&, const std::string& what)>& each);
 
 /// @brief Calls `each` with every PointCloud2 on `topic` ("" = the bag's only
-/// sensor_msgs/PointCloud2 topic), in the bag's order: its points as a point-cloud file gives them
-/// (lidar/point_cloud_io.hpp: x, y, z, intensity, ring, return, time or Ouster's t, source) and
-/// its stamp [s] as the frame's start, `what` naming the message for errors. A rosbag2 folder or
-/// an .mcap file. @return the topic read
-/// @throw Error naming the file and message, as readBagLaserScans, and for: stamps that are not
-/// times or do not increase, a big-endian cloud, a field of an unknown datatype or outside its
-/// point, no x, y or z, data shorter than its rows, more than 2·lidar_limits::kBeamsPerFrame
-/// points, a ROS 1 bag (not read for point clouds).
+/// sensor_msgs/PointCloud2 topic), in the bag's order, with its stamp [s] as the frame's start and
+/// `what` naming the message for errors (its points: pointCloudFileOf). A rosbag2 folder or an
+/// .mcap file. @return the topic read
+/// @throw Error naming the file and message, as readBagLaserScans, and for stamps that are not
+/// times or do not increase, a ROS 1 bag (not read for point clouds).
 std::string readBagPointClouds(
     const std::string& path, const std::string& topic,
-    const std::function<void(PointCloudFile&&, double start_s, const std::string& what)>& each);
+    const std::function<void(const PointCloud2Msg&, double start_s, const std::string& what)>& each);
 
-/// @brief A PointCloud2's points as readBagPointClouds gives them; `what` names it in errors.
+/// @brief A PointCloud2's points as a point-cloud file gives them (lidar/point_cloud_io.hpp: x, y,
+/// z, intensity, ring, return, time or Ouster's t, source); `what` names it in errors.
+/// @throw Error naming `what` for: a big-endian cloud, a field of an unknown datatype or outside
+/// its point, no x, y or z, data shorter than its rows, more than 2·lidar_limits::kBeamsPerFrame
+/// points.
 PointCloudFile pointCloudFileOf(const PointCloud2Msg& m, const std::string& what);
 
 /// @brief A frame as the camera delivered it: rgb8, bgr8, rgba8 or bgra8 (8-bit sRGB) → RGB in [0, 1].
