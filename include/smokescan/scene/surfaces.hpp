@@ -30,9 +30,10 @@ public:
     /// @brief Closest hit with t in (t_min_m, t_max_m]. Thread-safe.
     SurfaceHit closest(const Ray& ray, double t_max_m, double t_min_m = 0.0) const;
 
-    /// @brief The closest hits of up to four rays from one origin (a beam's footprint), traced as
-    /// one Embree packet: the same hits as closest() ray by ray, faster for rays that stay
-    /// together. @param rays n rays, n ≤ 4. @param out their hits, in the rays' order. Thread-safe.
+    /// @brief The closest hits of up to four rays (a beam's footprint), traced as one Embree
+    /// packet, each with t in (0, t_max_m]: the same hits as closest() ray by ray, faster for rays
+    /// that stay together. @param rays n rays, 1 ≤ n ≤ 4, any origins. @param out their hits, in
+    /// the rays' order. @throw Error for another n. Thread-safe.
     void closest4(const Ray* rays, int n, double t_max_m, SurfaceHit* out) const;
 
 private:
