@@ -405,6 +405,76 @@ TEST(SectorSearch, FindsTheExcessOverWhatTheModelExpectsInClearAir)
     EXPECT_NEAR(to, -0.2 + 0.255, 1e-9);
 }
 
+namespace {
+
+/// A replay in smoke of a sharp-edged or narrow threshold: 40 beams on one wall at 3 m, 200
+/// scans in 10 blocks; each beam's column is the penetration power P times e^u, u uniform on
+/// ±0.6, and it errs with probability Φ(u/w) (w = 0: when u > 0). The camera's density is
+/// uncertain by `ln_sd` in ln (the model's width is at least that).
+smokescan::Replay thresholdReplay(double w, double ln_sd)
+{
+    smokescan::Replay r = clearAirReplay([](int) { return 0.0; });
+    smokescan::KeyedRng rng(11, 0);
+    for (size_t k = 0; k < r.scans.size(); ++k) {
+        r.scans[k].ln_density_sd = ln_sd;
+        for (size_t b = 0; b < r.beams.size(); ++b) {
+            const double u = -0.6 + 1.2 * rng.uniform();
+            r.column[k][b] = float(0.007 * std::exp(u));
+            const double p = w > 0 ? normalCdf(u / w) : double(u > 0);
+            r.range_m[k][b] = rng.uniform() < p ? NAN : float(3 + 0.01 * rng.normal());
+        }
+    }
+    return r;
+}
+
+/// The threshold width's fit on a replay, and the argmax of the same likelihood on a grid 0.02
+/// apart over θ = ln w in [−20, 2].
+struct WidthFit {
+    smokescan::detail::ThetaFit fit;
+    double brute_theta = NAN;
+};
+
+WidthFit fitWidth(const smokescan::Replay& r)
+{
+    using namespace smokescan::detail;
+    const ReplayModel m(r, {});
+    Candidate c;
+    c.cause = Cause::ThresholdWidth;
+    const std::vector<Obs> obs = touched(r, c, -1);
+    WidthFit f{fitCandidate(r, m, c, obs)};
+    double best = -INFINITY;
+    for (double theta = -20; theta <= 2; theta += 0.02) {
+        const CandidateAt at(r, m, c, J(theta, 0));
+        double ll = 0;
+        for (const Obs& o : obs) ll += at.logLik(o).a;
+        if (ll > best) best = ll, f.brute_theta = theta;
+    }
+    return f;
+}
+
+}  // namespace
+
+TEST(CandidateFit, AWidthWhoseBestIsZeroEndsAtItsNilAndOneBelowTheLowestStartIsFound)
+{
+    // A threshold with a sharp edge, the camera's density uncertain by 0.05 in ln: the model's
+    // width is at least that, the width's best is the boundary, and the fit must reach its row's
+    // nil (ln w = −16; walking there, it stopped on the way). A narrow one (w = 0.003, ln w
+    // −5.8, below the lowest start ln 0.05) with the density known: the nil costs less than the
+    // lowest start and the gradient there underflows to zero, but the optimum lies between, where
+    // the fit must find it (the argmax of the same likelihood on a grid).
+    using smokescan::detail::causeRow;
+    const double nil = causeRow(Cause::ThresholdWidth).nil_below;
+    const WidthFit sharp = fitWidth(thresholdReplay(0, 0.05));
+    ASSERT_TRUE(sharp.fit.ok);
+    EXPECT_LE(sharp.fit.theta, nil);
+    EXPECT_LE(sharp.brute_theta, nil) << "the likelihood itself rises to the boundary";
+    const WidthFit narrow = fitWidth(thresholdReplay(0.003, 0));
+    ASSERT_TRUE(narrow.fit.ok);
+    EXPECT_LT(narrow.brute_theta, std::log(0.05) - 0.5) << "the optimum lies below the lowest start";
+    EXPECT_NEAR(narrow.fit.theta, narrow.brute_theta, 0.02);
+    EXPECT_LT(std::abs(narrow.fit.theta - std::log(0.003)), 3 * narrow.fit.se) << narrow.fit.se;
+}
+
 TEST(Diagnose, CleanRunsNameNothing)
 {
     SKIP_WHEN_SANITIZED();

@@ -18,7 +18,8 @@ struct ThetaFit {
 /// of its start values (or of `starts` when given; ranked on every 4th observation when there
 /// are over 20,000, the three best of a rugged likelihood — a jackknife row's — ranked again on
 /// all). A θ that walks below its row's nil_below (a width or share whose best is zero) ends the
-/// fit there.
+/// fit there; when the lowest start is the best, the nil costs no more and the cost still falls
+/// towards it there, the fit starts (and ends) at the nil.
 ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c, const std::vector<Obs>& obs,
                       const std::vector<double>* starts = nullptr);
 

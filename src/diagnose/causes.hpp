@@ -62,7 +62,8 @@ struct CauseRow {
     void (*scan)(const Replay& r, const ReplayModel& m, size_t k, const J& theta, ScanTerms& s) = nullptr;
     /// θ below which the extension is nil for every purpose (a log width or a logistic share at
     /// e^θ, under 1e-5 of its floor): a fit whose best is the boundary (no width, no share) walks
-    /// θ towards −∞ with a vanishing gradient, and stops here instead (−∞: never).
+    /// θ towards −∞ with a vanishing gradient, and stops here instead (−∞: never); a fit whose
+    /// lowest start is its best starts here when this is its optimum (fitCandidate).
     double nil_below = -INFINITY;
 };
 
