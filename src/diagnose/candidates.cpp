@@ -214,12 +214,11 @@ std::vector<std::pair<std::string, Estimate>> Candidate::report(double theta, do
 }
 
 CandidateAt::CandidateAt(const Replay& r, const ReplayModel& m, const Candidate& c, const J& theta)
-    : r_(r), m_(m), c_(c), theta_(theta)
+    : r_(r), m_(m), c_(c), row_(causeRow(c.cause)), theta_(theta)
 {
-    const CauseRow& row = causeRow(c.cause);
-    if (!row.scan) return;
+    if (!row_.scan) return;
     scans_.resize(r.scans.size());
-    for (size_t k = 0; k < r.scans.size(); ++k) row.scan(r, m, k, theta, scans_[k]);
+    for (size_t k = 0; k < r.scans.size(); ++k) row_.scan(r, m, k, theta, scans_[k]);
 }
 
 CandidateAt::~CandidateAt() = default;
@@ -227,7 +226,7 @@ CandidateAt::~CandidateAt() = default;
 J CandidateAt::logLik(const Obs& o, ObsMemo* memo) const
 {
     BeamTerms<J> x = baseTerms<J>(r_, m_, o);
-    causeRow(c_.cause).apply(r_, m_, c_, o, theta_, scans_.empty() ? nullptr : &scans_[size_t(o.k)], x);
+    row_.apply(r_, m_, c_, o, theta_, scans_.empty() ? nullptr : &scans_[size_t(o.k)], x);
     const ReplayBeam& beam = r_.beams[size_t(o.b)];
     const double recorded = double(r_.range_m[size_t(o.k)][size_t(o.b)]);
     finishTerms(r_, o, x, memo);

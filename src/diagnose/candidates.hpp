@@ -89,6 +89,7 @@ struct ObsMemo {
 };
 
 struct ScanTerms;
+struct CauseRow;
 
 /// Candidate c at θ on top of a model: what its cause changes alike for a scan's beams is
 /// computed once per scan when it is made, then each observation's ln L.
@@ -104,6 +105,7 @@ private:
     const Replay& r_;
     const ReplayModel& m_;
     const Candidate& c_;
+    const CauseRow& row_;  ///< c's row, found once
     J theta_;
     std::vector<ScanTerms> scans_;  ///< by scan, when the cause has shared terms
 };

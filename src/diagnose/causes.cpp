@@ -44,6 +44,9 @@ SectorExtension sectorOf(const Candidate& c, double dropout)
 /// floors of 0.05–0.1).
 constexpr double kNilBelow = -16;
 
+/// A share's logistic of θ, the same for every beam (ScanTerms::share).
+void shareOfTheta(const Replay&, const ReplayModel&, size_t, const J& theta, ScanTerms& s) { s.share = sigmoid(theta); }
+
 const CauseRow kRows[] = {
     {Cause::ClockOffset, "clock_offset", Target::Global,
      [] {  // the likelihood in an offset is rugged (one step per camera frame)
@@ -97,12 +100,8 @@ const CauseRow kRows[] = {
      "threshold_width",
      Target::Global,
      {std::log(0.05), std::log(0.1), std::log(0.2), std::log(0.4)},  // θ = ln w
-     [](const Replay&, const ReplayModel& m, const Candidate&, const Obs& o, const J& theta, const ScanTerms*,
-        BeamTerms<J>& x) {
-         const J w = exp(theta);
-         const double sd = m.ln_density_sd[size_t(o.k)];
-         x.width = sqrt(w * w + J(sd * sd));
-     },
+     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J&, const ScanTerms* s,
+        BeamTerms<J>& x) { x.width = s->width; },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) { e.threshold_width = std::exp(theta); },
      [](double theta, double se) {
          return Reported{{"width_ln_column", {std::exp(theta), std::exp(theta) * se}}};
@@ -113,7 +112,11 @@ const CauseRow kRows[] = {
      0.08,
      "width [ln column]",
      false,
-     nullptr,
+     [](const Replay&, const ReplayModel& m, size_t k, const J& theta, ScanTerms& s) {
+         const J w = exp(theta);
+         const double sd = m.ln_density_sd[k];
+         s.width = sqrt(w * w + J(sd * sd));
+     },
      kNilBelow},
 
     {Cause::SurfaceRangeBias,
@@ -160,8 +163,8 @@ const CauseRow kRows[] = {
      "smoke_obstacle_return",
      Target::Global,
      {-4, -2, -1, 0},  // θ: logit of q
-     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, const ScanTerms*,
-        BeamTerms<J>& x) { x.q = J(1.0) - (J(1.0) - x.q) * (J(1.0) - sigmoid(theta)); },
+     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J&, const ScanTerms* s,
+        BeamTerms<J>& x) { x.q = J(1.0) - (J(1.0) - x.q) * (J(1.0) - s->share); },
      [](const Replay&, const Candidate&, double theta, ModelExtensions& e) {
          e.smoke_obstacle_return = 1 - (1 - e.smoke_obstacle_return) * (1 - sigmoid(theta));
      },
@@ -172,15 +175,15 @@ const CauseRow kRows[] = {
      0.05,
      "share",
      false,
-     nullptr,
+     shareOfTheta,
      kNilBelow},
 
     {Cause::SectorDropout,
      "sector_dropout",
      Target::Sector,
      {-3, -1.5, 0, 1},  // θ: logit of d
-     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J& theta, const ScanTerms*,
-        BeamTerms<J>& x) { x.d = J(1.0) - (J(1.0) - x.d) * (J(1.0) - sigmoid(theta)); },
+     [](const Replay&, const ReplayModel&, const Candidate&, const Obs&, const J&, const ScanTerms* s,
+        BeamTerms<J>& x) { x.d = J(1.0) - (J(1.0) - x.d) * (J(1.0) - s->share); },
      [](const Replay&, const Candidate& c, double theta, ModelExtensions& e) {
          e.sectors.push_back(sectorOf(c, sigmoid(theta)));
      },
@@ -191,7 +194,7 @@ const CauseRow kRows[] = {
      0.1,
      "dropout",
      false,
-     nullptr,
+     shareOfTheta,
      kNilBelow},
 
     {Cause::Hysteresis,

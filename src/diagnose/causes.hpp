@@ -30,6 +30,7 @@ struct EffectScale {
 struct ScanTerms {
     J density;  ///< the smoke's density [density]
     J width;  ///< the threshold's width in ln(column)
+    J share;  ///< a share θ adds (short returns, dropout): its logistic, once, not per beam
 };
 
 struct CauseRow {
