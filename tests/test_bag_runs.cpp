@@ -683,8 +683,14 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
         const bool from_bag = in != pts;
         EXPECT_EQ(j["pose_mismatch_m"].is_null(), from_bag) << in;
         EXPECT_EQ(slurp(out / "report.md").find("carry no recorded pose") != std::string::npos, from_bag);
-        j.erase("pose_mismatch_m");
-        j.erase("pose_mismatch_deg");
+        // What was read, in the JSON and the report: the path given, and a bag's topic.
+        EXPECT_EQ(j["points"], in.string());
+        EXPECT_EQ(j["topic"], from_bag ? nlohmann::json("/points") : nlohmann::json()) << in;
+        EXPECT_NE(
+            slurp(out / "report.md").find("frames read from " + in.string() + (from_bag ? " (topic /points)." : ".")),
+            std::string::npos)
+            << in;
+        for (const char* k : {"pose_mismatch_m", "pose_mismatch_deg", "points", "topic"}) j.erase(k);
         diagnosis[in.string()] = j;
         EXPECT_EQ(slurp(out / "lidar.toml"), slurp(dir() / "lidar_bag_diag_lidar_bag_pts" / "lidar.toml"));
     }
@@ -697,6 +703,20 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
         ASSERT_EQ(r.status, 0) << r.err;
     }
     EXPECT_EQ(slurp(file("lidar_bag_fit_lidar_bag.toml")), slurp(file("lidar_bag_fit_lidar_bag_pts.toml")));
+    r = cli("fit --points " + bag.string() + common + "--out " + file("lidar_bag_fit_t.toml") + " --report " +
+            file("lidar_bag_fit_t.json"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json fit = nlohmann::json::parse(slurp(file("lidar_bag_fit_t.json")));
+    EXPECT_EQ(fit["points"], bag.string());
+    EXPECT_EQ(fit["topic"], "/points");
+    // The bag's .mcap copied alone into a folder: neither a frames folder nor a rosbag2 folder.
+    const fs::path lone = dir() / "lidar_bag_lone";
+    fs::remove_all(lone);
+    fs::create_directories(lone);
+    fs::copy_file(bag / "lidar_bag_0.mcap", lone / "lidar_bag_0.mcap");
+    expectBad("diagnose --points " + lone.string() + common + "--out " + file("lidar_bag_d6"),
+              "no metadata.yaml (a rosbag2 folder), but lidar_bag_0.mcap: give --points that file",
+              file("lidar_bag_d6"));
     // A topic that is not there, --topic with a folder, a bag whose files an output would replace.
     expectBad("diagnose --points " + bag.string() + common + "--topic /nope --out " + file("lidar_bag_d1"),
               "has no topic /nope", file("lidar_bag_d1"));

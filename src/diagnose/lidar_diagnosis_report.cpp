@@ -61,6 +61,8 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
     j["sensor"] = d.sensor;
     j["returns"] = d.returns;
     j["scene"] = d.scene;
+    j["points"] = d.points;
+    j["topic"] = d.topic.empty() ? nlohmann::json() : nlohmann::json(d.topic);
     j["frames"] = d.frames;
     j["beams"] = d.beams;
     j["clear_beams"] = d.clear;
@@ -123,7 +125,8 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
 std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& sensor)
 {
     std::string s = "# Diagnosis of a " + sensor + "'s frames\n\nVerdict: **" + d.verdict + "**\n\n";
-    s += "Scene " + d.scene + ", " + d.returns + " returns.\n\n";
+    s += "Scene " + d.scene + ", " + d.returns + " returns; frames read from " + d.points +
+        (d.topic.empty() ? std::string() : " (topic " + d.topic + ")") + ".\n\n";
     s +=
         fmt("%zu frames, %lld beams, %lld of them clear (the replay's certain surface echoes); %lld recorded points "
             "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",

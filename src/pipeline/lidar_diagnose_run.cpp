@@ -27,6 +27,8 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
         out.diagnosis.sensor = out.sensor;
         out.diagnosis.returns = returnModeName(t.run.mode());
         out.diagnosis.scene = t.scene.source;
+        out.diagnosis.points = cfg.points;
+        out.diagnosis.topic = t.topic;
         out.diagnosis.extended_preset = extendedLidarPreset(out.diagnosis, t.run.spec(), t.base);
     });
     return out;

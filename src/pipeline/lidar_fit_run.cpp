@@ -145,6 +145,8 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         out.sensor = given.name;
         out.returns = returnModeName(t.run.mode());
         out.scene = t.scene.source;
+        out.points = cfg.frames.points;
+        out.topic = t.topic;
         out.frames = t.tally.frames();
         // The clear beams and their ranges' spread as the last replay sees them (a surface's
         // factor moves where its echo reads in the smoke).
@@ -169,6 +171,8 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     j["sensor"] = r.sensor;
     j["returns"] = r.returns;
     j["scene"] = r.scene;
+    j["points"] = r.points;
+    j["topic"] = r.topic.empty() ? nlohmann::json() : nlohmann::json(r.topic);
     j["frames"] = r.frames;
     j["replays"] = r.replays;
     j["clear_beams_answered"] = r.clear;

@@ -143,18 +143,34 @@ bool isLidarFramesBag(const std::string& points)
 
 namespace {
 
+/// Refuses a folder without frames.csv that holds an .mcap but no metadata.yaml (a bag's file
+/// copied alone into a folder), naming the file to give instead.
+void noBagWithoutItsMetadata(const std::string& dir)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(fs::path(dir) / "frames.csv", ec)) return;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+        if (it->path().extension() == ".mcap")
+            throw Error(dir,
+                        "holds no frames.csv (a scan --points folder) and no metadata.yaml (a rosbag2 folder), "
+                        "but " +
+                            it->path().filename().string() + ": give --points that file");
+}
+
 /// Thrown through the bag's reader to stop it at once (not an Error, which the reader may keep
 /// until the bag's end to name the right one).
 struct StopReading {};
 
 /// Each PointCloud2 of the bag's topic to `each`, in order; a cancel asked of `control` stops the
 /// reading at once and throws Cancelled.
-void eachBagCloud(const std::string& bag, const std::string& topic, const RunControl& control,
-                  const std::function<void(const PointCloud2Msg&, double, const std::string&)>& each)
+/// Returns the topic read.
+std::string eachBagCloud(const std::string& bag, const std::string& topic, const RunControl& control,
+                         const std::function<void(const PointCloud2Msg&, double, const std::string&)>& each)
 {
     std::optional<Cancelled> cancelled;
     try {
-        readBagPointClouds(bag, topic, [&](const PointCloud2Msg& m, double start_s, const std::string& what) {
+        return readBagPointClouds(bag, topic, [&](const PointCloud2Msg& m, double start_s, const std::string& what) {
             try {
                 checkCancel(control);
                 each(m, start_s, what);
@@ -169,12 +185,13 @@ void eachBagCloud(const std::string& bag, const std::string& topic, const RunCon
 }
 
 /// A bag's frames as a listing: one a PointCloud2 message, starting at its stamp and spanning the
-/// sensor's frame (set by the caller); `file` names the message.
-std::vector<FrameIndexEntry> bagListing(const std::string& bag, const std::string& topic, const RunControl& control)
+/// sensor's frame (set by the caller); `file` names the message. `read` is set to the topic read.
+std::vector<FrameIndexEntry> bagListing(const std::string& bag, const std::string& topic, const RunControl& control,
+                                        std::string& read)
 {
     std::vector<FrameIndexEntry> frames;
     // The stamps alone: the points are read in the tally's pass.
-    eachBagCloud(bag, topic, control, [&](const PointCloud2Msg&, double start_s, const std::string& what) {
+    read = eachBagCloud(bag, topic, control, [&](const PointCloud2Msg&, double start_s, const std::string& what) {
         if (int64_t(frames.size()) >= limits::kFrames)
             throw Error(what, "is past the " + std::to_string(limits::kFrames) + " frames a run may hold");
         FrameIndexEntry e;
@@ -199,7 +216,10 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         throw Error("--topic", "names a bag's topic, and " + cfg.points + " is a folder of frames (frames.csv)");
     const Scene scene = loadScene(cfg.scene);
     if (cfg.on_scene) cfg.on_scene(scene);
-    std::vector<FrameIndexEntry> frames = bag ? bagListing(cfg.points, cfg.topic, control) : readFrameIndex(cfg.points);
+    if (!bag) noBagWithoutItsMetadata(cfg.points);
+    std::string topic;
+    std::vector<FrameIndexEntry> frames =
+        bag ? bagListing(cfg.points, cfg.topic, control, topic) : readFrameIndex(cfg.points);
     LidarRunConfig sc = cfg.sensor;
     sc.from_s = frames.empty() ? NAN : frames.front().start_s;
     sc.to_s = NAN;
@@ -265,7 +285,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         }
     }
     checkWhole(tally, first, second, run.mode(), cfg.points);
-    use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded)});
+    use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded), topic});
 }
 
 }  // namespace smokescan

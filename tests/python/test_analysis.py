@@ -297,6 +297,7 @@ def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_chann
     cli("scan", "factory_smoke", "--sensor", "vlp16", "--from", "20", "--to", "20.35", "--bag", str(tmp_path / "bag"))
     b = smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/points")
     assert b.verdict == "none" and b.frames == 4 and b.pose_mismatch_m is None
+    assert b.points == str(tmp_path / "bag") and b.topic == "/points"  # what was read
     with pytest.raises(smokescan.Error, match=r"has no topic /nope"):
         smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/nope")
     with pytest.raises(smokescan.Error, match=r"has no topic /nope"):

@@ -105,6 +105,9 @@ struct LidarDiagnosis {
     /// when the frames carry no pose (a bag's PointCloud2 frames).
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;
     std::string sensor, returns, scene;  ///< what was diagnosed (set by the caller), for reports
+    /// The frames read (set by the caller): a frames folder or a bag, and the bag's topic ("" for
+    /// a folder).
+    std::string points, topic;
     /// lidar.toml's text: the diagnosed preset extended by the named findings (set by the caller:
     /// pipeline/lidar_diagnose_run.hpp's extendedLidarPreset)
     std::string extended_preset;

@@ -32,6 +32,7 @@ struct LidarFitRunResult {
     LidarFitResult fit;
     std::vector<std::string> surface_names;  ///< the scene's surfaces (SurfaceReflectanceFit::surface)
     std::string sensor, returns, scene;  ///< what was fitted, for reports
+    std::string points, topic;  ///< the frames read: a folder or a bag, and the bag's topic ("" for a folder)
     size_t frames = 0;
     int replays = 1;  ///< the frames replayed this many times (the last with the factors before the last step)
     long long clear = 0;  ///< clear beams answered at their surface (the fit's candidates)

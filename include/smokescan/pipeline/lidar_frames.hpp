@@ -55,6 +55,9 @@ struct TalliedFrames {
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;
     /// Each frame's start time [s] and points, in the listing's order (LidarFramesConfig::keep_points).
     std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
+    /// The bag's topic the frames were read from (the named one or its only PointCloud2 topic);
+    /// empty for a frames folder.
+    std::string topic;
 };
 
 /// @brief Reads the frames one at a time, replays each and tallies them (frame k in fold k % 2),
