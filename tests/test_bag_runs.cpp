@@ -611,6 +611,34 @@ TEST(BagCli, ReadsThePointCloudsAnIndependentWriterWroteInOustersLayout)
     }
 }
 
+TEST(BagCli, ABagOfMoreFramesThanARunKeepsIsRefusedAsItsFramesAreListed)
+{
+    // 200 clouds (an independent writer's) for an OS1-128 at 2048 columns: 262,144 beams a frame,
+    // so 190 frames keep all the readings a run may (50 million). The 191st is refused as it is
+    // listed: the bag is not read through first (each message asks the run's cancel once).
+    SMOKESCAN_NEED_READERS();
+    const std::string mcap = (dir() / "many_clouds.mcap").string();
+    const std::string cmd = "node " + readersDir() + "/write_bag.mjs " + mcap + " 1 682 0 200";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    LidarFramesConfig cfg;
+    cfg.scene = "factory_smoke";
+    cfg.points = mcap;
+    cfg.sensor.sensor = "os1-128";
+    cfg.sensor.columns = 2048;
+    int asked = 0;
+    RunControl control;
+    control.cancel = [&] { return ++asked < 0; };
+    try {
+        tallyLidarFrames(cfg, 2, control, [](const TalliedFrames&) { ADD_FAILURE() << "tallied"; });
+        ADD_FAILURE() << "not refused";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("holds more than 190 frames: their readings would pass the 50000000"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(asked, 191);
+}
+
 TEST(Bag, APointCloudsLayoutIsCheckedBeforeItsPointsAreRead)
 {
     PointCloud2Msg m;

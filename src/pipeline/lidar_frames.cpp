@@ -11,6 +11,7 @@
 #include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 #include "smokescan/lidar/frame_index.hpp"
+#include "smokescan/lidar/lidar_spec.hpp"
 #include "smokescan/lidar/point_cloud_io.hpp"
 #include "smokescan/scene/scene_io.hpp"
 
@@ -184,16 +185,37 @@ std::string eachBagCloud(const std::string& bag, const std::string& topic, const
     }
 }
 
+/// The most frames of the lidar `sc` names whose readings a run keeps (limits::kKeptReadings),
+/// known before its frames are listed; limits::kFrames when its options are wrong (the run names
+/// them, after the listing).
+int64_t keptFrames(const LidarRunConfig& sc)
+{
+    if (!(sc.rate_hz >= 0) || !std::isfinite(sc.rate_hz) || sc.columns < 0) return limits::kFrames;
+    try {
+        LidarSpec spec = lidarSpec(sc.sensor);
+        configureLidar(spec, sc.rate_hz, sc.columns, "--sensor " + sc.sensor);
+        const size_t beams = framePattern(spec).size();
+        return beams > 0 ? std::min(limits::kFrames, limits::kKeptReadings / int64_t(beams)) : limits::kFrames;
+    } catch (const Error&) {
+        return limits::kFrames;
+    }
+}
+
 /// A bag's frames as a listing: one a PointCloud2 message, starting at its stamp and spanning the
 /// sensor's frame (set by the caller); `file` names the message. `read` is set to the topic read.
+/// More than `most` frames are refused as they are listed, not after the bag's last.
 std::vector<FrameIndexEntry> bagListing(const std::string& bag, const std::string& topic, const RunControl& control,
-                                        std::string& read)
+                                        int64_t most, std::string& read)
 {
     std::vector<FrameIndexEntry> frames;
     // The stamps alone: the points are read in the tally's pass.
     read = eachBagCloud(bag, topic, control, [&](const PointCloud2Msg&, double start_s, const std::string& what) {
         if (int64_t(frames.size()) >= limits::kFrames)
             throw Error(what, "is past the " + std::to_string(limits::kFrames) + " frames a run may hold");
+        if (int64_t(frames.size()) >= most)
+            throw Error("--points",
+                        bag + " holds more than " + std::to_string(most) + " frames: their readings would pass the " +
+                            std::to_string(limits::kKeptReadings) + " a run keeps (fewer frames)");
         FrameIndexEntry e;
         e.frame = frames.size();
         e.file = what;
@@ -219,7 +241,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     if (!bag) noBagWithoutItsMetadata(cfg.points);
     std::string topic;
     std::vector<FrameIndexEntry> frames =
-        bag ? bagListing(cfg.points, cfg.topic, control, topic) : readFrameIndex(cfg.points);
+        bag ? bagListing(cfg.points, cfg.topic, control, keptFrames(cfg.sensor), topic) : readFrameIndex(cfg.points);
     LidarRunConfig sc = cfg.sensor;
     sc.from_s = frames.empty() ? NAN : frames.front().start_s;
     sc.to_s = NAN;
