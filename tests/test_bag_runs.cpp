@@ -743,8 +743,25 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
     fs::create_directories(lone);
     fs::copy_file(bag / "lidar_bag_0.mcap", lone / "lidar_bag_0.mcap");
     expectBad("diagnose --points " + lone.string() + common + "--out " + file("lidar_bag_d6"),
-              "no metadata.yaml (a rosbag2 folder), but lidar_bag_0.mcap: give --points that file",
+              "no metadata.yaml (a rosbag2 folder), but " + (lone / "lidar_bag_0.mcap").string() +
+                  ": give --points that file",
               file("lidar_bag_d6"));
+    fs::copy_file(bag / "lidar_bag_0.mcap", lone / "B.MCAP");  // several, any case: each named
+    expectBad("diagnose --points " + lone.string() + common + "--topic /points --out " + file("lidar_bag_d7"),
+              "but " + (lone / "B.MCAP").string() + ", " + (lone / "lidar_bag_0.mcap").string() +
+                  ": give --points one of those files",
+              file("lidar_bag_d7"));
+    // A path whose bytes are not UTF-8 (a link to the bag): named in the JSON and the report as \xNN.
+    const fs::path odd = dir() / "lidar_bag_\xff";
+    fs::remove(odd);
+    fs::create_directory_symlink(fs::absolute(bag), odd);
+    const fs::path odd_out = dir() / "lidar_bag_diag_odd";
+    fs::remove_all(odd_out);
+    r = cli("diagnose --points " + odd.string() + common + "--out " + odd_out.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string named = (dir() / "lidar_bag_\\xFF").string();
+    EXPECT_EQ(nlohmann::json::parse(slurp(odd_out / "diagnosis.json"))["points"], named);
+    EXPECT_NE(slurp(odd_out / "report.md").find("frames read from " + named + " (topic /points)."), std::string::npos);
     // A topic that is not there, --topic with a folder, a bag whose files an output would replace.
     expectBad("diagnose --points " + bag.string() + common + "--topic /nope --out " + file("lidar_bag_d1"),
               "has no topic /nope", file("lidar_bag_d1"));
@@ -782,6 +799,13 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
     expectBad("fit --points " + (bag / "lidar_bag_0.mcap").string() + common + "--out " + file("lidar_bag_f4.toml") +
                   " --report " + (bag / "metadata.yaml").string(),
               "lies in the frames' folder", file("lidar_bag_f4.toml"));
+    // And through a symbolic link to the .mcap, elsewhere: the folder is where the file is.
+    const fs::path link = dir() / "lidar_bag_link.mcap";
+    fs::remove(link);
+    fs::create_symlink(fs::absolute(bag / "lidar_bag_0.mcap"), link);
+    expectBad("fit --points " + link.string() + common + "--out " + file("lidar_bag_f5.toml") + " --report " +
+                  (bag / "metadata.yaml").string(),
+              "lies in the frames' folder", file("lidar_bag_f5.toml"));
     EXPECT_EQ(slurp(bag / "metadata.yaml"), meta);
     // Frames stamped outside the scene's time (factory_smoke: 0 to 48 s), as a recording's
     // wall-clock stamps would be.

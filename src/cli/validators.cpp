@@ -218,9 +218,10 @@ void outsideLidarFrames(const std::string& path, const char* option, const std::
 {
     namespace fs = std::filesystem;
     std::error_code ec;
-    // The folder no output may lie in: `points` itself, or the rosbag2 folder holding an .mcap.
+    // The folder no output may lie in: `points` itself, or the rosbag2 folder holding an .mcap
+    // (where the file is, through any symbolic link to it).
     std::string folder = points;
-    const fs::path parent = fs::absolute(points, ec).parent_path();
+    const fs::path parent = fs::weakly_canonical(fs::absolute(points, ec), ec).parent_path();
     if (fs::is_regular_file(points, ec) && fs::exists(parent / "metadata.yaml", ec)) folder = parent.string();
     const fs::path inside =
         fs::weakly_canonical(fs::absolute(path), ec).lexically_relative(fs::weakly_canonical(fs::absolute(folder), ec));

@@ -123,16 +123,17 @@ ThetaFit fitCandidate(const Replay& r, const ReplayModel& m, const Candidate& c,
         // The lowest start is the best: the optimum may be the boundary (no width, no share), which
         // the fit would reach walking θ down a vanishing gradient, a fixed step at a time (about
         // 20 passes over the observations from a width's lowest start to its nil). It is the
-        // boundary (a likelihood with one optimum) when the nil costs no more and the cost still
-        // falls towards it there: the fit then starts at the nil and ends at once. Not when the
-        // cost rises towards it, or is flat there (a sharp threshold's Φ underflows): an optimum
-        // may lie between, which the fit walks down to (from the nil, the gradient is below the
-        // solver's tolerance and it would stop at once).
-        double at_theta = kInf;
-        for (const auto& [cost, start] : tried)
-            if (start == theta) at_theta = cost;
-        double at_nil = kInf, slope = 0;
-        if (ranking.Evaluate(&nil, &at_nil, &slope) && at_nil <= at_theta && slope > 0) theta = nil;
+        // boundary (a likelihood with one optimum) when the cost falls from the lowest start
+        // towards the nil (its slope there is not negative), the nil costs no more, and the cost
+        // still falls towards it there: the fit then starts at the nil and ends at once. Not when
+        // the cost rises towards it, or is flat there (a sharp threshold's Φ underflows): an
+        // optimum may lie between, which the fit walks down to (from the nil, the gradient is below
+        // the solver's tolerance and it would stop at once); nor when it rises from the lowest
+        // start towards the nil (an optimum above the lowest start).
+        double at_theta = kInf, at_nil = kInf, slope_theta = 0, slope_nil = 0;
+        if (ranking.Evaluate(&theta, &at_theta, &slope_theta) && slope_theta >= 0 &&
+            ranking.Evaluate(&nil, &at_nil, &slope_nil) && at_nil <= at_theta && slope_nil > 0)
+            theta = nil;
     }
     ceres::GradientProblemSolver::Options opt;
     opt.line_search_direction_type = ceres::LBFGS;

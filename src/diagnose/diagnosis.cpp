@@ -86,18 +86,24 @@ Scored scoreCandidate(const Replay& r, const Models& m, Candidate c, const Diagn
     const detail::CauseRow& row = detail::causeRow(c.cause);
     const detail::EffectScale scale = detail::effectScale(r, c);
     const auto effectOf = [&](double t) { return row.effect(t, scale); };
-    double theta = 0, se = 0, effect = 0;
+    double effect = 0, effect_se = 0;
     int fits = 0;
-    for (const ThetaFit& f : s.fold_fit)
-        if (f.ok) theta += f.theta, se += f.se, effect += effectOf(f.theta), ++fits;
+    for (const ThetaFit& f : s.fold_fit) {
+        if (!f.ok) continue;
+        effect += effectOf(f.theta);  // each fold's effect (a noise growth's θ may fit ±γ)
+        // Its error propagated through the effect's slope at the fold's own θ (a difference over
+        // ±se would cap it at |θ|; at the folds' mean θ, a fold at a width's or share's nil and
+        // one with a width mixed e^θ of the one with the θ error of the other). The steeper
+        // one-sided slope: an effect |θ| has slope 1 at θ ≈ 0 too, where a central difference
+        // gives |θ|/h.
+        const double h = 1e-4 * std::max(1.0, std::abs(f.theta)), e = effectOf(f.theta);
+        const double slope = std::max(std::abs(effectOf(f.theta + h) - e), std::abs(e - effectOf(f.theta - h))) / h;
+        effect_se += slope * f.se;
+        ++fits;
+    }
     if (fits > 0) {
-        theta /= fits;
-        se /= fits * M_SQRT2;
-        s.effect = effect / fits;  // each fold's effect (a noise growth's θ may fit ±γ)
-        // Propagated through the effect's slope at θ (a difference over ±se would cap it at |θ|).
-        const double h = 1e-4 * std::max(1.0, std::abs(theta));
-        const double slope = (effectOf(theta + h) - effectOf(theta - h)) / (2 * h);
-        s.effect_se = std::abs(slope) * se;
+        s.effect = effect / fits;
+        s.effect_se = effect_se / (fits * M_SQRT2);  // on all the data: the folds' over √2
     }
     // Only a candidate that gains and is large enough to be named needs its p-value (the flips cost).
     // Not tested: NaN (reported as such, not as a p of 1).

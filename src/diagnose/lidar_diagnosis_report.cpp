@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "report_json.hpp"
+#include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
 #include "smokescan/diagnose/lidar_diagnosis.hpp"
 
@@ -60,9 +61,10 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
     j["extended_preset"] = d.extended_preset;
     j["sensor"] = d.sensor;
     j["returns"] = d.returns;
-    j["scene"] = d.scene;
-    j["points"] = d.points;
-    j["topic"] = d.topic.empty() ? nlohmann::json() : nlohmann::json(d.topic);
+    // Names as the user gave them; bytes JSON cannot hold (not UTF-8) and controls as \xNN.
+    j["scene"] = printable(d.scene, d.scene.size() + 1);
+    j["points"] = printable(d.points, d.points.size() + 1);
+    j["topic"] = d.topic.empty() ? nlohmann::json() : nlohmann::json(printable(d.topic, d.topic.size() + 1));
     j["frames"] = d.frames;
     j["beams"] = d.beams;
     j["clear_beams"] = d.clear;
@@ -125,8 +127,10 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
 std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& sensor)
 {
     std::string s = "# Diagnosis of a " + sensor + "'s frames\n\nVerdict: **" + d.verdict + "**\n\n";
-    s += "Scene " + d.scene + ", " + d.returns + " returns; frames read from " + d.points +
-        (d.topic.empty() ? std::string() : " (topic " + d.topic + ")") + ".\n\n";
+    // Names as given, controls and bytes that are not UTF-8 as \xNN: one line whatever they hold.
+    const auto named = [](const std::string& t) { return printable(t, t.size() + 1); };
+    s += "Scene " + named(d.scene) + ", " + d.returns + " returns; frames read from " + named(d.points) +
+        (d.topic.empty() ? std::string() : " (topic " + named(d.topic) + ")") + ".\n\n";
     s +=
         fmt("%zu frames, %lld beams, %lld of them clear (the replay's certain surface echoes); %lld recorded points "
             "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",

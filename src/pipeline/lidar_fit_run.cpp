@@ -8,6 +8,7 @@
 #include <memory>
 #include <unordered_map>
 
+#include "smokescan/core/error.hpp"
 #include "smokescan/core/format.hpp"
 
 namespace smokescan {
@@ -170,9 +171,10 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     nlohmann::json j;
     j["sensor"] = r.sensor;
     j["returns"] = r.returns;
-    j["scene"] = r.scene;
-    j["points"] = r.points;
-    j["topic"] = r.topic.empty() ? nlohmann::json() : nlohmann::json(r.topic);
+    // Names as the user gave them; bytes JSON cannot hold (not UTF-8) and controls as \xNN.
+    j["scene"] = printable(r.scene, r.scene.size() + 1);
+    j["points"] = printable(r.points, r.points.size() + 1);
+    j["topic"] = r.topic.empty() ? nlohmann::json() : nlohmann::json(printable(r.topic, r.topic.size() + 1));
     j["frames"] = r.frames;
     j["replays"] = r.replays;
     j["clear_beams_answered"] = r.clear;

@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -144,19 +145,26 @@ bool isLidarFramesBag(const std::string& points)
 
 namespace {
 
-/// Refuses a folder without frames.csv that holds an .mcap but no metadata.yaml (a bag's file
-/// copied alone into a folder), naming the file to give instead.
+/// Refuses a folder without frames.csv that holds an .mcap (any case) but no metadata.yaml (a
+/// bag's file copied alone into a folder), naming the files to give instead (eight at most).
 void noBagWithoutItsMetadata(const std::string& dir)
 {
     namespace fs = std::filesystem;
     std::error_code ec;
-    if (fs::exists(fs::path(dir) / "frames.csv", ec)) return;
-    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-        if (it->path().extension() == ".mcap")
-            throw Error(dir,
-                        "holds no frames.csv (a scan --points folder) and no metadata.yaml (a rosbag2 folder), "
-                        "but " +
-                            it->path().filename().string() + ": give --points that file");
+    if (!fs::is_directory(dir, ec) || fs::exists(fs::path(dir) / "frames.csv", ec)) return;
+    std::vector<std::string> mcaps;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end && mcaps.size() < 8; it.increment(ec)) {
+        std::string ext = it->path().extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (ext == ".mcap") mcaps.push_back(it->path().string());
+    }
+    if (mcaps.empty()) return;
+    std::sort(mcaps.begin(), mcaps.end());
+    std::string list;
+    for (const std::string& m : mcaps) list += (list.empty() ? "" : ", ") + m;
+    throw Error(dir,
+                "holds no frames.csv (a scan --points folder) and no metadata.yaml (a rosbag2 folder), but " + list +
+                    (mcaps.size() > 1 ? ": give --points one of those files" : ": give --points that file"));
 }
 
 /// Thrown through the bag's reader to stop it at once (not an Error, which the reader may keep
@@ -234,11 +242,11 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     const bool bag = isLidarFramesBag(cfg.points);
     if (!bag && !std::filesystem::is_directory(cfg.points))
         throw Error("--points", cfg.points + " is not a folder of frames or a ROS 2 bag");
+    if (!bag) noBagWithoutItsMetadata(cfg.points);
     if (!bag && !cfg.topic.empty())
         throw Error("--topic", "names a bag's topic, and " + cfg.points + " is a folder of frames (frames.csv)");
     const Scene scene = loadScene(cfg.scene);
     if (cfg.on_scene) cfg.on_scene(scene);
-    if (!bag) noBagWithoutItsMetadata(cfg.points);
     std::string topic;
     std::vector<FrameIndexEntry> frames =
         bag ? bagListing(cfg.points, cfg.topic, control, keptFrames(cfg.sensor), topic) : readFrameIndex(cfg.points);

@@ -295,9 +295,9 @@ def test_a_lidars_frames_are_diagnosed_as_the_command_line_does_and_a_weak_chann
     assert not (tmp_path / "never").exists()
     # The same run as a ROS 2 bag of PointCloud2 frames: read in place of the folder, without poses.
     cli("scan", "factory_smoke", "--sensor", "vlp16", "--from", "20", "--to", "20.35", "--bag", str(tmp_path / "bag"))
-    b = smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/points")
+    b = smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16")
     assert b.verdict == "none" and b.frames == 4 and b.pose_mismatch_m is None
-    assert b.points == str(tmp_path / "bag") and b.topic == "/points"  # what was read
+    assert b.points == str(tmp_path / "bag") and b.topic == "/points"  # what was read: its only topic
     with pytest.raises(smokescan.Error, match=r"has no topic /nope"):
         smokescan.diagnose_lidar("factory_smoke", points=tmp_path / "bag", sensor="vlp16", topic="/nope")
     with pytest.raises(smokescan.Error, match=r"has no topic /nope"):
