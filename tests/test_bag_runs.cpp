@@ -743,23 +743,22 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
     fs::create_directories(lone);
     fs::copy_file(bag / "lidar_bag_0.mcap", lone / "lidar_bag_0.mcap");
     expectBad("diagnose --points " + lone.string() + common + "--out " + file("lidar_bag_d6"),
-              "no metadata.yaml (a rosbag2 folder), but " + (lone / "lidar_bag_0.mcap").string() +
-                  ": give --points that file",
+              "no metadata.yaml (a rosbag2 folder): give --points its file " + (lone / "lidar_bag_0.mcap").string(),
               file("lidar_bag_d6"));
     fs::copy_file(bag / "lidar_bag_0.mcap", lone / "B.MCAP");  // several, any case: each named
     expectBad("diagnose --points " + lone.string() + common + "--topic /points --out " + file("lidar_bag_d7"),
-              "but " + (lone / "B.MCAP").string() + ", " + (lone / "lidar_bag_0.mcap").string() +
-                  ": give --points one of those files",
+              "give --points one of its 2 .mcap files (" + (lone / "B.MCAP").string() + ", " +
+                  (lone / "lidar_bag_0.mcap").string() + ")",
               file("lidar_bag_d7"));
     // A path whose bytes are not UTF-8 (a link to the bag): named in the JSON and the report as \xNN.
-    const fs::path odd = dir() / "lidar_bag_\xff";
+    const fs::path odd = dir() / "lidar_bag_\xff_odd";  // the byte mid-name: all of it named
     fs::remove(odd);
     fs::create_directory_symlink(fs::absolute(bag), odd);
     const fs::path odd_out = dir() / "lidar_bag_diag_odd";
     fs::remove_all(odd_out);
     r = cli("diagnose --points " + odd.string() + common + "--out " + odd_out.string());
     ASSERT_EQ(r.status, 0) << r.err;
-    const std::string named = (dir() / "lidar_bag_\\xFF").string();
+    const std::string named = (dir() / "lidar_bag_\\xFF_odd").string();
     EXPECT_EQ(nlohmann::json::parse(slurp(odd_out / "diagnosis.json"))["points"], named);
     EXPECT_NE(slurp(odd_out / "report.md").find("frames read from " + named + " (topic /points)."), std::string::npos);
     // A topic that is not there, --topic with a folder, a bag whose files an output would replace.

@@ -146,25 +146,29 @@ bool isLidarFramesBag(const std::string& points)
 namespace {
 
 /// Refuses a folder without frames.csv that holds an .mcap (any case) but no metadata.yaml (a
-/// bag's file copied alone into a folder), naming the files to give instead (eight at most).
+/// bag's file copied alone into a folder), naming the files to give instead: how many, and the
+/// first three by name (the folder's first 10,000 entries are looked at).
 void noBagWithoutItsMetadata(const std::string& dir)
 {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (!fs::is_directory(dir, ec) || fs::exists(fs::path(dir) / "frames.csv", ec)) return;
     std::vector<std::string> mcaps;
-    for (fs::directory_iterator it(dir, ec), end; !ec && it != end && mcaps.size() < 8; it.increment(ec)) {
+    size_t looked = 0;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end && looked < 10000; it.increment(ec), ++looked) {
         std::string ext = it->path().extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
         if (ext == ".mcap") mcaps.push_back(it->path().string());
     }
     if (mcaps.empty()) return;
     std::sort(mcaps.begin(), mcaps.end());
+    const std::string what = "holds no frames.csv (a scan --points folder) and no metadata.yaml (a rosbag2 folder): ";
+    if (mcaps.size() == 1) throw Error(dir, what + "give --points its file " + mcaps.front());
     std::string list;
-    for (const std::string& m : mcaps) list += (list.empty() ? "" : ", ") + m;
+    for (size_t k = 0; k < std::min<size_t>(3, mcaps.size()); ++k) list += (k ? ", " : "") + mcaps[k];
     throw Error(dir,
-                "holds no frames.csv (a scan --points folder) and no metadata.yaml (a rosbag2 folder), but " + list +
-                    (mcaps.size() > 1 ? ": give --points one of those files" : ": give --points that file"));
+                what + "give --points one of its " + std::to_string(mcaps.size()) + " .mcap files (" + list +
+                    (mcaps.size() > 3 ? ", …)" : ")"));
 }
 
 /// Thrown through the bag's reader to stop it at once (not an Error, which the reader may keep
