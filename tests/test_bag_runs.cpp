@@ -724,19 +724,16 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
     }
     EXPECT_EQ(diagnosis[bag.string()], diagnosis[pts.string()]);
     EXPECT_EQ(diagnosis[(bag / "lidar_bag_0.mcap").string()], diagnosis[pts.string()]);
-    // The fit reads the bag's intensities as the folder's.
+    // The fit reads the bag's intensities as the folder's, and its report names what it read.
     for (const fs::path& in : {pts, bag}) {
         const std::string out = file("lidar_bag_fit_" + in.filename().string() + ".toml");
-        r = cli("fit --points " + in.string() + common + "--out " + out);
+        r = cli("fit --points " + in.string() + common + "--out " + out + " --report " + out + ".json");
         ASSERT_EQ(r.status, 0) << r.err;
+        const nlohmann::json fit = nlohmann::json::parse(slurp(out + ".json"));
+        EXPECT_EQ(fit["points"], in.string());
+        EXPECT_EQ(fit["topic"], in == bag ? nlohmann::json("/points") : nlohmann::json()) << in;
     }
     EXPECT_EQ(slurp(file("lidar_bag_fit_lidar_bag.toml")), slurp(file("lidar_bag_fit_lidar_bag_pts.toml")));
-    r = cli("fit --points " + bag.string() + common + "--out " + file("lidar_bag_fit_t.toml") + " --report " +
-            file("lidar_bag_fit_t.json"));
-    ASSERT_EQ(r.status, 0) << r.err;
-    const nlohmann::json fit = nlohmann::json::parse(slurp(file("lidar_bag_fit_t.json")));
-    EXPECT_EQ(fit["points"], bag.string());
-    EXPECT_EQ(fit["topic"], "/points");
     // The bag's .mcap copied alone into a folder: neither a frames folder nor a rosbag2 folder.
     const fs::path lone = dir() / "lidar_bag_lone";
     fs::remove_all(lone);
