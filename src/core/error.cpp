@@ -72,4 +72,10 @@ std::string printable(const std::string& text, size_t max_bytes)
     return out;
 }
 
+std::string printableWhole(const std::string& text)
+{
+    // Never cut: each byte becomes at most 4 (\xNN; \uXXXX replaces two or three).
+    return printable(text, 4 * text.size() + 1);
+}
+
 }  // namespace smokescan

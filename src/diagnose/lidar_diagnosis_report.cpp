@@ -62,9 +62,9 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
     j["sensor"] = d.sensor;
     j["returns"] = d.returns;
     // Names as the user gave them; bytes JSON cannot hold (not UTF-8) and controls as \xNN.
-    j["scene"] = printable(d.scene, 6 * d.scene.size() + 1);
-    j["points"] = printable(d.points, 6 * d.points.size() + 1);
-    j["topic"] = d.topic.empty() ? nlohmann::json() : nlohmann::json(printable(d.topic, 6 * d.topic.size() + 1));
+    j["scene"] = printableWhole(d.scene);
+    j["points"] = printableWhole(d.points);
+    j["topic"] = d.topic.empty() ? nlohmann::json() : nlohmann::json(printableWhole(d.topic));
     j["frames"] = d.frames;
     j["beams"] = d.beams;
     j["clear_beams"] = d.clear;
@@ -128,9 +128,9 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
 {
     std::string s = "# Diagnosis of a " + sensor + "'s frames\n\nVerdict: **" + d.verdict + "**\n\n";
     // Names as given, controls and bytes that are not UTF-8 as \xNN: one line whatever they hold.
-    const auto named = [](const std::string& t) { return printable(t, 6 * t.size() + 1); };
-    s += "Scene " + named(d.scene) + ", " + d.returns + " returns; frames read from " + named(d.points) +
-        (d.topic.empty() ? std::string() : " (topic " + named(d.topic) + ")") + ".\n\n";
+    s += "Scene " + printableWhole(d.scene) + ", " + d.returns + " returns; frames read from " +
+        printableWhole(d.points) + (d.topic.empty() ? std::string() : " (topic " + printableWhole(d.topic) + ")") +
+        ".\n\n";
     s +=
         fmt("%zu frames, %lld beams, %lld of them clear (the replay's certain surface echoes); %lld recorded points "
             "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",

@@ -172,9 +172,9 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     j["sensor"] = r.sensor;
     j["returns"] = r.returns;
     // Names as the user gave them; bytes JSON cannot hold (not UTF-8) and controls as \xNN.
-    j["scene"] = printable(r.scene, 6 * r.scene.size() + 1);
-    j["points"] = printable(r.points, 6 * r.points.size() + 1);
-    j["topic"] = r.topic.empty() ? nlohmann::json() : nlohmann::json(printable(r.topic, 6 * r.topic.size() + 1));
+    j["scene"] = printableWhole(r.scene);
+    j["points"] = printableWhole(r.points);
+    j["topic"] = r.topic.empty() ? nlohmann::json() : nlohmann::json(printableWhole(r.topic));
     j["frames"] = r.frames;
     j["replays"] = r.replays;
     j["clear_beams_answered"] = r.clear;

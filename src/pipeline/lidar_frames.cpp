@@ -267,7 +267,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     // it, a text TOML and JSON can hold.
     std::string base = run.spec().base.empty() ? cfg.sensor.sensor : run.spec().base;
     if (isLidarPresetFile(base)) base = std::filesystem::weakly_canonical(std::filesystem::absolute(base)).string();
-    if (printable(base, base.size() + 1) != base)  // (whole: printable cuts long texts)
+    if (printableWhole(base) != base)
         throw Error("--sensor",
                     "the preset's path " + base +
                         " holds bytes lidar.toml cannot name (control characters or bytes that are not UTF-8)");

@@ -13,6 +13,9 @@ namespace smokescan {
 /// that shows what it quotes.
 /// @param max_bytes longer texts are cut there and end in "…"
 std::string printable(const std::string& text, size_t max_bytes = 400);
+/// @brief The whole of `text` made safe as printable() makes it, never cut (a name a report or
+/// JSON file records: valid UTF-8 on one line).
+std::string printableWhole(const std::string& text);
 
 class Error : public std::runtime_error {
 public:
