@@ -43,10 +43,17 @@ TEST(Cli, DiagnoseWritesItsFolderAndRefusesBadRuns)
             file("diag_ext"));
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(slurp(fs::path(file("diag_ext")) / "diagnosis.json").find("\"offset_s\": 0.75"), std::string::npos);
-    // Without a saturation series the scene's own time line is replayed.
-    r = cli("diagnose --laser " + log + " --scene bocas --out " + file("diag_traced"));
+    // Without a saturation series the scene's own time line is replayed. The log is read through
+    // a name with a byte that is not UTF-8: named escaped in the JSON and the report (raw, the
+    // JSON writer refused it after all the work).
+    const std::string odd = file("d_rec_\xff.log");
+    fs::copy_file(log, odd);
+    r = cli("diagnose --laser '" + odd + "' --scene bocas --out " + file("diag_traced"));
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_NE(r.out.find("verdict: none"), std::string::npos) << r.out;
+    EXPECT_NE(slurp(fs::path(file("diag_traced")) / "diagnosis.json").find("d_rec_\\\\xFF.log\""), std::string::npos);
+    EXPECT_NE(slurp(fs::path(file("diag_traced")) / "report.md").find("# Diagnosis of " + file("d_rec_\\xFF.log")),
+              std::string::npos);
     // The folder exists now: a second run is refused and leaves it as it was.
     expectBad("diagnose --laser " + log + " --saturation " + sat + " --scene bocas --out " + out, "not an empty folder",
               file("none"));

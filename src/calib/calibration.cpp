@@ -352,7 +352,7 @@ std::string calibrationJson(const CalibrationResult& r, const CalibrateConfig& c
                       {"paper_density", cfg.paper_density},
                       {"engine_unit_factor", r.engine_unit_factor},
                       {"engine_unit_factor_meaning", "smokescan density units per unit of the paper's engine density"}};
-    j["render"] = {{"scene", scene_source},
+    j["render"] = {{"scene", printableWhole(scene_source)},
                    {"batch_spp", cfg.field.batch_spp},
                    {"spp_per_target_pixel", r.spp},
                    {"rel_error", cfg.field.rel_error},

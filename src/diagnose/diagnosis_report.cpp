@@ -233,11 +233,11 @@ std::vector<ResidualRow> residualsBy(const Replay& r, const ModelExtensions& mod
 std::string diagnosisJson(const DiagnosisResult& r, const DiagnosisSources& src)
 {
     nlohmann::json j;
-    j["inputs"] = {{"laser", src.laser},
-                   {"saturation", src.saturation},
-                   {"scene", src.scene},
-                   {"calibration", src.calibration},
-                   {"sensor_file", src.sensor_file},
+    j["inputs"] = {{"laser", printableWhole(src.laser)},
+                   {"saturation", printableWhole(src.saturation)},
+                   {"scene", printableWhole(src.scene)},
+                   {"calibration", printableWhole(src.calibration)},
+                   {"sensor_file", printableWhole(src.sensor_file)},
                    {"offset_s", src.offset_s},
                    {"block_s", src.block_s},
                    {"smoke_shape", smokeShapeName(r.shape)}};
@@ -286,12 +286,12 @@ void writeDiagnosisReport(const std::string& path, const Replay& replay, const D
                           const DiagnosisSources& src)
 {
     std::ostringstream o;
-    o << "# Diagnosis of " << src.laser << "\n\n";
-    o << "Scene `" << src.scene << "`, saturation `"
-      << (src.saturation.empty() ? "(the scene's time line)" : src.saturation) << "`, calibration `" << src.calibration
-      << "`, clock offset " << src.offset_s << " s, " << r.blocks << " blocks of at most " << src.block_s << " s, "
-      << r.observations << " beam observations; the smoke's shape along the beams: " << smokeShapeName(r.shape)
-      << ".\n\n";
+    o << "# Diagnosis of " << printableWhole(src.laser) << "\n\n";
+    o << "Scene `" << printableWhole(src.scene) << "`, saturation `"
+      << (src.saturation.empty() ? "(the scene's time line)" : printableWhole(src.saturation)) << "`, calibration `"
+      << printableWhole(src.calibration) << "`, clock offset " << src.offset_s << " s, " << r.blocks
+      << " blocks of at most " << src.block_s << " s, " << r.observations
+      << " beam observations; the smoke's shape along the beams: " << smokeShapeName(r.shape) << ".\n\n";
     if (r.shape == SmokeShape::Reference && r.shape_error_ln >= kShapeWarningLn)
         o << fmt(
             "**The scene's smoke changes shape over its time line**: its densest state, scaled, misstates the "

@@ -36,14 +36,14 @@ std::string fitReportJson(const SensorFitResult& r, const SensorFitConfig& cfg, 
                   {"range", "bias(x) = bias0 + bias_slope*x, noise(x) = noise0 + noise_slope*x, x = S_ref - S [m]"},
                   {"offset", "camera time - laser time [s]"},
                   {"doc", "docs/fitting.md"}};
-    j["sources"] = {{"laser", src.laser},
-                    {"saturation", src.saturation},
-                    {"calibration", src.calibration},
-                    {"groups_from", src.groups_from},
+    j["sources"] = {{"laser", printableWhole(src.laser)},
+                    {"saturation", printableWhole(src.saturation)},
+                    {"calibration", printableWhole(src.calibration)},
+                    {"groups_from", printableWhole(src.groups_from)},
                     {"unit_m", src.unit_m},
                     {"skipped_lines", src.skipped.size()}};
     nlohmann::json sk = nlohmann::json::array();
-    for (const auto& s : src.skipped) sk.push_back(s.where + ": " + s.problem);
+    for (const auto& s : src.skipped) sk.push_back(printableWhole(s.where + ": " + s.problem));
     j["sources"]["skipped"] = sk;
     j["offset"] = {{"estimated", r.offset.estimated},
                    {"offset_s", est(r.offset.offset_s)},
@@ -275,7 +275,8 @@ std::string plumeFitJson(const PlumeFitResult& r, const PlumeFitConfig& cfg, con
     j["model"] = {{"depth", "ln d = ln D - k ln(rho / rho_ref), d = range - plume entry [m]"},
                   {"share", "P(smoke echo | rho) = 1 / (1 + exp(-s (ln rho - ln rho_50)))"},
                   {"doc", "docs/fitting.md"}};
-    j["sources"] = {{"laser", laser}, {"scene", scene}, {"time_offset_s", cfg.time_offset_s}};
+    j["sources"] = {
+        {"laser", printableWhole(laser)}, {"scene", printableWhole(scene)}, {"time_offset_s", cfg.time_offset_s}};
     j["ok"] = r.ok;
     j["diagnoses"] = r.diagnoses;
     j["observations"] = r.obs.size();
