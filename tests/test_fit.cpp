@@ -2,10 +2,12 @@
 // saturation and a clock offset are fitted, and every parameter must be recovered within its
 // reported uncertainty over many seeds; degenerate runs must be diagnosed, not fitted.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <thread>
 
 #include "sanitized.hpp"
 #include "smokescan/calib/calibration.hpp"
@@ -275,6 +277,30 @@ TEST(SensorFit, FindsAPlantedRangeBiasOnTheGoldStrip)
         }
         // The datasheet noise (5 mm below 1 m, 0.5 % beyond: 12.5 mm at 2.5 m) in clear air.
         EXPECT_NEAR(rf.noise0.value, 0.0125, 0.002) << rf.group;
+    }
+}
+
+// The bootstrap's replicates run on every core; each draws from its own key, so the errors are
+// the same doubles on one thread as on all of them.
+TEST(SensorFit, TheBootstrapsErrorsAreTheSameOnOneThreadAsOnAll)
+{
+    const auto groups = targetGroups();
+    const SimRun r = simulate(3, 0.007, 7.3, 0.01);
+    SensorFitConfig cfg;
+    cfg.bootstrap = 12;
+    auto fitWith = [&](size_t threads) {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, threads);
+        return fitSensor(r.log, r.sat, groups, urg04lx(), &bocas().calib, cfg);
+    };
+    const SensorFitResult one = fitWith(1), all = fitWith(std::max<size_t>(2, std::thread::hardware_concurrency()));
+    ASSERT_TRUE(one.ok());
+    ASSERT_EQ(one.bootstrap_replicates, 12);
+    EXPECT_EQ(one.offset.offset_s.value, all.offset.offset_s.value);
+    EXPECT_EQ(one.offset.offset_s.se, all.offset.offset_s.se);
+    EXPECT_GE(one.offset.bootstrap_fits, 10);
+    for (size_t g = 0; g < groups.size(); ++g) {
+        EXPECT_EQ(one.thresholds[g].S_star.value, all.thresholds[g].S_star.value) << groups[g].name;
+        EXPECT_EQ(one.thresholds[g].S_star.se, all.thresholds[g].S_star.se) << groups[g].name;
     }
 }
 

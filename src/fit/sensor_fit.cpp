@@ -2,6 +2,8 @@
 // range bias/noise, with a diagnosis wherever the data cannot support a fit.
 #include "smokescan/fit/sensor_fit.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -503,11 +505,13 @@ private:
         const double window =
             std::min(cfg_.offset_window_s, std::max(2.5, 8 * res_.offset.offset_s.se + 2 * cfg_.offset_step_s));
         const uint64_t key = detail::dataKey(raw_->saturation, counts);
-        std::vector<std::vector<double>> reps;  // [replicate]: offset, then each fit group's S*
-        for (int b = 0; b < cfg_.bootstrap; ++b) {
+        // The replicates on every core: each draws from its own key, so the same whatever the
+        // thread count.
+        std::vector<std::vector<double>> reps(size_t(cfg_.bootstrap));  // offset, then each fit group's S*
+        tbb::parallel_for(0, cfg_.bootstrap, [&](int b) {
             if (cfg_.stop && *cfg_.stop) throw Error("fit", "stopped");
-            reps.push_back(replicate(key, uint64_t(b), models, S_truth, window));
-        }
+            reps[size_t(b)] = replicate(key, uint64_t(b), models, S_truth, window);
+        });
         auto column = [&](size_t j, int* fits) {
             std::vector<double> v;
             for (const auto& r : reps) v.push_back(r[j]);
