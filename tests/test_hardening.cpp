@@ -433,3 +433,20 @@ TEST(Hardening, MessagesAreOneReadableLine)
     EXPECT_NE(std::system(oom.c_str()), 0);
     EXPECT_NE(slurp(file("oom.err")).find("smokescan: out of memory"), std::string::npos) << slurp(file("oom.err"));
 }
+
+// OpenImageIO is opened on first use (include/smokescan/io/oiio_module.hpp): a module that is
+// missing or is not smokescan's is a one-line error naming it, and no image is left.
+TEST(Hardening, AnImageModuleMissingOrNotSmokescansIsOneLineAndNoImage)
+{
+    const std::string frame = file("module.png"), args = "render bocas --width 16 --height 12 --spp 1 --out ";
+    for (const auto& [module, needle] : {std::pair<std::string, std::string>{"/nonexistent/libsmokescan_oiio.so",
+                                                                             "was not found; looked at /nonexistent"},
+                                         {file("not_a_module.so", "text\n"), "cannot load smokescan's image module"}}) {
+        ::setenv("SMOKESCAN_OIIO_MODULE", module.c_str(), 1);
+        expectBad(args + frame, needle, frame);
+        ::unsetenv("SMOKESCAN_OIIO_MODULE");
+    }
+    const CliRun r = cli(args + frame);  // the module beside the program
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(frame));
+}

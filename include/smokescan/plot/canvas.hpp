@@ -1,7 +1,7 @@
 #pragma once
 /// @file canvas.hpp
 /// @brief A white canvas for the report plots (calibration, fit): lines, boxes, text, then an
-/// Image. Drawn with OpenImageIO's ImageBufAlgo, kept out of this header.
+/// Image. Drawn with OpenImageIO's ImageBufAlgo (through io/oiio_module.hpp, loaded on first use).
 #include <array>
 #include <memory>
 #include <string>
