@@ -446,7 +446,31 @@ TEST(Hardening, AnImageModuleMissingOrNotSmokescansIsOneLineAndNoImage)
         expectBad(args + frame, needle, frame);
         ::unsetenv("SMOKESCAN_OIIO_MODULE");
     }
+    // A FIFO would block dlopen: refused before it is opened.
+    const std::string fifo = (dir() / "module_fifo.so").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    ::setenv("SMOKESCAN_OIIO_MODULE", fifo.c_str(), 1);
+    expectBad(args + frame, "is not a regular file", frame);
+    ::unsetenv("SMOKESCAN_OIIO_MODULE");
     const CliRun r = cli(args + frame);  // the module beside the program
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(fs::exists(frame));
+    // Run by its bare name through PATH from a folder holding a stray module: never the working
+    // folder's (the loader knows the program by argv[0], which would have put it there).
+    const fs::path stray = smokescan::test::scratch("stray_module");
+    std::ofstream(stray / "libsmokescan_oiio.so") << "not a module\n";
+    const fs::path cli_dir = fs::path(SMOKESCAN_CLI).parent_path(), frame2 = stray / "frame.png";
+    const std::string cmd = "cd '" + stray.string() + "' && PATH='" + cli_dir.string() + "':\"$PATH\" " +
+        fs::path(SMOKESCAN_CLI).filename().string() + " " + args + frame2.string() + " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    EXPECT_TRUE(fs::exists(frame2));
+}
+
+// A volume (an OpenVDB grid named .png: OpenImageIO reads it as a W×H×D image) is not a picture:
+// a one-line error, where its pixels overran the reader's buffer (a crash).
+TEST(Hardening, AVolumeGivenAsAFrameIsRefused)
+{
+    const std::string png = file("volume_000.png"), csv = file("volume.csv");
+    fs::copy_file("volumes/fog_ball_float.vdb", png, fs::copy_options::overwrite_existing);
+    expectBad("saturation " + png + " --rect a=0,0,4,4 --out " + csv, "volume, not a picture", csv);
 }

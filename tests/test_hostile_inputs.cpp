@@ -80,6 +80,18 @@ TEST(Hardening, APlotWithMoreGroupsThanItsKeyHoldsDoesNotAbort)
     float darkest = 1;
     for (float v : drawn.data) darkest = std::min(darkest, v);
     EXPECT_LT(darkest, 0.5f) << "text inside the image was not drawn (is DejaVu Sans installed?)";
+    // Lines and boxes land where asked, in their colour (drawn by the image module in place).
+    Canvas d(20, 10);
+    d.line(2, 3, 12, 3, {1, 0, 0});
+    d.box(14, 1, 18, 8, {0, 0, 1}, true);
+    d.box(1, 6, 5, 9, {0, 1, 0}, false);
+    const Image p = d.image();
+    auto px = [&](int x, int y) { return Col{p.at(x, y, 0), p.at(x, y, 1), p.at(x, y, 2)}; };
+    EXPECT_EQ(px(7, 3), (Col{1, 0, 0}));  // on the line
+    EXPECT_EQ(px(7, 4), (Col{1, 1, 1}));  // beside it: white
+    EXPECT_EQ(px(16, 5), (Col{0, 0, 1}));  // inside the filled box
+    EXPECT_EQ(px(1, 7), (Col{0, 1, 0}));  // on the outlined box's edge
+    EXPECT_EQ(px(3, 7), (Col{1, 1, 1}));  // inside it: white
 }
 
 TEST(Hardening, PositionsBeyondTheSceneReachAreRefusedWhenRead)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/limits.hpp"
@@ -53,26 +54,46 @@ std::string oneLine(std::string m)
 }
 
 /// Silences stderr while a reader runs: libpng prints its errors there itself, and OpenImageIO
-/// also returns them, so they reach the user once, in the one-line error.
+/// also returns them, so they reach the user once, in the one-line error. Readers on several
+/// threads share one silence: the first in saves fd 2, the last out restores it.
 class QuietStderr {
 public:
-    QuietStderr() : saved_(::dup(2))
+    QuietStderr()
     {
+        const std::lock_guard<std::mutex> lock(mutex());
+        if (users()++ > 0) return;
+        saved() = ::dup(2);
         const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-        if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
+        if (saved() >= 0 && null >= 0) ::dup2(null, 2);
         if (null >= 0) ::close(null);
     }
     ~QuietStderr()
     {
-        if (saved_ < 0) return;
-        ::dup2(saved_, 2);
-        ::close(saved_);
+        const std::lock_guard<std::mutex> lock(mutex());
+        if (--users() > 0 || saved() < 0) return;
+        ::dup2(saved(), 2);
+        ::close(saved());
+        saved() = -1;
     }
     QuietStderr(const QuietStderr&) = delete;
     QuietStderr& operator=(const QuietStderr&) = delete;
 
 private:
-    int saved_;
+    static std::mutex& mutex()
+    {
+        static std::mutex m;
+        return m;
+    }
+    static int& users()
+    {
+        static int n = 0;
+        return n;
+    }
+    static int& saved()
+    {
+        static int fd = -1;
+        return fd;
+    }
 };
 
 }  // namespace

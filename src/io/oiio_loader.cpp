@@ -1,8 +1,13 @@
 // Finds and opens libsmokescan_oiio.so once (smokescan/io/oiio_module.hpp).
 #include <dlfcn.h>
+#include <link.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 
@@ -12,22 +17,50 @@
 namespace smokescan::detail {
 namespace {
 
+namespace fs = std::filesystem;
 constexpr const char* kModuleName = "libsmokescan_oiio.so";
 
-/// Where to look, in order: $SMOKESCAN_OIIO_MODULE alone when set; else beside the object holding
-/// this code (the installed Python module has one beside it), beside the program, in the library
-/// folder beside its bin/ (an installed tree moved elsewhere), the build tree's module, the
-/// installed one.
+/// The shared object holding this code, by its absolute path; empty when it is the program itself
+/// (whose name as the loader knows it is argv[0], which says nothing of where the program lies).
+std::string holdingSharedObject()
+{
+    struct Search {
+        uintptr_t address;
+        std::string name;
+    } s{reinterpret_cast<uintptr_t>(&holdingSharedObject), {}};
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, size_t, void* data) {
+            auto* s = static_cast<Search*>(data);
+            for (int i = 0; i < info->dlpi_phnum; ++i) {
+                const ElfW(Phdr)& p = info->dlpi_phdr[i];
+                const uintptr_t lo = info->dlpi_addr + p.p_vaddr;
+                if (p.p_type == PT_LOAD && s->address >= lo && s->address < lo + p.p_memsz) {
+                    s->name = info->dlpi_name ? info->dlpi_name : "";
+                    return 1;
+                }
+            }
+            return 0;
+        },
+        &s);
+    return !s.name.empty() && s.name.front() == '/' ? s.name : std::string();
+}
+
+/// Where to look, in order: $SMOKESCAN_OIIO_MODULE alone when set (made absolute); else beside the
+/// shared object holding this code (the installed Python module has one beside it), beside the
+/// program, in the library folder beside its bin/ (an installed tree moved elsewhere), the build
+/// tree's module, the installed one. Never the working folder.
 std::vector<std::string> candidates()
 {
-    if (const char* env = std::getenv("SMOKESCAN_OIIO_MODULE"); env && *env) return {env};
-    std::vector<std::string> out;
-    std::error_code ec;
-    if (Dl_info info{}; ::dladdr(reinterpret_cast<void*>(&candidates), &info) && info.dli_fname && *info.dli_fname) {
-        const std::filesystem::path holder = std::filesystem::absolute(info.dli_fname, ec);
-        if (!ec) out.push_back((holder.parent_path() / kModuleName).string());
+    if (const char* env = std::getenv("SMOKESCAN_OIIO_MODULE"); env && *env) {
+        std::error_code ec;
+        const fs::path p = fs::absolute(env, ec);
+        return {ec ? std::string(env) : p.string()};
     }
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    std::vector<std::string> out;
+    if (const std::string holder = holdingSharedObject(); !holder.empty())
+        out.push_back((fs::path(holder).parent_path() / kModuleName).string());
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
     if (!ec) {
         out.push_back((self.parent_path() / kModuleName).string());
 #ifdef SMOKESCAN_OIIO_INSTALL_DIR
@@ -47,10 +80,15 @@ const OiioApi* load()
 {
     std::string tried;
     for (const std::string& path : candidates()) {
-        if (::access(path.c_str(), R_OK) != 0) {
+        struct stat st {};
+        if (::stat(path.c_str(), &st) != 0) {
             tried += (tried.empty() ? "" : ", ") + path;
             continue;
         }
+        // A FIFO or a device would block dlopen; a folder or an unreadable file is no module.
+        if (!S_ISREG(st.st_mode)) throw Error(path, "smokescan's image module is not a regular file");
+        if (::access(path.c_str(), R_OK) != 0)
+            throw Error(path, std::string("cannot read smokescan's image module (") + std::strerror(errno) + ")");
         void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) throw Error(path, std::string("cannot load smokescan's image module: ") + ::dlerror());
         using Entry = const OiioApi* (*)();

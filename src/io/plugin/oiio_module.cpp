@@ -58,6 +58,12 @@ bool openImageFile(const std::string& path, Image& img, std::string& why)
             return false;
         }
         const OIIO::ImageSpec& spec = in->spec();
+        if (spec.depth != 1 || spec.deep) {
+            why = spec.deep ? "is a deep image, not a picture"
+                            : "is a " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+                    std::to_string(spec.depth) + " volume, not a picture";
+            return false;
+        }
         img.width = spec.width;
         img.height = spec.height;
         img.channels = spec.nchannels;
@@ -79,7 +85,8 @@ bool readImageFile(const std::string& path, Image& img, std::string& why)
             return false;
         }
         const OIIO::ImageSpec& spec = in->spec();
-        if (spec.width != img.width || spec.height != img.height || spec.nchannels != img.channels) {
+        if (spec.width != img.width || spec.height != img.height || spec.nchannels != img.channels || spec.depth != 1 ||
+            spec.deep) {
             why = "the file changed while it was read";
             return false;
         }
@@ -100,33 +107,47 @@ OIIO::ImageBuf wrap(Image& img)
     return OIIO::ImageBuf(OIIO::ImageSpec(img.width, img.height, img.channels, OIIO::TypeDesc::FLOAT), img.data.data());
 }
 
+// Drawing is best effort: a plot missing a stroke is better than a run that ends (nothing is thrown).
 void drawLine(Image& img, int x0, int y0, int x1, int y1, const float* rgb)
 {
-    OIIO::ImageBuf b = wrap(img);
-    OIIO::ImageBufAlgo::render_line(b, x0, y0, x1, y1, {rgb, 3});
+    try {
+        OIIO::ImageBuf b = wrap(img);
+        OIIO::ImageBufAlgo::render_line(b, x0, y0, x1, y1, {rgb, 3});
+    } catch (...) {
+    }
 }
 
 void drawBox(Image& img, int x0, int y0, int x1, int y1, const float* rgb, bool fill)
 {
-    OIIO::ImageBuf b = wrap(img);
-    OIIO::ImageBufAlgo::render_box(b, x0, y0, x1, y1, {rgb, 3}, fill);
+    try {
+        OIIO::ImageBuf b = wrap(img);
+        OIIO::ImageBufAlgo::render_box(b, x0, y0, x1, y1, {rgb, 3}, fill);
+    } catch (...) {
+    }
 }
 
 bool textExtent(const std::string& s, int size, int extent[4])
 {
-    const OIIO::ROI ext = OIIO::ImageBufAlgo::text_size(s, size, "DejaVuSans");
-    if (!ext.defined() || ext.xend <= ext.xbegin || ext.yend <= ext.ybegin) return false;
-    extent[0] = ext.xbegin;
-    extent[1] = ext.xend;
-    extent[2] = ext.ybegin;
-    extent[3] = ext.yend;
-    return true;
+    try {
+        const OIIO::ROI ext = OIIO::ImageBufAlgo::text_size(s, size, "DejaVuSans");
+        if (!ext.defined() || ext.xend <= ext.xbegin || ext.yend <= ext.ybegin) return false;
+        extent[0] = ext.xbegin;
+        extent[1] = ext.xend;
+        extent[2] = ext.ybegin;
+        extent[3] = ext.yend;
+        return true;
+    } catch (...) {
+        return false;
+    }
 }
 
 void drawText(Image& img, int x, int y, const std::string& s, int size, const float* rgb)
 {
-    OIIO::ImageBuf b = wrap(img);
-    OIIO::ImageBufAlgo::render_text(b, x, y, s, size, "DejaVuSans", {rgb, 3});
+    try {
+        OIIO::ImageBuf b = wrap(img);
+        OIIO::ImageBufAlgo::render_text(b, x, y, s, size, "DejaVuSans", {rgb, 3});
+    } catch (...) {
+    }
 }
 
 const OiioApi kApi{kOiioApiVersion, writeImageFile, openImageFile, readImageFile,
