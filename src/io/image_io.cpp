@@ -98,6 +98,21 @@ private:
 
 }  // namespace
 
+namespace {
+
+/// Whether smokescan reads an image of this size (docs/limits.md).
+bool admitFrame(const Image& h, std::string& why)
+{
+    if (h.width > 0 && h.height > 0 && h.channels > 0 && h.channels <= 64 && h.width <= limits::kFrameSide &&
+        h.height <= limits::kFrameSide && int64_t(h.width) * h.height <= limits::kFramePixels)
+        return true;
+    why = "is " + std::to_string(h.width) + "x" + std::to_string(h.height) + " with " + std::to_string(h.channels) +
+        " channels, beyond what smokescan reads (docs/limits.md)";
+    return false;
+}
+
+}  // namespace
+
 Image readImage(const std::string& path)
 {
     if (!fs::exists(path)) throw Error(path, "no such file");
@@ -106,13 +121,7 @@ Image readImage(const std::string& path)
     QuietStderr quiet;
     Image img;
     std::string why;
-    if (!oiio.open(path, img, why)) throw Error(path, "cannot read as an image (" + oneLine(why) + ")");
-    if (img.width <= 0 || img.height <= 0 || img.channels <= 0 || img.channels > 64 || img.width > limits::kFrameSide ||
-        img.height > limits::kFrameSide || int64_t(img.width) * img.height > limits::kFramePixels)
-        throw Error(path,
-                    "is " + std::to_string(img.width) + "x" + std::to_string(img.height) + " with " +
-                        std::to_string(img.channels) + " channels, beyond what smokescan reads (docs/limits.md)");
-    if (!oiio.read(path, img, why)) throw Error(path, "cannot read pixels (" + oneLine(why) + ")");
+    if (!oiio.read(path, img, admitFrame, why)) throw Error(path, oneLine(why));
     return img;
 }
 

@@ -18,10 +18,11 @@ struct OiioApi {
     int version;  ///< kOiioApiVersion of the module's build
     /// Writes `img` to `path` (floats when `as_float`, else 8 bits, sRGB) by the extension's writer.
     bool (*write)(const std::string& path, const Image& img, bool as_float, std::string& why);
-    /// Opens `path` and reads its size into `img` (no pixels); false when it is not an image.
-    bool (*open)(const std::string& path, Image& img, std::string& why);
-    /// Reads the pixels of the image `open` sized into `img` (as floats).
-    bool (*read)(const std::string& path, Image& img, std::string& why);
+    /// Opens `path` (one open: what is checked is what is read), sizes `img` by its header (a
+    /// volume or a deep image is refused), asks `admit` whether to read it, then reads its pixels
+    /// as floats. `why` is a message for the user (or admit's own).
+    bool (*read)(const std::string& path, Image& img, bool (*admit)(const Image& header, std::string& why),
+                 std::string& why);
     /// Canvas drawing on an RGB float image in place (OpenImageIO's ImageBufAlgo).
     void (*line)(Image& img, int x0, int y0, int x1, int y1, const float* rgb);
     void (*box)(Image& img, int x0, int y0, int x1, int y1, const float* rgb, bool fill);
@@ -30,7 +31,7 @@ struct OiioApi {
     void (*text)(Image& img, int x, int y, const std::string& s, int size, const float* rgb);
 };
 
-constexpr int kOiioApiVersion = 1;
+constexpr int kOiioApiVersion = 2;
 
 /// @brief The module, loaded once (thread-safe). Where from: $SMOKESCAN_OIIO_MODULE, beside the
 /// program, the build tree, the installed library folder (docs/install.md).

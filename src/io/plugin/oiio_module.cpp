@@ -49,12 +49,12 @@ bool writeImageFile(const std::string& path, const Image& img, bool as_float, st
     }
 }
 
-bool openImageFile(const std::string& path, Image& img, std::string& why)
+bool readImageFile(const std::string& path, Image& img, bool (*admit)(const Image&, std::string&), std::string& why)
 {
     try {
         auto in = OIIO::ImageInput::open(path);
         if (!in) {
-            why = OIIO::geterror();
+            why = "cannot read as an image (" + OIIO::geterror() + ")";
             return false;
         }
         const OIIO::ImageSpec& spec = in->spec();
@@ -68,35 +68,14 @@ bool openImageFile(const std::string& path, Image& img, std::string& why)
         img.height = spec.height;
         img.channels = spec.nchannels;
         img.channel_names = spec.channelnames;
-        in->close();
-        return true;
-    } catch (const std::exception& e) {
-        why = e.what();
-        return false;
-    }
-}
-
-bool readImageFile(const std::string& path, Image& img, std::string& why)
-{
-    try {
-        auto in = OIIO::ImageInput::open(path);
-        if (!in) {
-            why = OIIO::geterror();
-            return false;
-        }
-        const OIIO::ImageSpec& spec = in->spec();
-        if (spec.width != img.width || spec.height != img.height || spec.nchannels != img.channels || spec.depth != 1 ||
-            spec.deep) {
-            why = "the file changed while it was read";
-            return false;
-        }
+        if (!admit(img, why)) return false;
         img.data.assign(size_t(img.width) * size_t(img.height) * size_t(img.channels), 0.0f);
         const bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data());
-        why = in->geterror();
+        if (!ok) why = "cannot read pixels (" + in->geterror() + ")";
         in->close();
         return ok;
     } catch (const std::exception& e) {
-        why = e.what();
+        why = std::string("cannot read as an image (") + e.what() + ")";
         return false;
     }
 }
@@ -150,8 +129,7 @@ void drawText(Image& img, int x, int y, const std::string& s, int size, const fl
     }
 }
 
-const OiioApi kApi{kOiioApiVersion, writeImageFile, openImageFile, readImageFile,
-                   drawLine,        drawBox,        textExtent,    drawText};
+const OiioApi kApi{kOiioApiVersion, writeImageFile, readImageFile, drawLine, drawBox, textExtent, drawText};
 
 }  // namespace
 }  // namespace smokescan::detail
