@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <set>
 
 #include "diagnose/candidate_fit.hpp"
@@ -473,6 +474,40 @@ TEST(CandidateFit, AWidthWhoseBestIsZeroEndsAtItsNilAndOneBelowTheLowestStartIsF
     EXPECT_LT(narrow.brute_theta, std::log(0.05) - 0.5) << "the optimum lies below the lowest start";
     EXPECT_NEAR(narrow.fit.theta, narrow.brute_theta, 0.02);
     EXPECT_LT(std::abs(narrow.fit.theta - std::log(0.003)), 3 * narrow.fit.se) << narrow.fit.se;
+}
+
+TEST(CandidateFit, ItsErrorIsTheSandwichOfTheLikelihoodsOwnCurvatureAndBlockScores)
+{
+    // A width of 0.1 (an optimum inside the starts): the fit's standard error against the same
+    // cluster-robust sandwich computed by brute force at the fitted θ: the curvature from a
+    // second difference of the log-likelihood's values, each block's score from the exact
+    // gradient at θ, the correction B/(B − 1), and never below the model's own 1/information.
+    using namespace smokescan::detail;
+    const smokescan::Replay r = thresholdReplay(0.1, 0);
+    const ReplayModel m(r, {});
+    Candidate c;
+    c.cause = Cause::ThresholdWidth;
+    const std::vector<Obs> obs = touched(r, c, -1);
+    const ThetaFit f = fitCandidate(r, m, c, obs);
+    ASSERT_TRUE(f.ok);
+    EXPECT_NEAR(f.theta, std::log(0.1), 0.5);
+    auto ll = [&](double theta) {
+        const CandidateAt at(r, m, c, J(theta, 0));
+        double sum = 0;
+        for (const Obs& o : obs) sum += at.logLik(o).a;
+        return sum;
+    };
+    const double h = 1e-3, info = -(ll(f.theta + h) - 2 * ll(f.theta) + ll(f.theta - h)) / (h * h);
+    ASSERT_GT(info, 0);
+    std::map<int, double> score;
+    const CandidateAt at(r, m, c, J(f.theta, 0));
+    for (const Obs& o : obs) score[r.scans[size_t(o.k)].block] += at.logLik(o).v[0];
+    double meat = 0;
+    for (const auto& [block, sc] : score) meat += sc * sc;
+    const double B = double(score.size());
+    ASSERT_GE(B, 10);
+    const double se = std::sqrt(std::max(1 / info, B / (B - 1) * meat / (info * info)));
+    EXPECT_NEAR(f.se, se, 0.01 * se) << "brute force: information " << info << ", meat " << meat;
 }
 
 TEST(Diagnose, CleanRunsNameNothing)
