@@ -253,10 +253,11 @@ PointCloudFile pointCloudFileOf(const PointCloud2Msg& m, const std::string& what
         throw Error(what,
                     fmt("has rows of %u bytes (row_step) for %u points of %u bytes, and %zu bytes for %u rows",
                         m.row_step, m.width, m.point_step, m.data.size(), m.height));
-    // The points one after another: rows padded past their points (row_step) are closed up.
+    // The points one after another: rows padded past their points (row_step) are closed up. Rows
+    // of no bytes (no points, or points of none) are not walked: 2^32 of them took the fuzzer 14 s.
     std::string bytes;
     bytes.reserve(size_t(row * m.height));
-    for (uint32_t r = 0; r < m.height; ++r)
+    for (uint32_t r = 0; row > 0 && r < m.height; ++r)
         bytes.append(reinterpret_cast<const char*>(m.data.data()) + size_t(r) * m.row_step, size_t(row));
     return readPointRecords(bytes, (long long)n, m.point_step, fields, what);
 }

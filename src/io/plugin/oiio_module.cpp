@@ -1,5 +1,5 @@
 // libsmokescan_oiio.so: smokescan's calls into OpenImageIO, opened on first use
-// (src/io/oiio_module.hpp says why). Nothing here throws: each function says why it failed.
+// (include/smokescan/io/oiio_module.hpp says why). Nothing here throws: each function says why it failed.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
