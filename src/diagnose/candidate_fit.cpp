@@ -14,15 +14,24 @@
 namespace smokescan::detail {
 namespace {
 
+/// Observations [begin, end) of fixed chunks, each chunk handed to `each(chunk, begin, end)` on
+/// some thread: what a chunk adds up is the same whatever the thread count.
+constexpr size_t kChunk = 4096;
+size_t chunksOf(size_t n) { return (n + kChunk - 1) / kChunk; }
+template <class F>
+void forChunks(size_t n, F&& each)
+{
+    tbb::parallel_for(size_t(0), chunksOf(n), [&](size_t c) { each(c, c * kChunk, std::min(n, (c + 1) * kChunk)); });
+}
+
 /// A deterministic parallel sum: fixed chunks summed in parallel, then added in order.
 template <class F>
 void chunkedSum(size_t n, double* value, double* grad, F&& term)
 {
-    constexpr size_t kChunk = 4096;
-    const size_t chunks = (n + kChunk - 1) / kChunk;
+    const size_t chunks = chunksOf(n);
     std::vector<double> v(chunks, 0.0), g(chunks, 0.0);
-    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-        for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+    forChunks(n, [&](size_t c, size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
             const J t = term(i);
             v[c] += t.a;
             g[c] += t.v[0];
@@ -66,12 +75,11 @@ public:
     double informationAndScores(double theta, double h, std::map<int, double>& score) const
     {
         const CandidateAt up(r_, m_, c_, J(theta + h, 0)), down(r_, m_, c_, J(theta - h, 0));
-        constexpr size_t kChunk = 4096;
-        const size_t n = obs_.size(), chunks = (n + kChunk - 1) / kChunk;
+        const size_t chunks = chunksOf(obs_.size());
         std::vector<double> rise(chunks, 0.0);
         std::vector<std::vector<std::pair<int, double>>> runs(chunks);  // (block, score) as met
-        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-            for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+        forChunks(obs_.size(), [&](size_t c, size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
                 ObsMemo* memo = memo_.empty() ? nullptr : &memo_[i];
                 const double g_up = up.logLik(obs_[i], memo).v[0], g_down = down.logLik(obs_[i], memo).v[0];
                 rise[c] += g_up - g_down;

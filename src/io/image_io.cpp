@@ -96,10 +96,6 @@ private:
     }
 };
 
-}  // namespace
-
-namespace {
-
 /// Whether smokescan reads an image of this size (docs/limits.md).
 bool admitFrame(const Image& h, std::string& why)
 {

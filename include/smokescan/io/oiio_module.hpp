@@ -33,8 +33,9 @@ struct OiioApi {
 
 constexpr int kOiioApiVersion = 2;
 
-/// @brief The module, loaded once (thread-safe). Where from: $SMOKESCAN_OIIO_MODULE, beside the
-/// program, the build tree, the installed library folder (docs/install.md).
+/// @brief The module, loaded once (thread-safe). Where from: $SMOKESCAN_OIIO_MODULE alone when
+/// set; else beside the shared object holding the library (the Python module), beside the program,
+/// its ../lib/smokescan, the build tree, the installed library folder (docs/architecture.md).
 /// @throw Error when it cannot be loaded, naming where it looked.
 const OiioApi& oiio();
 
