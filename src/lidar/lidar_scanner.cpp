@@ -395,6 +395,45 @@ std::vector<ExpectedBeam> LidarScanner::expected(double start_s, bool dimmer) co
     return out;
 }
 
+void LidarScanner::beamPoints(const FrameSetup& f, uint64_t index, size_t i, LidarFrame& fr,
+                              std::vector<LidarPoint>& out) const
+{
+    const PatternBeam& b = pattern_[i];
+    const Vec3& local = local_[i];
+    thread_local BeamSignal sig;  // storage kept for the thread's next beam
+    signal(f, i, nullptr, sig);
+    KeyedRng rng(seed_, index, uint64_t(i));
+    const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
+    // The extensions: a beam lost whole at its channel's and sector's dropout (its own draw, so
+    // that the other beams' noise is the preset's), its channel's offset on each range.
+    const double drop = spec_.extensions.dropout(b.channel, b.azimuth_rad);
+    if (drop > 0 && KeyedRng(seed_ ^ kDropoutKey, index, uint64_t(i)).uniform() < drop) return;
+    const double offset = spec_.extensions.rangeOffset_m(b.channel);
+    std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
+    kept.erase(std::remove_if(kept.begin(), kept.end(), [&](size_t k) { return !(echoes[k].range_m + offset > 0); }),
+               kept.end());
+    for (size_t k = 0; k < kept.size() && k < 2; ++k) {
+        const LidarEcho& e = echoes[kept[k]];
+        LidarPoint q;
+        const double range_m = e.range_m + offset;
+        q.x = float(range_m * local.x());
+        q.y = float(range_m * local.y());
+        q.z = float(range_m * local.z());
+        q.range_m = float(range_m);
+        q.intensity = float(e.intensity);
+        q.ring = uint16_t(b.channel);
+        q.return_index = uint8_t(k);
+        q.source = uint8_t(e.source);
+        q.time_s = float(b.time_s);
+        q.beam = uint32_t(i);
+        out.push_back(q);
+        if (k == 0 && !fr.range_image.empty()) {
+            const size_t column = i / size_t(fr.channels), ch = size_t(b.channel);
+            fr.range_image[ch * size_t(fr.columns) + column] = q.range_m;
+        }
+    }
+}
+
 LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
 {
     const FrameSetup f = setup(start_s);
@@ -407,51 +446,22 @@ LidarFrame LidarScanner::frame(double start_s, uint64_t index) const
     fr.channels = spec_.channels();
     fr.columns = frameColumns(spec_);
     const size_t n = pattern_.size();
-    // Up to two points a beam, in fixed slots: the frame is the same whatever the thread count.
-    std::vector<LidarPoint> slots(2 * n);
-    std::vector<uint8_t> used(n, 0);
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-        const PatternBeam& b = pattern_[i];
-        const Vec3& local = local_[i];
-        thread_local BeamSignal sig;  // storage kept for the thread's next beam
-        signal(f, i, nullptr, sig);
-        KeyedRng rng(seed_, index, uint64_t(i));
-        const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
-        // The extensions: a beam lost whole at its channel's and sector's dropout (its own draw,
-        // so that the other beams' noise is the preset's), its channel's offset on each range.
-        const double drop = spec_.extensions.dropout(b.channel, b.azimuth_rad);
-        if (drop > 0 && KeyedRng(seed_ ^ kDropoutKey, index, uint64_t(i)).uniform() < drop) return;
-        const double offset = spec_.extensions.rangeOffset_m(b.channel);
-        std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
-        kept.erase(
-            std::remove_if(kept.begin(), kept.end(), [&](size_t k) { return !(echoes[k].range_m + offset > 0); }),
-            kept.end());
-        for (size_t k = 0; k < kept.size() && k < 2; ++k) {
-            const LidarEcho& e = echoes[kept[k]];
-            LidarPoint& q = slots[2 * i + k];
-            const double range_m = e.range_m + offset;
-            q.x = float(range_m * local.x());
-            q.y = float(range_m * local.y());
-            q.z = float(range_m * local.z());
-            q.range_m = float(range_m);
-            q.intensity = float(e.intensity);
-            q.ring = uint16_t(b.channel);
-            q.return_index = uint8_t(k);
-            q.source = uint8_t(e.source);
-            q.time_s = float(b.time_s);
-            q.beam = uint32_t(i);
-        }
-        used[i] = uint8_t(std::min<size_t>(kept.size(), 2));
-    });
     const bool spinning = spec_.pattern == PatternKind::Spinning;
     if (spinning) fr.range_image.assign(size_t(fr.channels) * size_t(fr.columns), 0.0f);
-    for (size_t i = 0; i < n; ++i) {
-        for (size_t k = 0; k < used[i]; ++k) fr.points.push_back(slots[2 * i + k]);
-        if (used[i] && spinning) {
-            const size_t column = i / size_t(fr.channels), ch = size_t(pattern_[i].channel);
-            fr.range_image[ch * size_t(fr.columns) + column] = slots[2 * i].range_m;
-        }
-    }
+    // The beams in fixed chunks, each chunk's points (up to two a beam) in its own vector, joined
+    // in chunk order: the frame is the same whatever the thread count, and no serial pass over
+    // every beam's slots.
+    constexpr size_t kChunk = 1024;
+    std::vector<std::vector<LidarPoint>> parts((n + kChunk - 1) / kChunk);
+    tbb::parallel_for(size_t(0), parts.size(), [&](size_t c) {
+        std::vector<LidarPoint>& part = parts[c];
+        part.reserve(2 * kChunk);
+        for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) beamPoints(f, index, i, fr, part);
+    });
+    size_t total = 0;
+    for (const auto& part : parts) total += part.size();
+    fr.points.reserve(total);
+    for (const auto& part : parts) fr.points.insert(fr.points.end(), part.begin(), part.end());
     return fr;
 }
 

@@ -163,6 +163,9 @@ private:
     /// Beam i's signal in the frame `f`; the central ray's hit into `hit` (may be null).
     /// Into `out`, whose storage is reused.
     void signal(const FrameSetup& f, size_t i, SurfaceHit* hit, BeamSignal& out) const;
+    /// Beam i of frame number `index` received: its kept points appended to `out`, its first
+    /// into `fr`'s range image (when it has one).
+    void beamPoints(const FrameSetup& f, uint64_t index, size_t i, LidarFrame& fr, std::vector<LidarPoint>& out) const;
     /// Beam i of the frame `f` replayed; `low` is the spec with the threshold kClearMarginSd lower.
     ExpectedBeam expectedBeam(const FrameSetup& f, const LidarSpec& low, size_t i, bool dimmer) const;
 };
