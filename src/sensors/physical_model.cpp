@@ -113,7 +113,10 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
     }
 }
 
-SmokePiece smokePiece(double sigma_t, double len_m)
+namespace {
+
+/// smokePiece's body, inlined into the smoke's walk (two a β segment).
+inline SmokePiece pieceOf(double sigma_t, double len_m)
 {
     const double h = 2 * sigma_t * len_m, len = len_m;
     if (h < 0.03) {
@@ -133,6 +136,10 @@ SmokePiece smokePiece(double sigma_t, double len_m)
     return {1 + e, -e / (2 * sigma_t), len * (1 / h + 1 / e + 1)};
 }
 
+}  // namespace
+
+SmokePiece smokePiece(double sigma_t, double len_m) { return pieceOf(sigma_t, len_m); }
+
 void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
                        double s1, const std::vector<double>& blocked, BeamSignal& out)
 {
@@ -144,6 +151,7 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     const double settled = p.overlapSettled_m(), O_settled = p.overlap(settled);
     const double n_sub = blocked.empty() ? 1.0 : double(blocked.size());
     auto blockedAfter = blocked.begin();  // the first sub-ray stop beyond the piece's start
+    double open = 1.0;  // the share of the footprint still travelling there
     double last_end = -1, last_T2 = 1;  // where the last segment ended, and T² there
     auto sig_at = tau.segments().begin();
     const auto sig_end = tau.segments().end();
@@ -162,7 +170,7 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
             const double sb = std::min(b, sig_at == sig_end ? kInf : inside ? sig_at->t1_m : sig_at->t0_m);
             const double sig = inside ? sig_at->density : 0.0;
             auto piece = [sig](double len, double& step, double& integral, double& centre) {
-                const SmokePiece q = smokePiece(sig, len);
+                const SmokePiece q = pieceOf(sig, len);
                 step = q.step;
                 integral = q.integral_m;
                 centre = q.centre_m;
@@ -174,10 +182,12 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
             for (double x = sa; x < sb;) {
                 const double edge = double(k + 1) * c;
                 double y = std::min(sb, edge);
-                while (blockedAfter != blocked.end() && *blockedAfter <= x) ++blockedAfter;
+                if (blockedAfter != blocked.end() && *blockedAfter <= x) {
+                    while (blockedAfter != blocked.end() && *blockedAfter <= x) ++blockedAfter;
+                    open = double(blocked.end() - blockedAfter) / n_sub;
+                    if (open <= 0) return;
+                }
                 if (blockedAfter != blocked.end() && *blockedAfter < y) y = *blockedAfter;
-                const double open = blocked.empty() ? 1.0 : double(blocked.end() - blockedAfter) / n_sub;
-                if (open <= 0) return;
                 double step = full_step, integral = full_integral, u = full_centre;
                 if (!(x == double(k) * c && y == edge)) piece(y - x, step, integral, u);
                 // O(r)/r² at the centre of T², and the power shared from there between the
