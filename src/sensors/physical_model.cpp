@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
@@ -115,25 +116,32 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
 
 namespace {
 
-/// smokePiece's body, inlined into the smoke's walk (two a β segment).
+/// Where a piece's series hold: h = 2σ·len below this.
+constexpr double kSeriesBelow = 0.03;
+
+/// A piece's T² terms from their series in h = 2σ·len (the terms left out below 1e-15 of the
+/// value where h < kSeriesBelow): no exp, no division, no branch.
+inline SmokePiece pieceSeries(double sigma_t, double len_m)
+{
+    const double h = 2 * sigma_t * len_m, len = len_m;
+    // S = (1 − e^(−h))/h = Σ (−h)^k/(k + 1)! to h⁶, in Estrin's scheme (three short chains
+    // instead of one of six steps): ∫T² = len·S, the step 1 − h·S.
+    const double h2 = h * h, h4 = h2 * h2;
+    const double S = (1 - h * (1.0 / 2)) + h2 * (1.0 / 6 - h * (1.0 / 24)) +
+        h4 * ((1.0 / 120 - h * (1.0 / 720)) + h2 * (1.0 / 5040));
+    const double centre = len * (0.5 - h * (1.0 / 12 - h2 * (1.0 / 720 - h2 * (1.0 / 30240))));
+    return {1 - h * S, len * S, centre};
+}
+
+/// smokePiece's body: the series below kSeriesBelow (the closed forms cancel there), else the closed forms.
 inline SmokePiece pieceOf(double sigma_t, double len_m)
 {
     const double h = 2 * sigma_t * len_m, len = len_m;
-    if (h < 0.03) {
-        // Their series in h (the terms left out below 1e-15 of the value): no exp, no division.
-        const double step = 1 -
-            h *
-                (1 -
-                 h * (1.0 / 2 - h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
-        const double integral = len *
-            (1 - h * (1.0 / 2 - h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
-        const double centre = len * (0.5 - h * (1.0 / 12 - h * h * (1.0 / 720 - h * h * (1.0 / 30240))));
-        return {step, integral, centre};
-    }
+    if (h < kSeriesBelow) return pieceSeries(sigma_t, len_m);
     // By expm1: 1 − exp(−h) without its cancellation; the centre len·(1/h − 1/(eʰ − 1)) still
     // loses about 1/h ulps (a few 1e-15 at the switch).
-    const double e = std::expm1(-h);  // exp(−h) − 1
-    return {1 + e, -e / (2 * sigma_t), len * (1 / h + 1 / e + 1)};
+    const double e = std::expm1(-h), inv_h = 1 / h;  // exp(−h) − 1
+    return {1 + e, -e * len * inv_h, len * (inv_h + 1 / e + 1)};
 }
 
 }  // namespace
@@ -147,7 +155,11 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     out.smoke_cell_m = c;
     if (beta.empty()) return;
     out.smoke_cells.assign(size_t(std::max(0.0, std::min(beta.back().t1_m, s1)) * inv_c) + 2, 0.0);
-    out.smoke_first = out.smoke_cells.size();  // lowered to the first point given power
+    // The sums kept in registers and written back at the end (stores to the points could
+    // otherwise alias them).
+    double* cells = out.smoke_cells.data();
+    size_t first = out.smoke_cells.size();  // lowered to the first point given power
+    double power = out.smoke_power;
     const double settled = p.overlapSettled_m(), O_settled = p.overlap(settled);
     const double n_sub = blocked.empty() ? 1.0 : double(blocked.size());
     auto blockedAfter = blocked.begin();  // the first sub-ray stop beyond the piece's start
@@ -155,6 +167,9 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     double last_end = -1, last_T2 = 1;  // where the last segment ended, and T² there
     auto sig_at = tau.segments().begin();
     const auto sig_end = tau.segments().end();
+    // A whole piece between two points at the σ_t it was computed for (most segments have none).
+    double full_sig = -1;
+    SmokePiece full{};
     for (const auto& g : beta) {
         const double a = std::max(g.t0_m, 0.0), b = std::min(g.t1_m, s1);
         if (!(b > a) || g.density <= 0) continue;
@@ -169,14 +184,6 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
             const bool inside = sig_at != sig_end && sig_at->t0_m <= sa;
             const double sb = std::min(b, sig_at == sig_end ? kInf : inside ? sig_at->t1_m : sig_at->t0_m);
             const double sig = inside ? sig_at->density : 0.0;
-            auto piece = [sig](double len, double& step, double& integral, double& centre) {
-                const SmokePiece q = pieceOf(sig, len);
-                step = q.step;
-                integral = q.integral_m;
-                centre = q.centre_m;
-            };
-            double full_step, full_integral, full_centre;  // a whole piece between two points
-            piece(c, full_step, full_integral, full_centre);
             long k = long(sa * inv_c);  // the piece lies between points k and k + 1
             if (double(k + 1) * c <= sa) ++k;
             for (double x = sa; x < sb;) {
@@ -185,23 +192,35 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
                 if (blockedAfter != blocked.end() && *blockedAfter <= x) {
                     while (blockedAfter != blocked.end() && *blockedAfter <= x) ++blockedAfter;
                     open = double(blocked.end() - blockedAfter) / n_sub;
-                    if (open <= 0) return;
+                    if (open <= 0) {
+                        out.smoke_first = first;
+                        out.smoke_power = power;
+                        return;
+                    }
                 }
                 if (blockedAfter != blocked.end() && *blockedAfter < y) y = *blockedAfter;
-                double step = full_step, integral = full_integral, u = full_centre;
-                if (!(x == double(k) * c && y == edge)) piece(y - x, step, integral, u);
+                SmokePiece q;
+                if (x == double(k) * c && y == edge) {
+                    if (full_sig != sig) {
+                        full = pieceOf(sig, c);
+                        full_sig = sig;
+                    }
+                    q = full;
+                } else {
+                    q = pieceOf(sig, y - x);
+                }
                 // O(r)/r² at the centre of T², and the power shared from there between the
                 // points around the piece, the nearer taking more (the centre kept).
-                const double r = x + u, O = r >= settled ? O_settled : p.overlap(r);
-                const double P = open * density_pi * O / (r * r) * T2 * integral;
+                const double r = x + q.centre_m, O = r >= settled ? O_settled : p.overlap(r);
+                const double P = open * density_pi * O / (r * r) * T2 * q.integral_m;
                 if (P > 0) {
                     const double f = std::clamp(r * inv_c - double(k), 0.0, 1.0);
-                    out.smoke_first = std::min(out.smoke_first, size_t(k));
-                    out.smoke_cells[size_t(k)] += (1 - f) * P;
-                    out.smoke_cells[size_t(k) + 1] += f * P;
-                    out.smoke_power += P;
+                    first = std::min(first, size_t(k));
+                    cells[size_t(k)] += (1 - f) * P;
+                    cells[size_t(k) + 1] += f * P;
+                    power += P;
                 }
-                T2 *= step;
+                T2 *= q.step;
                 if (y == edge) ++k;
                 x = y;
             }
@@ -210,6 +229,8 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
         last_end = b;
         last_T2 = T2;
     }
+    out.smoke_first = first;
+    out.smoke_power = power;
 }
 
 namespace {
@@ -352,6 +373,22 @@ void addSmokeCells(Waveform& f, const std::vector<double>& cells, size_t first_c
     }
     const long first = std::lround(f.lo / f.dr);  // the waveform's first sample
     double* w = f.w.data();
+    if (q == 2) {
+        // Two points a sample (the lidars' grid): both onto the taps in one pass, each waveform
+        // sample read and written once for the pair.
+        const double* k0 = kernel.data() + K;
+        const double* k1 = k0 + (2 * K + 1);
+        for (size_t m = first_cell & ~size_t(1); m < cells.size(); m += 2) {
+            const double P0 = cells[m] > 0 ? cells[m] : 0.0;
+            const double P1 = m + 1 < cells.size() && cells[m + 1] > 0 ? cells[m + 1] : 0.0;
+            if (!(P0 > 0 || P1 > 0)) continue;
+            const long jc = long(m) / 2;
+            const long t0 = std::max(-K, first - jc), t1 = std::min(K, first + n - 1 - jc);
+            double* wc = w + (jc - first);
+            for (long t = t0; t <= t1; ++t) wc[t] += P0 * k0[t] + P1 * k1[t];
+        }
+        return;
+    }
     for (size_t m = first_cell; m < cells.size(); ++m) {  // the points before first_cell hold 0
         const double P = cells[m];
         if (!(P > 0)) continue;
@@ -425,17 +462,30 @@ void pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSigna
     // Each echo's pulse exp(−x²/2σ²) on the grid by its recurrence: from one sample to the next
     // the value is multiplied by a ratio that itself shrinks by exp(−dr²/σ²) (two exps an echo).
     const double inv2s2 = 1.0 / (2 * f.sig_p * f.sig_p), shrink = std::exp(-2 * f.dr * f.dr * inv2s2);
+    const double shrink4 = (shrink * shrink) * (shrink * shrink);
     for (const Echo& e : s.echoes) {
         if (!(e.power > 0)) continue;
         const int k0 = std::max(0, int(std::floor((e.range_m - reach - lo) / f.dr)));
         const int k1 = std::min(n - 1, int(std::ceil((e.range_m + reach - lo) / f.dr)));
         const double x0 = lo + k0 * f.dr - e.range_m;
-        double g = e.power * std::exp(-x0 * x0 * inv2s2), ratio = std::exp(-(2 * x0 * f.dr + f.dr * f.dr) * inv2s2);
-        for (int k = k0; k <= k1; ++k) {
-            f.w[size_t(k)] += g;
-            g *= ratio;
-            ratio *= shrink;
+        const double g = e.power * std::exp(-x0 * x0 * inv2s2),
+                     ratio = std::exp(-(2 * x0 * f.dr + f.dr * f.dr) * inv2s2);
+        // Even and odd samples as two chains (half the latency of one): two samples on, the
+        // value is multiplied by ratio_k·ratio_{k+1} = ratio_k²·shrink, and that by shrink⁴.
+        const double ratio1 = ratio * shrink;
+        double g_even = g, q_even = ratio * ratio * shrink;
+        double g_odd = g * ratio, q_odd = ratio1 * ratio1 * shrink;
+        double* wk = f.w.data();
+        int k = k0;
+        for (; k < k1; k += 2) {
+            wk[k] += g_even;
+            wk[k + 1] += g_odd;
+            g_even *= q_even;
+            q_even *= shrink4;
+            g_odd *= q_odd;
+            q_odd *= shrink4;
         }
+        if (k == k1) wk[k] += g_even;
     }
 }
 
