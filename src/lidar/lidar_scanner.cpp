@@ -95,8 +95,13 @@ double refinedLead(const Waveform& f, const WaveformEcho& e, double height, doub
 /// Keys the extensions' dropout draws apart from the receiver's noise.
 constexpr uint64_t kDropoutKey = 0x64726f706f7574ULL;
 
-/// The echoes of the waveform `f` (the receiver's noise added to it in place when rng is given).
-std::vector<LidarEcho> receiveEchoesIn(const LidarSpec& spec, const BeamSignal& s, Waveform& f, KeyedRng* rng);
+/// The echoes of the waveform `f` (the receiver's noise added to it in place when rng is given)
+/// into `out`, whose storage is reused.
+void receiveEchoesIn(const LidarSpec& spec, const BeamSignal& s, Waveform& f, KeyedRng* rng,
+                     std::vector<LidarEcho>& out);
+
+/// selectReturns into `out` (at most two): how many.
+int selectReturnsInto(const std::vector<LidarEcho>& e, ReturnMode mode, bool dual_second_strongest, size_t out[2]);
 
 }  // namespace
 
@@ -106,21 +111,26 @@ std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s,
     // samples around them, exact for a lone Gaussian pulse.
     thread_local Waveform f;  // storage kept for the thread's next beam
     pulsedWaveform(spec.range_max_m, spec.receiver, s, 2, f);
-    return receiveEchoesIn(spec, s, f, rng);
+    std::vector<LidarEcho> out;
+    receiveEchoesIn(spec, s, f, rng, out);
+    return out;
 }
 
 std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, Waveform f, KeyedRng* rng)
 {
-    return receiveEchoesIn(spec, s, f, rng);
+    std::vector<LidarEcho> out;
+    receiveEchoesIn(spec, s, f, rng, out);
+    return out;
 }
 
 namespace {
 
-std::vector<LidarEcho> receiveEchoesIn(const LidarSpec& spec, const BeamSignal& s, Waveform& f, KeyedRng* rng)
+void receiveEchoesIn(const LidarSpec& spec, const BeamSignal& s, Waveform& f, KeyedRng* rng,
+                     std::vector<LidarEcho>& out)
 {
     const PhysicalParams& p = spec.receiver;
-    std::vector<LidarEcho> out;
-    if (f.w.empty()) return out;
+    out.clear();
+    if (f.w.empty()) return;
     if (rng)
         for (double& w : f.w) w += p.noise_floor * rng->normalZiggurat();
     const double fwhm = 2.354820045 * f.sig_p, threshold = p.threshold_snr * p.noise_floor;
@@ -148,14 +158,15 @@ std::vector<LidarEcho> receiveEchoesIn(const LidarSpec& spec, const BeamSignal& 
         out.push_back(x);
         if (int(out.size()) == spec.max_echoes) break;
     }
-    return out;
 }
 
 }  // namespace
 
-std::vector<size_t> selectReturns(const std::vector<LidarEcho>& e, ReturnMode mode, bool dual_second_strongest)
+namespace {
+
+int selectReturnsInto(const std::vector<LidarEcho>& e, ReturnMode mode, bool dual_second_strongest, size_t out[2])
 {
-    if (e.empty()) return {};
+    if (e.empty()) return 0;
     auto strongestBut = [&](size_t skip) {
         size_t best = e.size();
         for (size_t i = 0; i < e.size(); ++i)
@@ -163,21 +174,36 @@ std::vector<size_t> selectReturns(const std::vector<LidarEcho>& e, ReturnMode mo
         return best;
     };
     const size_t strongest = strongestBut(e.size()), last = e.size() - 1;
+    auto one = [&](size_t a) {
+        out[0] = a;
+        return 1;
+    };
     switch (mode) {
     case ReturnMode::First:
-        return {0};
+        return one(0);
     case ReturnMode::Last:
-        return {last};
+        return one(last);
     case ReturnMode::Strongest:
-        return {strongest};
+        return one(strongest);
     case ReturnMode::Dual: {
         // Strongest and last: when the strongest is the last, Velodyne gives the second strongest.
         const size_t other = dual_second_strongest || strongest == last ? strongestBut(strongest) : last;
-        if (other == e.size()) return {strongest};
-        return {std::min(strongest, other), std::max(strongest, other)};
+        if (other == e.size()) return one(strongest);
+        out[0] = std::min(strongest, other);
+        out[1] = std::max(strongest, other);
+        return 2;
     }
     }
-    return {};
+    return 0;
+}
+
+}  // namespace
+
+std::vector<size_t> selectReturns(const std::vector<LidarEcho>& e, ReturnMode mode, bool dual_second_strongest)
+{
+    size_t kept[2];
+    const int n = selectReturnsInto(e, mode, dual_second_strongest, kept);
+    return std::vector<size_t>(kept, kept + n);
 }
 
 SensorMount defaultLidarMount(const Scene& scene, const std::string& name)
@@ -273,9 +299,14 @@ void outcomeShares(const LidarSpec& spec, ReturnMode mode, const BeamSignal& sig
     int count[4] = {0, 0, 0, 0};
     for (int k = 0; k < kOutcomeDraws; ++k) {
         KeyedRng rng(kOutcomeSeed, key, uint64_t(beam), uint64_t(k));
-        const std::vector<LidarEcho> e = receiveEchoes(spec, sig, base, &rng);
-        const std::vector<size_t> kept = selectReturns(e, mode, spec.dual_second_strongest);
-        ++count[int(classifyReturn(kept.empty() ? 0.0 : e[kept.front()].range_m, x.surface_range_m, tol))];
+        // Each draw's noisy copy of the waveform and its echoes in storage kept for the thread.
+        thread_local Waveform f;
+        thread_local std::vector<LidarEcho> e;
+        f = base;
+        receiveEchoesIn(spec, sig, f, &rng, e);
+        size_t kept[2];
+        const int n_kept = selectReturnsInto(e, mode, spec.dual_second_strongest, kept);
+        ++count[int(classifyReturn(n_kept == 0 ? 0.0 : e[kept[0]].range_m, x.surface_range_m, tol))];
     }
     x.p_none = float(count[int(ReturnClass::None)]) / kOutcomeDraws;
     x.p_short = float(count[int(ReturnClass::Short)]) / kOutcomeDraws;
@@ -403,16 +434,22 @@ void LidarScanner::beamPoints(const FrameSetup& f, uint64_t index, size_t i, Lid
     thread_local BeamSignal sig;  // storage kept for the thread's next beam
     signal(f, i, nullptr, sig);
     KeyedRng rng(seed_, index, uint64_t(i));
-    const std::vector<LidarEcho> echoes = receiveEchoes(spec_, sig, &rng);
+    // Two samples per pulse σ (as receiveEchoes); the waveform's and echoes' storage kept.
+    thread_local Waveform wave;
+    thread_local std::vector<LidarEcho> echoes;
+    pulsedWaveform(spec_.range_max_m, spec_.receiver, sig, 2, wave);
+    receiveEchoesIn(spec_, sig, wave, &rng, echoes);
     // The extensions: a beam lost whole at its channel's and sector's dropout (its own draw, so
     // that the other beams' noise is the preset's), its channel's offset on each range.
     const double drop = spec_.extensions.dropout(b.channel, b.azimuth_rad);
     if (drop > 0 && KeyedRng(seed_ ^ kDropoutKey, index, uint64_t(i)).uniform() < drop) return;
     const double offset = spec_.extensions.rangeOffset_m(b.channel);
-    std::vector<size_t> kept = selectReturns(echoes, mode_, spec_.dual_second_strongest);
-    kept.erase(std::remove_if(kept.begin(), kept.end(), [&](size_t k) { return !(echoes[k].range_m + offset > 0); }),
-               kept.end());
-    for (size_t k = 0; k < kept.size() && k < 2; ++k) {
+    size_t chosen[2], kept[2];
+    const int n_chosen = selectReturnsInto(echoes, mode_, spec_.dual_second_strongest, chosen);
+    size_t n_kept = 0;  // those still in front of the sensor after the channel's offset
+    for (int k = 0; k < n_chosen; ++k)
+        if (echoes[chosen[k]].range_m + offset > 0) kept[n_kept++] = chosen[k];
+    for (size_t k = 0; k < n_kept; ++k) {
         const LidarEcho& e = echoes[kept[k]];
         LidarPoint q;
         const double range_m = e.range_m + offset;

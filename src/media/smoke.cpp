@@ -78,9 +78,9 @@ void SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q,
         }
     }
     if (!q.want_profile || used == 0) return;
-    if (used == 1) {  // one volume on the beam: its own profiles
-        out.sigma_t_profile = parts.front();
-        out.beta_profile = beta_parts.front();
+    if (used == 1) {  // one volume on the beam: its own profiles (storage swapped, not copied)
+        out.sigma_t_profile.swap(parts.front());
+        out.beta_profile.swap(beta_parts.front());
     } else {
         sumProfiles(parts.data(), used, out.sigma_t_profile);
         sumProfiles(beta_parts.data(), used, out.beta_profile);

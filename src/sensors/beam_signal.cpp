@@ -15,10 +15,14 @@ void footprint(const Vec3& d, double half_angle_rad, int n, std::vector<Vec3>& o
     if (n <= 1) return;
     const Vec3 helper = std::abs(d.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX();
     const Vec3 u = d.cross(helper).normalized(), v = d.cross(u);
-    const double t = std::tan(0.7 * half_angle_rad);
-    // The ring's cosines and sines, once for each thread and ring size.
+    // The ring's offset and its cosines and sines, once for each thread, ring size and divergence.
     thread_local int ring_n = 0;
+    thread_local double ring_half = -1, t = 0;
     thread_local std::vector<std::pair<double, double>> ring;
+    if (ring_half != half_angle_rad) {
+        t = std::tan(0.7 * half_angle_rad);
+        ring_half = half_angle_rad;
+    }
     if (ring_n != n) {
         ring.clear();
         for (int k = 0; k < n - 1; ++k) {

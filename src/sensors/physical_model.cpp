@@ -78,7 +78,8 @@ double monostaticBrdf(const Material& m, double wl, double cos_theta)
 double surfaceEchoPower(const PhysicalParams& p, const Material& m, double wl, double cos_theta, double R, double tau)
 {
     if (!(R > 0) || cos_theta <= 0) return 0;
-    return M_PI * monostaticBrdf(m, wl, cos_theta) * cos_theta * p.overlap(R) / (R * R) * std::exp(-2 * tau);
+    const double T2 = tau == 0 ? 1.0 : std::exp(-2 * tau);  // most beams meet no smoke: no exp
+    return M_PI * monostaticBrdf(m, wl, cos_theta) * cos_theta * p.overlap(R) / (R * R) * T2;
 }
 
 void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std::vector<ProfileSegment>& beta,
