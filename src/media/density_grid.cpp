@@ -3,7 +3,9 @@
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/Prune.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <sys/stat.h>
 
@@ -30,6 +32,71 @@ void ensureOpenVdb()
 }
 
 namespace {
+
+/// What Impl::make needs of a tree's values: whether any is non-finite or negative, and of the
+/// non-zero ones their bounds (voxels and tiles as boxes), least and greatest.
+struct ValueScan {
+    bool bad = false, any = false;
+    double lo = 0, hi = 0;
+    openvdb::CoordBBox support;
+    void add(float v, const openvdb::CoordBBox& box)
+    {
+        if (!std::isfinite(v) || v < 0.0f) {
+            bad = true;
+            return;
+        }
+        if (v == 0.0f) return;
+        support.expand(box);
+        lo = any ? std::min(lo, double(v)) : v;
+        hi = any ? std::max(hi, double(v)) : v;
+        any = true;
+    }
+    void join(const ValueScan& o)
+    {
+        bad = bad || o.bad;
+        if (!o.any) return;
+        support.expand(o.support);
+        lo = any ? std::min(lo, o.lo) : o.lo;
+        hi = any ? std::max(hi, o.hi) : o.hi;
+        any = true;
+    }
+};
+
+/// The leaves' voxels in parallel, the tiles above them in order: the same whatever the thread
+/// count (bounds, least and greatest do not depend on the order).
+ValueScan scanValues(const openvdb::FloatTree& tree)
+{
+    using LeafT = openvdb::FloatTree::LeafNodeType;
+    std::vector<const LeafT*> leaves;
+    leaves.reserve(tree.leafCount());
+    tree.getNodes(leaves);
+    ValueScan scan = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, leaves.size()), ValueScan{},
+        [&](const tbb::blocked_range<size_t>& r, ValueScan acc) {
+            for (size_t i = r.begin(); i != r.end(); ++i) {
+                const LeafT& leaf = *leaves[i];
+                const float* v = leaf.buffer().data();
+                for (openvdb::Index k = 0; k < LeafT::SIZE; ++k) {
+                    if (v[k] == 0.0f) continue;
+                    const openvdb::Coord c = leaf.offsetToGlobalCoord(k);
+                    acc.add(v[k], openvdb::CoordBBox(c, c));
+                }
+            }
+            return acc;
+        },
+        [](ValueScan a, const ValueScan& b) {
+            a.join(b);
+            return a;
+        });
+    auto tiles = tree.cbeginValueAll();
+    tiles.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);  // tiles, not voxels
+    for (; tiles; ++tiles) {
+        openvdb::CoordBBox box;
+        tiles.getBoundingBox(box);
+        scan.add(*tiles, box);
+    }
+    return scan;
+}
 
 void buildLeafTable(DensityGrid::Impl& impl)
 {
@@ -91,25 +158,24 @@ std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::P
         throw Error(
             where,
             "grid '" + grid->getName() + "' has background " + std::to_string(bg) + "; smoke outside a grid must be 0");
-    bool any = false;
-    double lo = 0, hi = 0;
-    for (auto it = grid->cbeginValueAll(); it; ++it) {
-        const float v = *it;
-        if (!std::isfinite(v))
-            throw Error(
-                where, "grid '" + grid->getName() + "' holds a non-finite density at " + it.getCoord().asVec3i().str());
-        if (v < 0.0f)
-            throw Error(where,
-                        "grid '" + grid->getName() + "' holds a negative density (" + std::to_string(v) + ") at " +
-                            it.getCoord().asVec3i().str());
-        if (v == 0.0f) continue;
-        openvdb::CoordBBox b;
-        it.getBoundingBox(b);
-        impl->support.expand(b);
-        lo = any ? std::min(lo, double(v)) : v;
-        hi = any ? std::max(hi, double(v)) : v;
-        any = true;
+    const ValueScan scan = scanValues(grid->tree());
+    if (scan.bad) {
+        // The first bad value in the tree's order, named as the serial scan names it.
+        for (auto it = grid->cbeginValueAll(); it; ++it) {
+            const float v = *it;
+            if (!std::isfinite(v))
+                throw Error(
+                    where,
+                    "grid '" + grid->getName() + "' holds a non-finite density at " + it.getCoord().asVec3i().str());
+            if (v < 0.0f)
+                throw Error(where,
+                            "grid '" + grid->getName() + "' holds a negative density (" + std::to_string(v) + ") at " +
+                                it.getCoord().asVec3i().str());
+        }
     }
+    const bool any = scan.any;
+    const double lo = scan.lo, hi = scan.hi;
+    impl->support = scan.support;
     impl->min_value = lo;
     impl->max_value = hi;
     buildLeafTable(*impl);
