@@ -88,13 +88,23 @@ ValueScan scanValues(const openvdb::FloatTree& tree)
             a.join(b);
             return a;
         });
-    auto tiles = tree.cbeginValueAll();
-    tiles.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);  // tiles, not voxels
-    for (; tiles; ++tiles) {
-        openvdb::CoordBBox box;
-        tiles.getBoundingBox(box);
-        scan.add(*tiles, box);
-    }
+    // The tiles, node by node (the tree's own iterator over them costs more than the voxels: an
+    // upper node alone has 32,768 table entries, nearly all empty).
+    using RootT = openvdb::FloatTree::RootNodeType;
+    using UpperT = RootT::ChildNodeType;
+    using LowerT = UpperT::ChildNodeType;
+    auto tile = [&](float v, const openvdb::Coord& origin, int dim) {
+        if (v != 0.0f) scan.add(v, openvdb::CoordBBox::createCube(origin, dim));
+    };
+    for (auto it = tree.root().cbeginValueAll(); it; ++it) tile(*it, it.getCoord(), UpperT::DIM);
+    std::vector<const UpperT*> uppers;
+    tree.getNodes(uppers);
+    for (const UpperT* u : uppers)
+        for (auto it = u->cbeginValueAll(); it; ++it) tile(*it, it.getCoord(), LowerT::DIM);
+    std::vector<const LowerT*> lowers;
+    tree.getNodes(lowers);
+    for (const LowerT* l : lowers)
+        for (auto it = l->cbeginValueAll(); it; ++it) tile(*it, it.getCoord(), LeafT::DIM);
     return scan;
 }
 
@@ -352,14 +362,17 @@ DensityGrid DensityGrid::fromBlobs(const std::vector<Blob>& blobs, double voxel_
             openvdb::Coord(int(std::ceil(q.c.x() + q.r)), int(std::ceil(q.c.y() + q.r)), int(std::ceil(q.c.z() + q.r)));
         cubes.push_back(q);
     }
-    // Slabs one leaf thick along x, rasterised in parallel: a voxel lies in one slab and sums its
-    // blobs there in their order, so the grid is the same whatever the thread count. Only the
-    // slabs some cube reaches, each with the cubes that reach it (the work stays the voxels').
+    // Columns one leaf wide along x and y, rasterised in parallel: a voxel lies in one column and
+    // sums its blobs there in their order, so the grid is the same whatever the thread count.
+    // Only the columns some cube reaches, each with the cubes that reach it (the work stays the
+    // voxels'; a plume drifting along one axis still gives both cores work).
     constexpr int kLog2Leaf = openvdb::FloatTree::LeafNodeType::LOG2DIM;
-    std::vector<std::pair<int, size_t>> reach;  // (slab, cube), sorted: the cubes in order in each slab
+    using Column = std::pair<int, int>;
+    std::vector<std::pair<Column, size_t>> reach;  // (column, cube), sorted: the cubes in order in each
     for (size_t n = 0; n < cubes.size(); ++n)
-        for (int slab = cubes[n].lo.x() >> kLog2Leaf; slab <= cubes[n].hi.x() >> kLog2Leaf; ++slab)
-            reach.emplace_back(slab, n);
+        for (int cx = cubes[n].lo.x() >> kLog2Leaf; cx <= cubes[n].hi.x() >> kLog2Leaf; ++cx)
+            for (int cy = cubes[n].lo.y() >> kLog2Leaf; cy <= cubes[n].hi.y() >> kLog2Leaf; ++cy)
+                reach.push_back({{cx, cy}, n});
     std::sort(reach.begin(), reach.end());
     std::vector<size_t> starts;  // where each slab's run of `reach` starts
     for (size_t k = 0; k < reach.size(); ++k)
@@ -369,11 +382,12 @@ DensityGrid DensityGrid::fromBlobs(const std::vector<Blob>& blobs, double voxel_
     tbb::parallel_for(size_t(0), parts.size(), [&](size_t g) {
         auto part = openvdb::FloatGrid::create(0.0f);
         auto acc = part->getAccessor();
-        const int a = reach[starts[g]].first * (1 << kLog2Leaf), b = a + (1 << kLog2Leaf) - 1;
+        const int ax = reach[starts[g]].first.first * (1 << kLog2Leaf), bx = ax + (1 << kLog2Leaf) - 1;
+        const int ay = reach[starts[g]].first.second * (1 << kLog2Leaf), by = ay + (1 << kLog2Leaf) - 1;
         for (size_t k = starts[g]; k < starts[g + 1]; ++k) {
             const Cube& q = cubes[reach[k].second];
-            for (int i = std::max(q.lo.x(), a); i <= std::min(q.hi.x(), b); ++i)
-                for (int j = q.lo.y(); j <= q.hi.y(); ++j)
+            for (int i = std::max(q.lo.x(), ax); i <= std::min(q.hi.x(), bx); ++i)
+                for (int j = std::max(q.lo.y(), ay); j <= std::min(q.hi.y(), by); ++j)
                     for (int k2 = q.lo.z(); k2 <= q.hi.z(); ++k2) {
                         const double d2 = (Vec3(i, j, k2) - q.c).squaredNorm();
                         if (d2 > q.r * q.r) continue;
