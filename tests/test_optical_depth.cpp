@@ -245,6 +245,41 @@ TEST(OpticalDepth, RandomGridAgainstReference)
     }
 }
 
+TEST(OpticalDepth, SparseLeavesWithoutTilesAgainstReference)
+{
+    // Smoke in half of the 8³ blocks of a 6 × 6 × 6-block region and no tiles: the walk steps over
+    // the empty blocks inside the support by the leaf table alone (no tree). Every ray through the
+    // region against the reference walk.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(0, 1);
+    auto g = makeGrid(0.05, {-0.31, 0.17, 0.05});
+    auto acc = g->getAccessor();
+    int filled = 0;
+    for (int bi = -3; bi < 3; ++bi)
+        for (int bj = -3; bj < 3; ++bj)
+            for (int bk = -3; bk < 3; ++bk) {
+                if (U(rng) < 0.5) continue;
+                ++filled;
+                for (int i = 0; i < 8; ++i)
+                    for (int j = 0; j < 8; ++j)
+                        for (int k = 0; k < 8; ++k)
+                            if (U(rng) < 0.6)
+                                acc.setValueOn(openvdb::Coord(8 * bi + i, 8 * bj + j, 8 * bk + k), float(U(rng)));
+            }
+    ASSERT_GT(filled, 60);
+    ASSERT_LT(filled, 160);  // empty blocks inside the support
+    const DensityGrid dg = wrapFloatGrid(g);
+    const Aabb b = dg.worldBounds();
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    for (int n = 0; n < 400; ++n) {
+        const Vec3 d = Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5).normalized();
+        const Vec3 o = c - 2.0 * d + 1.2 * Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5);
+        const double t0 = U(rng), t1 = t0 + 4 * U(rng);
+        const Ray r = ray(o, d);
+        expectRel(dg.integrate(r, t0, t1), reference(*g, r, t0, t1), "sparse ray");
+    }
+}
+
 TEST(OpticalDepth, TrilinearMatchesFineQuadrature)
 {
     std::mt19937 rng(11);

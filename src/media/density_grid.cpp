@@ -36,7 +36,7 @@ namespace {
 /// What Impl::make needs of a tree's values: whether any is non-finite or negative, and of the
 /// non-zero ones their bounds (voxels and tiles as boxes), least and greatest.
 struct ValueScan {
-    bool bad = false, any = false;
+    bool bad = false, any = false, nonzero_tiles = false;
     double lo = 0, hi = 0;
     openvdb::CoordBBox support;
     void add(float v, const openvdb::CoordBBox& box)
@@ -94,7 +94,9 @@ ValueScan scanValues(const openvdb::FloatTree& tree)
     using UpperT = RootT::ChildNodeType;
     using LowerT = UpperT::ChildNodeType;
     auto tile = [&](float v, const openvdb::Coord& origin, int dim) {
-        if (v != 0.0f) scan.add(v, openvdb::CoordBBox::createCube(origin, dim));
+        if (v == 0.0f) return;
+        scan.add(v, openvdb::CoordBBox::createCube(origin, dim));
+        scan.nonzero_tiles = true;
     };
     for (auto it = tree.root().cbeginValueAll(); it; ++it) tile(*it, it.getCoord(), UpperT::DIM);
     std::vector<const UpperT*> uppers;
@@ -186,6 +188,7 @@ std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::P
     const bool any = scan.any;
     const double lo = scan.lo, hi = scan.hi;
     impl->support = scan.support;
+    impl->nonzero_tiles = scan.nonzero_tiles;
     impl->min_value = lo;
     impl->max_value = hi;
     buildLeafTable(*impl);

@@ -291,10 +291,15 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
             const int now[3] = {lx, ly, lz};
             for (int a = 0; a < 3; ++a) c[a] += r.step[a] * (left[a] - now[a]);
         } else {
-            // Background or a constant tile: the whole cube in one step.
-            const int depth = acc.getValueDepth(c);
-            const float v = depth < 0 ? 0.0f : acc.getValue(c);
-            const int S = regionSize(depth);
+            // Background or a constant tile: the whole cube in one step. Where no tile holds smoke
+            // and the leaf table covers the support, the cell's empty 8³ block without the tree.
+            int S = kLeafDim;
+            float v = 0.0f;
+            if (g.nonzero_tiles || table.values.empty()) {
+                const int depth = acc.getValueDepth(c);
+                v = depth < 0 ? 0.0f : acc.getValue(c);
+                S = regionSize(depth);
+            }
             const Coord lo(c[0] & ~(S - 1), c[1] & ~(S - 1), c[2] & ~(S - 1));
             double tn[3];
             for (int a = 0; a < 3; ++a) tn[a] = r.boundaryT(a, lo[a], S);

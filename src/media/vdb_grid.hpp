@@ -17,6 +17,8 @@ struct DensityGrid::Impl {
     openvdb::CoordBBox support;  ///< index bbox of all non-zero values (voxels and tiles)
     Aabb world_bounds;
     double min_value = 0, max_value = 0;
+    /// Whether any tile holds a non-zero value; when none, a cell in no leaf holds 0.
+    bool nonzero_tiles = true;
 
     /// Where each leaf's values are, by 8³ block over the leaves' bounding box: the box walker finds
     /// a leaf with one load from this small array, which it can prefetch ahead, instead of
