@@ -441,15 +441,15 @@ void pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSigna
             throw Error("pulsed waveform",
                         "smoke points every " + std::to_string(s.smoke_cell_m) + " m on a waveform sampled every " +
                             std::to_string(f.dr) + " m");
-        size_t k0 = 0, k1 = 0;
-        bool any = false;
-        for (size_t k = s.smoke_first; k < s.smoke_cells.size(); ++k)
-            if (s.smoke_cells[k] > 0 && double(k) * s.smoke_cell_m < r_end) {
-                if (!any) k0 = k;
-                k1 = k;
-                any = true;
-            }
+        // The first and last points with power within the window (points nearer than r_end form
+        // a prefix): found from both ends, not by a pass over all of them.
+        auto holds = [&](size_t k) { return s.smoke_cells[k] > 0 && double(k) * s.smoke_cell_m < r_end; };
+        size_t k0 = s.smoke_first, k1 = s.smoke_cells.size();
+        while (k0 < s.smoke_cells.size() && !holds(k0)) ++k0;
+        const bool any = k0 < s.smoke_cells.size();
         if (any) {
+            while (!holds(k1 - 1)) --k1;  // stops at k0 at the latest
+            --k1;
             lo = std::min(lo, double(k0) * s.smoke_cell_m - reach);
             hi = std::max(hi, double(k1) * s.smoke_cell_m + reach);
         }
