@@ -3,6 +3,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <random>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/media/plume.hpp"
@@ -90,6 +91,39 @@ TEST(SmokeField, OverlappingVolumesAddExactly)
     EXPECT_NEAR(s.sigma_t_profile[1].t0_m, 1.975, 1e-9);
     EXPECT_NEAR(s.sigma_t_profile[1].density,
                 Medium::kCalibratedSigmaT * 0.002 + Medium::preset("soot").sigmaT(905) * 0.006, 1e-6);
+}
+
+TEST(SmokeField, ABeamMeetsEveryGridItsSegmentCrosses)
+{
+    // The field skips a grid whose bounds a beam misses: each beam's column must still be the sum
+    // of every grid's own integral over the same segment. Beams from inside and outside the
+    // boxes, along the axes (a zero direction component) and at random, segments that stop short
+    // of a box, start past it or graze a face.
+    std::vector<SmokeVolume> vols = {boxVolume("a", {-0.025, -1.025, -1.025}, {2.025, 1.025, 1.025}, 0.002),
+                                     boxVolume("b", {2.975, 1.975, -0.525}, {4.025, 3.025, 0.525}, 0.003),
+                                     boxVolume("c", {-3.025, -0.525, 1.975}, {-1.975, 0.525, 3.025}, 0.004)};
+    const SmokeField f = SmokeField::at(vols, 0.0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> U(-4, 4), T(0, 6);
+    int crossing = 0;
+    for (int n = 0; n < 3000; ++n) {
+        Vec3 d = n % 3 == 0 ? Vec3::Unit(n % 9 / 3) * (n % 2 ? 1.0 : -1.0) : Vec3(U(rng), U(rng), U(rng)).normalized();
+        if (n % 7 == 0) d = Vec3(d.x(), d.y(), 0).normalized();  // in a horizontal plane
+        const Vec3 o(U(rng), U(rng), U(rng));
+        if (n % 2 == 1) {  // half of the beams aimed near a box's centre
+            static const Vec3 centres[3] = {{1, 0, 0}, {3.5, 2.5, 0}, {-2.5, 0, 2.5}};
+            d = (centres[n % 3] + 0.3 * Vec3(U(rng), U(rng), U(rng)) - o).normalized();
+        }
+        const Ray r{o, d};
+        double t0 = T(rng), t1 = T(rng);
+        if (t1 < t0) std::swap(t0, t1);
+        double want = 0;
+        for (const SmokeVolume& v : vols) want += v.gridAt(0.0)->integrate(r, t0, t1);
+        const BeamSmoke s = f.trace(r, t0, t1, BeamQuery{});
+        EXPECT_NEAR(s.column_regional, want, 1e-12) << "beam " << n;
+        crossing += want > 0;
+    }
+    EXPECT_GT(crossing, 400);  // the test must see smoke often
 }
 
 TEST(Plume, DeterministicAndMassConserving)

@@ -16,7 +16,16 @@ SmokeField SmokeField::at(const std::vector<SmokeVolume>& volumes, double t_s)
     for (const SmokeVolume& v : volumes) {
         const double s = v.timeline.at(t_s);
         if (s <= 0) continue;
-        f.entries_.push_back({&v, v.gridAt(t_s), s});
+        Entry& e = f.entries_.emplace_back();
+        e.volume = &v;
+        e.grid = v.gridAt(t_s);
+        e.scale = s;
+        e.reach = e.grid->worldBounds();
+        if (!e.reach.empty()) {
+            const double pad = e.grid->voxelSize();
+            e.reach.lo.array() -= pad;
+            e.reach.hi.array() += pad;
+        }
     }
     return f;
 }
@@ -53,7 +62,27 @@ void SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q,
     // Each volume's profile, kept for each thread with its storage (a frame traces many beams).
     thread_local std::vector<std::vector<ProfileSegment>> parts, beta_parts;
     size_t used = 0;  // volumes with smoke on the beam, in parts[0, used)
+    // The beam against each grid's bounds first (most beams miss most grids): its inverse
+    // direction once, then a slab test a grid instead of the walk's setup in index space.
+    double inv[3];
+    for (int a = 0; a < 3; ++a) inv[a] = ray.d[a] == 0.0 ? 0.0 : 1.0 / ray.d[a];
+    auto misses = [&](const Aabb& b) {
+        if (b.empty()) return true;
+        double lo = t0, hi = t1;
+        for (int a = 0; a < 3; ++a) {
+            if (ray.d[a] == 0.0) {
+                if (ray.o[a] < b.lo[a] || ray.o[a] > b.hi[a]) return true;
+                continue;
+            }
+            double ta = (b.lo[a] - ray.o[a]) * inv[a], tb = (b.hi[a] - ray.o[a]) * inv[a];
+            if (ta > tb) std::swap(ta, tb);
+            lo = std::max(lo, ta);
+            hi = std::min(hi, tb);
+        }
+        return !(lo <= hi);
+    };
     for (const Entry& e : entries_) {
+        if (misses(e.reach)) continue;  // nothing of this grid on the beam: it adds nothing
         const double sigma = e.wavelength_nm == q.wavelength_nm ? e.sigma_t : e.volume->medium.sigmaT(q.wavelength_nm);
         if (q.want_profile && parts.size() <= used) parts.resize(used + 1), beta_parts.resize(used + 1);
         std::vector<ProfileSegment>* prof = q.want_profile ? &parts[used] : nullptr;

@@ -63,6 +63,7 @@ public:
         double scale;  ///< timeline scale at this time
         double wavelength_nm = -1;  ///< the wavelength `sigma_t` was evaluated at (-1: none)
         double sigma_t = 0;  ///< the medium's σ_t at wavelength_nm [1/m per unit density]
+        Aabb reach;  ///< the grid's world bounds and a voxel more: a beam that misses them meets no smoke of it
     };
 
     SmokeField() = default;
