@@ -96,34 +96,62 @@ TEST(SmokeField, OverlappingVolumesAddExactly)
 TEST(SmokeField, ABeamMeetsEveryGridItsSegmentCrosses)
 {
     // The field skips a grid whose bounds a beam misses: each beam's column must still be the sum
-    // of every grid's own integral over the same segment. Beams from inside and outside the
-    // boxes, along the axes (a zero direction component) and at random, segments that stop short
-    // of a box, start past it or graze a face.
+    // of every grid's own integral over the same segment, box-filtered and trilinear (which reaches
+    // half a voxel beyond the outer voxels' faces). Beams from inside and outside the boxes, along
+    // the axes both ways (a zero direction component) and at random, segments that stop short of
+    // a box or start past it, and beams parallel to a face just outside it.
     std::vector<SmokeVolume> vols = {boxVolume("a", {-0.025, -1.025, -1.025}, {2.025, 1.025, 1.025}, 0.002),
                                      boxVolume("b", {2.975, 1.975, -0.525}, {4.025, 3.025, 0.525}, 0.003),
                                      boxVolume("c", {-3.025, -0.525, 1.975}, {-1.975, 0.525, 3.025}, 0.004)};
     const SmokeField f = SmokeField::at(vols, 0.0);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> U(-4, 4), T(0, 6);
-    int crossing = 0;
+    int crossing = 0, grazing = 0;
+    auto check = [&](const Ray& r, double t0, double t1, int n) {
+        for (Reconstruction recon : {Reconstruction::Box, Reconstruction::Trilinear}) {
+            double want = 0;
+            for (const SmokeVolume& v : vols) want += v.gridAt(0.0)->integrate(r, t0, t1, recon);
+            BeamQuery q;
+            q.recon = recon;
+            q.want_profile = true;
+            const BeamSmoke s = f.trace(r, t0, t1, q);
+            EXPECT_NEAR(s.column_regional, want, 1e-12) << "beam " << n;
+            double from_profile = 0;  // the profile (a lone grid's swapped in) holds the same smoke
+            for (const auto& g : s.sigma_t_profile) from_profile += g.density * (g.t1_m - g.t0_m);
+            EXPECT_NEAR(from_profile, s.tau, 1e-9 * std::max(1.0, s.tau)) << "beam " << n;
+            crossing += recon == Reconstruction::Box && want > 0;
+        }
+    };
     for (int n = 0; n < 3000; ++n) {
-        Vec3 d = n % 3 == 0 ? Vec3::Unit(n % 9 / 3) * (n % 2 ? 1.0 : -1.0) : Vec3(U(rng), U(rng), U(rng)).normalized();
+        Vec3 d =
+            n % 3 == 0 ? Vec3::Unit(n % 9 / 3) * (n % 4 == 0 ? 1.0 : -1.0) : Vec3(U(rng), U(rng), U(rng)).normalized();
         if (n % 7 == 0) d = Vec3(d.x(), d.y(), 0).normalized();  // in a horizontal plane
         const Vec3 o(U(rng), U(rng), U(rng));
         if (n % 2 == 1) {  // half of the beams aimed near a box's centre
             static const Vec3 centres[3] = {{1, 0, 0}, {3.5, 2.5, 0}, {-2.5, 0, 2.5}};
             d = (centres[n % 3] + 0.3 * Vec3(U(rng), U(rng), U(rng)) - o).normalized();
         }
-        const Ray r{o, d};
         double t0 = T(rng), t1 = T(rng);
         if (t1 < t0) std::swap(t0, t1);
-        double want = 0;
-        for (const SmokeVolume& v : vols) want += v.gridAt(0.0)->integrate(r, t0, t1);
-        const BeamSmoke s = f.trace(r, t0, t1, BeamQuery{});
-        EXPECT_NEAR(s.column_regional, want, 1e-12) << "beam " << n;
-        crossing += want > 0;
+        check(Ray{o, d}, t0, t1, n);
     }
     EXPECT_GT(crossing, 400);  // the test must see smoke often
+    // Along box a's faces, a quarter voxel outside: only the trilinear reconstruction has smoke there.
+    for (int side = 0; side < 6; ++side) {
+        const int axis = side / 2;
+        const double out = side % 2 ? 1.025 + 0.0125 : -1.025 - 0.0125;
+        Vec3 o(1.0, 0.1, 0.2), d = Vec3::UnitX();
+        if (axis == 0) {  // beyond the x faces: run along y
+            o = Vec3(side % 2 ? 2.025 + 0.0125 : -0.025 - 0.0125, -3, 0.2);
+            d = Vec3::UnitY();
+        } else {
+            o[axis] = out;
+            o.x() = -2;
+        }
+        check(Ray{o, d}, 0.0, 6.0, 10000 + side);
+        grazing += vols[0].gridAt(0.0)->integrate(Ray{o, d}, 0.0, 6.0, Reconstruction::Trilinear) > 0;
+    }
+    EXPECT_EQ(grazing, 6);
 }
 
 TEST(Plume, DeterministicAndMassConserving)

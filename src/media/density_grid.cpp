@@ -36,7 +36,7 @@ namespace {
 /// What Impl::make needs of a tree's values: whether any is non-finite or negative, and of the
 /// non-zero ones their bounds (voxels and tiles as boxes), least and greatest.
 struct ValueScan {
-    bool bad = false, any = false, nonzero_tiles = false;
+    bool bad = false, any = false, nonzero_tiles = false;  // a tile holds a non-zero value
     double lo = 0, hi = 0;
     openvdb::CoordBBox support;
     void add(float v, const openvdb::CoordBBox& box)
@@ -188,10 +188,12 @@ std::shared_ptr<DensityGrid::Impl> DensityGrid::Impl::make(openvdb::FloatGrid::P
     const bool any = scan.any;
     const double lo = scan.lo, hi = scan.hi;
     impl->support = scan.support;
-    impl->nonzero_tiles = scan.nonzero_tiles;
     impl->min_value = lo;
     impl->max_value = hi;
     buildLeafTable(*impl);
+    const auto& table = impl->leaves;
+    impl->empty_blocks_by_table = !scan.nonzero_tiles && !table.values.empty() &&
+        std::max({table.n[0], table.n[1], table.n[2]}) <= Impl::kMaxEmptyBlocksAxis;
     if (any) {
         // World bounds of the support's outer voxel faces.
         const openvdb::Vec3d a = impl->support.min().asVec3d() - 0.5, b = impl->support.max().asVec3d() + 0.5;

@@ -292,10 +292,10 @@ void walkBox(const DensityGrid::Impl& g, const Ray& ray, double t0, double t1, V
             for (int a = 0; a < 3; ++a) c[a] += r.step[a] * (left[a] - now[a]);
         } else {
             // Background or a constant tile: the whole cube in one step. Where no tile holds smoke
-            // and the leaf table covers the support, the cell's empty 8³ block without the tree.
+            // and the leaf table is compact, the cell's empty 8³ block without the tree.
             int S = kLeafDim;
             float v = 0.0f;
-            if (g.nonzero_tiles || table.values.empty()) {
+            if (!g.empty_blocks_by_table) {
                 const int depth = acc.getValueDepth(c);
                 v = depth < 0 ? 0.0f : acc.getValue(c);
                 S = regionSize(depth);

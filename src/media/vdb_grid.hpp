@@ -17,8 +17,12 @@ struct DensityGrid::Impl {
     openvdb::CoordBBox support;  ///< index bbox of all non-zero values (voxels and tiles)
     Aabb world_bounds;
     double min_value = 0, max_value = 0;
-    /// Whether any tile holds a non-zero value; when none, a cell in no leaf holds 0.
-    bool nonzero_tiles = true;
+    /// Whether the box walker may step over a cell in no leaf as its empty 8³ block from the leaf
+    /// table alone, without the tree: no tile holds a non-zero value (a cell in no leaf holds 0)
+    /// and the table spans at most kMaxEmptyBlocksAxis blocks an axis (a line crosses few of them;
+    /// the tree steps over a wider empty region at once).
+    bool empty_blocks_by_table = false;
+    static constexpr int kMaxEmptyBlocksAxis = 32;  ///< two of the tree's lower nodes
 
     /// Where each leaf's values are, by 8³ block over the leaves' bounding box: the box walker finds
     /// a leaf with one load from this small array, which it can prefetch ahead, instead of

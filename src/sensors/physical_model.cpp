@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <limits>
 
 #include "smokescan/core/error.hpp"
 #include "smokescan/core/random.hpp"
@@ -117,32 +116,25 @@ void appendSmokeEchoes(const PhysicalParams& p, const TauProfile& tau, const std
 
 namespace {
 
-/// Where a piece's series hold: h = 2σ·len below this.
-constexpr double kSeriesBelow = 0.03;
-
-/// A piece's T² terms from their series in h = 2σ·len (the terms left out below 1e-15 of the
-/// value where h < kSeriesBelow): no exp, no division, no branch.
-inline SmokePiece pieceSeries(double sigma_t, double len_m)
-{
-    const double h = 2 * sigma_t * len_m, len = len_m;
-    // S = (1 − e^(−h))/h = Σ (−h)^k/(k + 1)! to h⁶, in Estrin's scheme (three short chains
-    // instead of one of six steps): ∫T² = len·S, the step 1 − h·S.
-    const double h2 = h * h, h4 = h2 * h2;
-    const double S = (1 - h * (1.0 / 2)) + h2 * (1.0 / 6 - h * (1.0 / 24)) +
-        h4 * ((1.0 / 120 - h * (1.0 / 720)) + h2 * (1.0 / 5040));
-    const double centre = len * (0.5 - h * (1.0 / 12 - h2 * (1.0 / 720 - h2 * (1.0 / 30240))));
-    return {1 - h * S, len * S, centre};
-}
-
-/// smokePiece's body: the series below kSeriesBelow (the closed forms cancel there), else the closed forms.
+/// smokePiece's body, inlined into the smoke's points (about two a β segment).
 inline SmokePiece pieceOf(double sigma_t, double len_m)
 {
     const double h = 2 * sigma_t * len_m, len = len_m;
-    if (h < kSeriesBelow) return pieceSeries(sigma_t, len_m);
+    if (h < 0.03) {
+        // Their series in h (the terms left out below 1e-15 of the value): no exp, no division.
+        const double step = 1 -
+            h *
+                (1 -
+                 h * (1.0 / 2 - h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
+        const double integral = len *
+            (1 - h * (1.0 / 2 - h * (1.0 / 6 - h * (1.0 / 24 - h * (1.0 / 120 - h * (1.0 / 720 - h * (1.0 / 5040)))))));
+        const double centre = len * (0.5 - h * (1.0 / 12 - h * h * (1.0 / 720 - h * h * (1.0 / 30240))));
+        return {step, integral, centre};
+    }
     // By expm1: 1 − exp(−h) without its cancellation; the centre len·(1/h − 1/(eʰ − 1)) still
     // loses about 1/h ulps (a few 1e-15 at the switch).
-    const double e = std::expm1(-h), inv_h = 1 / h;  // exp(−h) − 1
-    return {1 + e, -e * len * inv_h, len * (inv_h + 1 / e + 1)};
+    const double e = std::expm1(-h);  // exp(−h) − 1
+    return {1 + e, -e / (2 * sigma_t), len * (1 / h + 1 / e + 1)};
 }
 
 }  // namespace
@@ -385,8 +377,11 @@ void addSmokeCells(Waveform& f, const std::vector<double>& cells, size_t first_c
             if (!(P0 > 0 || P1 > 0)) continue;
             const long jc = long(m) / 2;
             const long t0 = std::max(-K, first - jc), t1 = std::min(K, first + n - 1 - jc);
-            double* wc = w + (jc - first);
-            for (long t = t0; t <= t1; ++t) wc[t] += P0 * k0[t] + P1 * k1[t];
+            if (t1 < t0) continue;  // points beyond the waveform's reach
+            double* wc = w + (jc - first + t0);
+            const double *c0 = k0 + t0, *c1 = k1 + t0;
+            // Point m's term, then point m + 1's: the sums of one point at a time, in its order.
+            for (long t = 0; t <= t1 - t0; ++t) wc[t] = (wc[t] + P0 * c0[t]) + P1 * c1[t];
         }
         return;
     }
@@ -463,30 +458,17 @@ void pulsedWaveform(double range_max_m, const PhysicalParams& p, const BeamSigna
     // Each echo's pulse exp(−x²/2σ²) on the grid by its recurrence: from one sample to the next
     // the value is multiplied by a ratio that itself shrinks by exp(−dr²/σ²) (two exps an echo).
     const double inv2s2 = 1.0 / (2 * f.sig_p * f.sig_p), shrink = std::exp(-2 * f.dr * f.dr * inv2s2);
-    const double shrink4 = (shrink * shrink) * (shrink * shrink);
     for (const Echo& e : s.echoes) {
         if (!(e.power > 0)) continue;
         const int k0 = std::max(0, int(std::floor((e.range_m - reach - lo) / f.dr)));
         const int k1 = std::min(n - 1, int(std::ceil((e.range_m + reach - lo) / f.dr)));
         const double x0 = lo + k0 * f.dr - e.range_m;
-        const double g = e.power * std::exp(-x0 * x0 * inv2s2),
-                     ratio = std::exp(-(2 * x0 * f.dr + f.dr * f.dr) * inv2s2);
-        // Even and odd samples as two chains (half the latency of one): two samples on, the
-        // value is multiplied by ratio_k·ratio_{k+1} = ratio_k²·shrink, and that by shrink⁴.
-        const double ratio1 = ratio * shrink;
-        double g_even = g, q_even = ratio * ratio * shrink;
-        double g_odd = g * ratio, q_odd = ratio1 * ratio1 * shrink;
-        double* wk = f.w.data();
-        int k = k0;
-        for (; k < k1; k += 2) {
-            wk[k] += g_even;
-            wk[k + 1] += g_odd;
-            g_even *= q_even;
-            q_even *= shrink4;
-            g_odd *= q_odd;
-            q_odd *= shrink4;
+        double g = e.power * std::exp(-x0 * x0 * inv2s2), ratio = std::exp(-(2 * x0 * f.dr + f.dr * f.dr) * inv2s2);
+        for (int k = k0; k <= k1; ++k) {
+            f.w[size_t(k)] += g;
+            g *= ratio;
+            ratio *= shrink;
         }
-        if (k == k1) wk[k] += g_even;
     }
 }
 
