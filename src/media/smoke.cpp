@@ -98,11 +98,15 @@ void SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q,
                     std::min(out.first_local_m, e.grid->firstAbove(ray, t0, t1, q.local_threshold / e.scale));
         }
         if (prof && !prof->empty()) {
-            for (auto& s : *prof) s.density *= e.scale * sigma;
+            // σ_t and β on the same segments, in one pass.
+            const double k_t = e.scale * sigma, bpe = e.volume->medium.backscatterPerExtinction();
             std::vector<ProfileSegment>& beta = beta_parts[used];
-            beta = *prof;
-            const double bpe = e.volume->medium.backscatterPerExtinction();
-            for (auto& s : beta) s.density *= bpe;
+            beta.resize(prof->size());
+            for (size_t i = 0; i < prof->size(); ++i) {
+                ProfileSegment& g = (*prof)[i];
+                g.density *= k_t;
+                beta[i] = {g.t0_m, g.t1_m, g.density * bpe};
+            }
             ++used;
         }
     }
