@@ -105,7 +105,8 @@ void traceBeamSignalInto(BeamSignal& sig, const Ray& ray, double wavelength_nm, 
     q.want_profile = true;
     thread_local BeamSmoke smoke, ms;  // the central ray's smoke, a mirror path's
     field.trace(ray, 0.0, t_end, q, smoke);
-    const TauProfile tau(smoke.sigma_t_profile);
+    thread_local std::vector<double> tau_sums, mirror_sums;  // the profiles' sums' storage
+    const TauProfile tau(smoke.sigma_t_profile, tau_sums);
     std::sort(blocked.begin(), blocked.end());
     if (p.smoke_cell_m > 0)
         depositSmokeCells(p, tau, smoke.beta_profile, t_end, blocked, sig);
@@ -140,7 +141,7 @@ void traceBeamSignalInto(BeamSignal& sig, const Ray& ray, double wavelength_nm, 
         const SurfaceHit mh = surfaces.closest(mray, u_max);
         const double u_end = mh.endOr(u_max);
         field.trace(mray, 0.0, u_end, q, ms);
-        const TauProfile mtau(ms.sigma_t_profile);
+        const TauProfile mtau(ms.sigma_t_profile, mirror_sums);
         appendSmokeEchoes(p, mtau, ms.beta_profile, 0.0, u_end, h.t_m, gain, lobe_ratio, {}, EchoSource::Mirror, sig);
         if (mh.hit) {
             const Material& mm = scene.materials[size_t(mh.material)];

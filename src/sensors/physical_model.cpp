@@ -18,8 +18,11 @@ constexpr uint64_t kPredictiveSeed = 0x70726564;
 
 }  // namespace
 
-TauProfile::TauProfile(const std::vector<ProfileSegment>& s) : seg_(s)
+TauProfile::TauProfile(const std::vector<ProfileSegment>& s) : TauProfile(s, own_) {}
+
+TauProfile::TauProfile(const std::vector<ProfileSegment>& s, std::vector<double>& storage) : seg_(s), cum_(storage)
 {
+    cum_.clear();
     cum_.reserve(seg_.size());
     double acc = 0;
     for (const auto& g : seg_) {

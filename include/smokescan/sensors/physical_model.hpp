@@ -68,6 +68,11 @@ public:
     /// The profile is referred to, not copied: it must outlive this.
     explicit TauProfile(const std::vector<ProfileSegment>& sigma_t);
     explicit TauProfile(std::vector<ProfileSegment>&&) = delete;
+    /// The same with τ's running sums in `storage` (its capacity reused, as a beam loop does; it
+    /// must outlive this).
+    TauProfile(const std::vector<ProfileSegment>& sigma_t, std::vector<double>& storage);
+    TauProfile(const TauProfile&) = delete;
+    TauProfile& operator=(const TauProfile&) = delete;
     double tau(double r_m) const;
     double sigmaAt(double r_m) const;  ///< σ_t [1/m] at r (0 outside the segments)
     /// Where the stretch of constant σ_t holding r ends [m]: its segment's end, the next
@@ -78,7 +83,8 @@ public:
 
 private:
     const std::vector<ProfileSegment>& seg_;
-    std::vector<double> cum_;  ///< τ at each segment's start
+    std::vector<double> own_;  ///< the sums' storage when none is given
+    std::vector<double>& cum_;  ///< τ at each segment's start
 };
 
 /// @brief The material's diffuse reflectance in the sensor's band (785 or 905 nm).
