@@ -213,6 +213,26 @@ TEST(OpticalDepth, LinearRamp)
     expectRel(dg.integrate(rd, s0, s1), reference(*g, rd, s0, s1), "box ramp diagonal");
 }
 
+namespace {
+
+/// n random rays through the middle of the grid's bounds (origins two metres back, spread by
+/// `spread` m), each with a random segment [t0, t0 + 4u]: look(ray, t0, t1).
+template <class Look>
+void forRandomRays(const DensityGrid& dg, std::mt19937& rng, int n, double spread, Look&& look)
+{
+    std::uniform_real_distribution<double> U(0, 1);
+    const Aabb b = dg.worldBounds();
+    const Vec3 c = 0.5 * (b.lo + b.hi);
+    for (int k = 0; k < n; ++k) {
+        const Vec3 d = Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5).normalized();
+        const Vec3 o = c - 2.0 * d + spread * Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5);
+        const double t0 = U(rng), t1 = t0 + 4 * U(rng);
+        look(ray(o, d), t0, t1);
+    }
+}
+
+}  // namespace
+
 TEST(OpticalDepth, RandomGridAgainstReference)
 {
     std::mt19937 rng(7);
@@ -225,13 +245,7 @@ TEST(OpticalDepth, RandomGridAgainstReference)
                 if (U(rng) < 0.7) acc.setValueOn(openvdb::Coord(i, j, k), float(U(rng)));
     g->tree().fill(openvdb::CoordBBox(openvdb::Coord(24, 0, 0), openvdb::Coord(31, 7, 15)), 0.4f, true);
     const DensityGrid dg = wrapFloatGrid(g);
-    const Aabb b = dg.worldBounds();
-    const Vec3 c = 0.5 * (b.lo + b.hi);
-    for (int n = 0; n < 300; ++n) {
-        const Vec3 d = Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5).normalized();
-        const Vec3 o = c - 2.0 * d + 0.6 * Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5);
-        const double t0 = U(rng), t1 = t0 + 4 * U(rng);
-        const Ray r = ray(o, d);
+    forRandomRays(dg, rng, 300, 0.6, [&](const Ray& r, double t0, double t1) {
         expectRel(dg.integrate(r, t0, t1), reference(*g, r, t0, t1), "random ray");
         std::vector<ProfileSegment> prof;
         const double tau = dg.integrate(r, t0, t1, Reconstruction::Box, &prof);
@@ -242,7 +256,7 @@ TEST(OpticalDepth, RandomGridAgainstReference)
             from_prof += s.density * (s.t1_m - s.t0_m);
         }
         expectRel(from_prof, tau, "profile sums to tau");
-    }
+    });
 }
 
 TEST(OpticalDepth, SparseLeavesWithoutTilesAgainstReference)
@@ -269,15 +283,9 @@ TEST(OpticalDepth, SparseLeavesWithoutTilesAgainstReference)
     ASSERT_GT(filled, 60);
     ASSERT_LT(filled, 160);  // empty blocks inside the support
     const DensityGrid dg = wrapFloatGrid(g);
-    const Aabb b = dg.worldBounds();
-    const Vec3 c = 0.5 * (b.lo + b.hi);
-    for (int n = 0; n < 400; ++n) {
-        const Vec3 d = Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5).normalized();
-        const Vec3 o = c - 2.0 * d + 1.2 * Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5);
-        const double t0 = U(rng), t1 = t0 + 4 * U(rng);
-        const Ray r = ray(o, d);
+    forRandomRays(dg, rng, 400, 1.2, [&](const Ray& r, double t0, double t1) {
         expectRel(dg.integrate(r, t0, t1), reference(*g, r, t0, t1), "sparse ray");
-    }
+    });
 }
 
 TEST(OpticalDepth, TrilinearMatchesFineQuadrature)
