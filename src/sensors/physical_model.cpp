@@ -164,7 +164,8 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
     auto sig_at = tau.segments().begin();
     const auto sig_end = tau.segments().end();
     // A whole piece between two points at the σ_t it was computed for (most segments have none).
-    double full_sig = -1;
+    bool have_full = false;
+    double full_sig = 0;
     SmokePiece full{};
     for (const auto& g : beta) {
         const double a = std::max(g.t0_m, 0.0), b = std::min(g.t1_m, s1);
@@ -197,9 +198,10 @@ void depositSmokeCells(const PhysicalParams& p, const TauProfile& tau, const std
                 if (blockedAfter != blocked.end() && *blockedAfter < y) y = *blockedAfter;
                 SmokePiece q;
                 if (x == double(k) * c && y == edge) {
-                    if (full_sig != sig) {
+                    if (!have_full || full_sig != sig) {
                         full = pieceOf(sig, c);
                         full_sig = sig;
+                        have_full = true;
                     }
                     q = full;
                 } else {
@@ -375,7 +377,7 @@ void addSmokeCells(Waveform& f, const std::vector<double>& cells, size_t first_c
         const double* k0 = kernel.data() + K;
         const double* k1 = k0 + (2 * K + 1);
         for (size_t m = first_cell & ~size_t(1); m < cells.size(); m += 2) {
-            const double P0 = cells[m] > 0 ? cells[m] : 0.0;
+            const double P0 = m >= first_cell && cells[m] > 0 ? cells[m] : 0.0;  // (m + 1 may be the first)
             const double P1 = m + 1 < cells.size() && cells[m + 1] > 0 ? cells[m + 1] : 0.0;
             if (!(P0 > 0 || P1 > 0)) continue;
             const long jc = long(m) / 2;

@@ -69,8 +69,9 @@ public:
     explicit TauProfile(const std::vector<ProfileSegment>& sigma_t);
     explicit TauProfile(std::vector<ProfileSegment>&&) = delete;
     /// The same with τ's running sums in `storage` (its capacity reused, as a beam loop does; it
-    /// must outlive this).
+    /// must outlive this, and no other live TauProfile may use it).
     TauProfile(const std::vector<ProfileSegment>& sigma_t, std::vector<double>& storage);
+    TauProfile(std::vector<ProfileSegment>&&, std::vector<double>&) = delete;
     TauProfile(const TauProfile&) = delete;
     TauProfile& operator=(const TauProfile&) = delete;
     double tau(double r_m) const;
