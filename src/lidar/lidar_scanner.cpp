@@ -103,16 +103,22 @@ void receiveEchoesIn(const LidarSpec& spec, const BeamSignal& s, Waveform& f, Ke
 /// selectReturns into `out` (at most two): how many.
 int selectReturnsInto(const std::vector<LidarEcho>& e, ReturnMode mode, bool dual_second_strongest, size_t out[2]);
 
-}  // namespace
-
-std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
+/// receiveEchoes into `out`, whose storage is reused.
+void receiveEchoesInto(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng, std::vector<LidarEcho>& out)
 {
     // Two samples per pulse σ: the peak and the leading edge each from a log-parabola through the
     // samples around them, exact for a lone Gaussian pulse.
     thread_local Waveform f;  // storage kept for the thread's next beam
     pulsedWaveform(spec.range_max_m, spec.receiver, s, 2, f);
-    std::vector<LidarEcho> out;
     receiveEchoesIn(spec, s, f, rng, out);
+}
+
+}  // namespace
+
+std::vector<LidarEcho> receiveEchoes(const LidarSpec& spec, const BeamSignal& s, KeyedRng* rng)
+{
+    std::vector<LidarEcho> out;
+    receiveEchoesInto(spec, s, rng, out);
     return out;
 }
 
@@ -434,11 +440,8 @@ void LidarScanner::beamPoints(const FrameSetup& f, uint64_t index, size_t i, Lid
     thread_local BeamSignal sig;  // storage kept for the thread's next beam
     signal(f, i, nullptr, sig);
     KeyedRng rng(seed_, index, uint64_t(i));
-    // Two samples per pulse σ (as receiveEchoes); the waveform's and echoes' storage kept.
-    thread_local Waveform wave;
-    thread_local std::vector<LidarEcho> echoes;
-    pulsedWaveform(spec_.range_max_m, spec_.receiver, sig, 2, wave);
-    receiveEchoesIn(spec_, sig, wave, &rng, echoes);
+    thread_local std::vector<LidarEcho> echoes;  // storage kept for the thread's next beam
+    receiveEchoesInto(spec_, sig, &rng, echoes);
     // The extensions: a beam lost whole at its channel's and sector's dropout (its own draw, so
     // that the other beams' noise is the preset's), its channel's offset on each range.
     const double drop = spec_.extensions.dropout(b.channel, b.azimuth_rad);
