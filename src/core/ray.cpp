@@ -16,7 +16,16 @@ Pose Pose::fromRpyDeg(const Vec3& position_m, const Vec3& rpy_deg)
     return p;
 }
 
-bool Aabb::clip(const Ray& r, double& t0, double& t1) const
+bool Aabb::clip(const Ray& r, double& t0, double& t1) const { return clip(r, inverseDirection(r), t0, t1); }
+
+Vec3 Aabb::inverseDirection(const Ray& r)
+{
+    Vec3 inv;
+    for (int a = 0; a < 3; ++a) inv[a] = r.d[a] == 0.0 ? 0.0 : 1.0 / r.d[a];
+    return inv;
+}
+
+bool Aabb::clip(const Ray& r, const Vec3& inv_d, double& t0, double& t1) const
 {
     if (empty()) return false;
     for (int a = 0; a < 3; ++a) {
@@ -24,8 +33,7 @@ bool Aabb::clip(const Ray& r, double& t0, double& t1) const
             if (r.o[a] < lo[a] || r.o[a] > hi[a]) return false;
             continue;
         }
-        const double inv = 1.0 / r.d[a];
-        double ta = (lo[a] - r.o[a]) * inv, tb = (hi[a] - r.o[a]) * inv;
+        double ta = (lo[a] - r.o[a]) * inv_d[a], tb = (hi[a] - r.o[a]) * inv_d[a];
         if (ta > tb) std::swap(ta, tb);
         t0 = std::max(t0, ta);
         t1 = std::min(t1, tb);

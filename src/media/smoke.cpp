@@ -64,22 +64,10 @@ void SmokeField::trace(const Ray& ray, double t0, double t1, const BeamQuery& q,
     size_t used = 0;  // volumes with smoke on the beam, in parts[0, used)
     // The beam against each grid's bounds first (most beams miss most grids): its inverse
     // direction once, then a slab test a grid instead of the walk's setup in index space.
-    double inv[3];
-    for (int a = 0; a < 3; ++a) inv[a] = ray.d[a] == 0.0 ? 0.0 : 1.0 / ray.d[a];
+    const Vec3 inv_d = Aabb::inverseDirection(ray);
     auto misses = [&](const Aabb& b) {
-        if (b.empty()) return true;
         double lo = t0, hi = t1;
-        for (int a = 0; a < 3; ++a) {
-            if (ray.d[a] == 0.0) {
-                if (ray.o[a] < b.lo[a] || ray.o[a] > b.hi[a]) return true;
-                continue;
-            }
-            double ta = (b.lo[a] - ray.o[a]) * inv[a], tb = (b.hi[a] - ray.o[a]) * inv[a];
-            if (ta > tb) std::swap(ta, tb);
-            lo = std::max(lo, ta);
-            hi = std::min(hi, tb);
-        }
-        return !(lo <= hi);
+        return !b.clip(ray, inv_d, lo, hi);
     };
     for (const Entry& e : entries_) {
         if (misses(e.reach)) continue;  // nothing of this grid on the beam: it adds nothing

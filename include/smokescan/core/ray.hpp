@@ -40,6 +40,11 @@ struct Aabb {
     }
     /// Clips [t0, t1] to the slab intersection; false when the ray misses.
     bool clip(const Ray& r, double& t0, double& t1) const;
+    /// The same with the ray's inverse direction given (1/d on each axis whose d is not 0): one
+    /// ray against many boxes divides once.
+    bool clip(const Ray& r, const Vec3& inv_d, double& t0, double& t1) const;
+    /// The inverse direction clip() takes: 1/d, 0 on an axis without motion.
+    static Vec3 inverseDirection(const Ray& r);
 };
 
 }  // namespace smokescan
