@@ -379,7 +379,7 @@ DensityGrid DensityGrid::fromBlobs(const std::vector<Blob>& blobs, double voxel_
             for (int cy = cubes[n].lo.y() >> kLog2Leaf; cy <= cubes[n].hi.y() >> kLog2Leaf; ++cy)
                 reach.push_back({{cx, cy}, n});
     std::sort(reach.begin(), reach.end());
-    std::vector<size_t> starts;  // where each slab's run of `reach` starts
+    std::vector<size_t> starts;  // where each column's run of `reach` starts
     for (size_t k = 0; k < reach.size(); ++k)
         if (k == 0 || reach[k].first != reach[k - 1].first) starts.push_back(k);
     starts.push_back(reach.size());
