@@ -272,7 +272,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const DiagnosisSources& src)
                               {"level", num(t.level)},
                               {"floor", num(t.floor)}});
     j["verdict"] = r.verdict;
-    return j.dump(2);
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 void writeDiagnosisJson(const std::string& path, const DiagnosisResult& r, const DiagnosisSources& src)

@@ -121,7 +121,7 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
                             {"chance_sum", num(o.expected)},
                             {"sd", num(std::sqrt(o.variance))}});
     j["surfaces_in_smoke"] = surfaces;
-    return j.dump(2) + "\n";
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& sensor)

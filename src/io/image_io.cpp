@@ -62,7 +62,7 @@ public:
     {
         const std::lock_guard<std::mutex> lock(mutex());
         if (users()++ > 0) return;
-        saved() = ::dup(2);
+        saved() = ::fcntl(2, F_DUPFD_CLOEXEC, 0);  // not inherited by a child started meanwhile
         const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
         if (saved() >= 0 && null >= 0) ::dup2(null, 2);
         if (null >= 0) ::close(null);

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdlib>
@@ -45,10 +46,23 @@ std::string holdingSharedObject()
     return !s.name.empty() && s.name.front() == '/' ? s.name : std::string();
 }
 
+/// Whether `p` lies in the build tree this code was compiled in (false when it was not).
+bool inBuildTree([[maybe_unused]] const fs::path& p)
+{
+#ifdef SMOKESCAN_BUILD_DIR
+    const std::string dir = fs::path(SMOKESCAN_BUILD_DIR).lexically_normal().string() + "/";
+    return p.lexically_normal().string().compare(0, dir.size(), dir) == 0;
+#else
+    return false;
+#endif
+}
+
 /// Where to look, in order: $SMOKESCAN_OIIO_MODULE alone when set (made absolute); else beside the
 /// shared object holding this code (the installed Python module has one beside it), beside the
-/// program, in the library folder beside its bin/ (an installed tree moved elsewhere), the build
-/// tree's module, the installed one. Never the working folder.
+/// program, in the library folder beside its bin/ (an installed tree moved elsewhere); then the
+/// build tree's module and the installed one, the build tree's first only for a program (or shared
+/// object) inside the build tree: an installed program never prefers a build tree's module. Never
+/// the working folder.
 std::vector<std::string> candidates()
 {
     if (const char* env = std::getenv("SMOKESCAN_OIIO_MODULE"); env && *env) {
@@ -57,8 +71,8 @@ std::vector<std::string> candidates()
         return {ec ? std::string(env) : p.string()};
     }
     std::vector<std::string> out;
-    if (const std::string holder = holdingSharedObject(); !holder.empty())
-        out.push_back((fs::path(holder).parent_path() / kModuleName).string());
+    const std::string holder = holdingSharedObject();
+    if (!holder.empty()) out.push_back((fs::path(holder).parent_path() / kModuleName).string());
     std::error_code ec;
     const fs::path self = fs::read_symlink("/proc/self/exe", ec);
     if (!ec) {
@@ -67,12 +81,16 @@ std::vector<std::string> candidates()
         out.push_back((self.parent_path().parent_path() / SMOKESCAN_OIIO_INSTALL_DIR / kModuleName).string());
 #endif
     }
+    std::vector<std::string> tail;
 #ifdef SMOKESCAN_OIIO_BUILD_PATH
-    out.emplace_back(SMOKESCAN_OIIO_BUILD_PATH);
+    tail.emplace_back(SMOKESCAN_OIIO_BUILD_PATH);
 #endif
 #ifdef SMOKESCAN_OIIO_INSTALL_PATH
-    out.emplace_back(SMOKESCAN_OIIO_INSTALL_PATH);
+    tail.emplace_back(SMOKESCAN_OIIO_INSTALL_PATH);
 #endif
+    const bool built_here = (!ec && inBuildTree(self)) || (!holder.empty() && inBuildTree(holder));
+    if (!built_here) std::reverse(tail.begin(), tail.end());
+    out.insert(out.end(), tail.begin(), tail.end());
     return out;
 }
 

@@ -203,7 +203,7 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     }
     j["surfaces"] = s;
     j["extended_preset"] = r.preset;
-    return j.dump(2) + "\n";
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace smokescan
