@@ -100,7 +100,7 @@ int main(int argc, char** argv)
         const Scene scene = loadScene("plume");
         const SurfaceSet surfaces(scene);
         LidarSpec spec = lidarSpec("os1-128");
-        configureLidar(spec, 10, 1024, "bench");
+        configureLidar(spec, 10, 1024, "bench", "bench");
         const LidarScanner scanner(scene, surfaces, defaultLidarMount(scene, spec.name), spec, ReturnMode::Dual, 1);
         std::vector<LidarFrame> frames;
         for (int k = 0; k < 10; ++k) frames.push_back(scanner.frame(20 + 0.1 * k, uint64_t(k)));

@@ -121,7 +121,7 @@ int main(int argc, char** argv)
     auto frameRow = [&](const char* what, const Scene& sc, const SurfaceSet& sf, const std::string& preset, int columns,
                         ReturnMode mode) {
         LidarSpec spec = lidarSpec(preset);
-        configureLidar(spec, spec.rate_hz, columns, "bench");
+        configureLidar(spec, spec.rate_hz, columns, "bench", "bench");
         const LidarScanner scanner(sc, sf, mount, spec, mode, 1);
         const long long beams = (long long)framePattern(spec).size();
         scanner.frame(t, 0);  // warm

@@ -693,6 +693,34 @@ TEST(Bag, APointCloudsLayoutIsCheckedBeforeItsPointsAreRead)
     EXPECT_EQ(pointCloudFileOf(b, "m").points.size(), 0u);
 }
 
+TEST(Bag, APointCloudsBytesNameWhatDisagreesInTheirLayout)
+{
+    PointCloud2Msg m;
+    m.width = 2;
+    m.height = 1;
+    m.point_step = 12;
+    m.row_step = 24;
+    m.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}};
+    m.data.assign(24, 0);
+    EXPECT_EQ(decodePointCloud2(encode(m), "msg 3").width, 2u);
+    auto says = [](const PointCloud2Msg& bad) {
+        try {
+            (void)decodePointCloud2(encode(bad), "msg 3");
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("(read)");
+    };
+    PointCloud2Msg b = m;
+    b.width = 1u << 31;  // more points a row than the row's bytes hold
+    EXPECT_NE(says(b).find("has rows of 2147483648 points of 12 bytes (width × point_step) in 24 bytes (row_step)"),
+              std::string::npos)
+        << says(b);
+    b = m;
+    b.data.resize(20);  // fewer bytes than its rows
+    EXPECT_NE(says(b).find("has 20 bytes of points, not height × row_step (1 × 24)"), std::string::npos) << says(b);
+}
+
 TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
 {
     // A VLP-16 whose ring 3 reads 0.25 m long (the preset's extension, the planted effect), scanned

@@ -96,9 +96,11 @@ TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
     const std::string scan = "scan plume --points " + pts + " --sensor ";
     expectBad(scan + "os1-128 --returns both", "unknown return mode 'both' (first, last, strongest or dual)", pts);
     expectBad(scan + "os1-128 --returns last", "the os1-128 offers strongest, dual, not last", pts);
-    expectBad(scan + "os1-128 --rate 20 --columns 2048", "fires at most 20480 columns a second", pts);
-    expectBad(scan + "vlp16 --rate 7", "the vlp16 spins at 5, 10, 15, 20 Hz, not 7", pts);
-    expectBad(scan + "vlp16 --columns 1024", "columns follow from its rate", pts);
+    expectBad(scan + "os1-128 --rate 20 --columns 2048",
+              "--rate and --columns: the os1-128 fires at most 20480 columns a second", pts);
+    expectBad(scan + "vlp16 --rate 7", "--rate: the vlp16 spins at 5, 10, 15, 20 Hz, not 7", pts);
+    expectBad(scan + "vlp16 --columns 1024", "--columns: the vlp16's columns follow from its rate", pts);
+    expectBad(scan + "os1-128 --columns 8192", "--columns: the os1-128 offers 512, 1024, 2048 columns, not 8192", pts);
     expectBad(scan + "vlp16 --points-format las", "--points-format: must be pcd or ply", pts);
     expectBad(scan + "vlp16 --out x.log", "--out: is for the 2D lasers", pts);
     expectBad(scan + "vlp16 --top-view " + (dir() / "t.bmpx").string(), "t.bmpx: unknown image format", pts);

@@ -116,7 +116,7 @@ TEST(Lidar, Vlp16PatternIsTheDatasheets)
     EXPECT_NEAR(std::remainder(p[15].azimuth_rad - p[0].azimuth_rad, 2 * M_PI) / kDeg, -3600 * 15 * 2.304e-6, 1e-9);
     // At 20 Hz the turn holds half the cycles.
     LidarSpec fast = s;
-    configureLidar(fast, 20, 0, "test");
+    configureLidar(fast, 20, 0, "test", "test");
     EXPECT_EQ(fast.columns, 904);
 }
 
@@ -178,7 +178,7 @@ TEST(Lidar, Hdl32eAndOs1PatternsAreTheDatasheets)
     EXPECT_NEAR((p[1].azimuth_rad - p[0].azimuth_rad) / kDeg, 2.8, 1e-9);
     EXPECT_NEAR((p[3].azimuth_rad - p[0].azimuth_rad) / kDeg, 8.4, 1e-9);
     LidarSpec wide = o;
-    configureLidar(wide, 10, 2048, "test");
+    configureLidar(wide, 10, 2048, "test", "test");
     EXPECT_EQ(framePattern(wide).size(), 2048u * 128);
 }
 
@@ -193,11 +193,17 @@ TEST(Lidar, PresetsRefuseWhatTheSensorDoesNotOffer)
         }
     };
     LidarSpec o = lidarSpec("os1-128");
-    refused([&] { configureLidar(o, 20, 2048, "--columns"); }, "fires at most 20480 columns a second");
-    refused([&] { configureLidar(o, 15, 0, "--rate"); }, "spins at 10, 20 Hz, not 15");
-    refused([&] { configureLidar(o, 10, 1000, "--columns"); }, "offers 512, 1024, 2048 columns");
+    // Each error names what set the value at fault: the rate's, the columns', both for a combination.
+    refused([&] { configureLidar(o, 20, 2048, "--rate", "--columns"); },
+            "--rate and --columns: the os1-128 fires at most 20480 columns a second");
+    refused([&] { configureLidar(o, 15, 0, "--rate", "--columns"); }, "--rate: the os1-128 spins at 10, 20 Hz, not 15");
+    refused([&] { configureLidar(o, 10, 1000, "--rate", "--columns"); },
+            "--columns: the os1-128 offers 512, 1024, 2048 columns");
+    refused([&] { configureLidar(o, 0, 8192, "--rate", "--columns"); },
+            "--columns: the os1-128 offers 512, 1024, 2048 columns, not 8192");
     LidarSpec v = lidarSpec("vlp16");
-    refused([&] { configureLidar(v, 10, 1024, "--columns"); }, "follow from its rate");
+    refused([&] { configureLidar(v, 10, 1024, "--rate", "--columns"); },
+            "--columns: the vlp16's columns follow from its rate");
     refused([] { lidarSpec("vlp32"); }, "no lidar preset 'vlp32' (presets: hdl32e, os1-128, vlp16");
     refused([] { parseReturnMode("both", "--returns"); }, "unknown return mode 'both'");
     const Scene scene = parseScene(wallScene(5, 0.5), "s", ".");
@@ -231,7 +237,8 @@ TEST(Lidar, PresetsRefuseWhatTheSensorDoesNotOffer)
     for (const auto& row : bad) refused([&] { lidarSpec(write(dir / row[0], head + row[1])); }, row[2]);
     // A pattern timed for 10 Hz cannot run at 20 Hz: its beams would leave the frame.
     LidarSpec slow = lidarSpec(patternedLidar("slow", "0, 0, 0\n1, 0, 0.08\n", "rates_hz = [10, 20]\n"));
-    refused([&] { configureLidar(slow, 20, 0, "--rate"); }, "fires until 0.08 s, beyond a frame of 0.05 s at 20 Hz");
+    refused([&] { configureLidar(slow, 20, 0, "--rate", "--columns"); },
+            "--rate: the slow's pattern fires until 0.08 s, beyond a frame of 0.05 s at 20 Hz");
 }
 
 TEST(Lidar, PatternFileBadLinesAreRefusedWithTheirLine)

@@ -233,7 +233,11 @@ PointCloud2Msg decodePointCloud2(const std::vector<uint8_t>& b, const std::strin
     m.data = r.getSequence<uint8_t>();
     m.is_dense = r.getBool();
     finished(r, what);
-    if (uint64_t(m.row_step) * m.height != m.data.size() || uint64_t(m.point_step) * m.width > m.row_step)
+    if (uint64_t(m.point_step) * m.width > m.row_step)
+        throw Error(what,
+                    "has rows of " + std::to_string(m.width) + " points of " + std::to_string(m.point_step) +
+                        " bytes (width × point_step) in " + std::to_string(m.row_step) + " bytes (row_step)");
+    if (uint64_t(m.row_step) * m.height != m.data.size())
         throw Error(what,
                     "has " + std::to_string(m.data.size()) + " bytes of points, not height × row_step (" +
                         std::to_string(m.height) + " × " + std::to_string(m.row_step) + ")");

@@ -345,7 +345,7 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
         for (double f : s.fire_offset_s)
             if (f < 0) t.error("fire_offset_us", "must not be negative (a channel fires within its column)");
         s.max_column_rate_hz = t.nonneg("max_column_rate_hz", 0);
-        configureLidar(s, s.rate_hz, 0, source);
+        configureLidar(s, s.rate_hz, 0, source, source);
     }
     if (t.has("extensions"))
         t.error("extensions",
@@ -355,7 +355,8 @@ LidarSpec parseLidarSpec(const std::string& text, const std::string& source)
     return s;
 }
 
-void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string& where)
+void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string& rate_where,
+                    const std::string& columns_where)
 {
     auto fmtList = [](const auto& v) {
         std::string out;
@@ -366,17 +367,22 @@ void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string
         }
         return out;
     };
+    // A combination the sensor cannot fire is named by what was set (both when both were).
+    const std::string both = rate_where == columns_where || columns <= 0 ? rate_where
+        : rate_hz <= 0                                                   ? columns_where
+                                                                         : rate_where + " and " + columns_where;
     if (rate_hz > 0) {
         if (std::find(s.rates_hz.begin(), s.rates_hz.end(), rate_hz) == s.rates_hz.end())
-            throw Error(where,
+            throw Error(rate_where,
                         "the " + s.name + " spins at " + fmtList(s.rates_hz) + " Hz, not " +
                             fmtList(std::vector<double>{rate_hz}));
         s.rate_hz = rate_hz;
     }
     if (s.pattern == PatternKind::File) {
-        if (columns > 0) throw Error(where, "the " + s.name + " fires a pattern file: it has no columns to set");
+        if (columns > 0)
+            throw Error(columns_where, "the " + s.name + " fires a pattern file: it has no columns to set");
         if (!s.file_beams.empty() && !(s.file_beams.back().time_s < 1 / s.rate_hz))
-            throw Error(where,
+            throw Error(rate_where,
                         "the " + s.name + "'s pattern fires until " +
                             fmtList(std::vector<double>{s.file_beams.back().time_s}) + " s, beyond a frame of " +
                             fmtList(std::vector<double>{1 / s.rate_hz}) + " s at " +
@@ -385,29 +391,30 @@ void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string
     }
     if (s.firing_cycle_s > 0) {
         if (columns > 0)
-            throw Error(where, "the " + s.name + "'s columns follow from its rate (a column each firing cycle)");
+            throw Error(columns_where,
+                        "the " + s.name + "'s columns follow from its rate (a column each firing cycle)");
         s.columns = int(std::floor(1 / (s.rate_hz * s.firing_cycle_s) + 1e-9));
     } else if (columns > 0) {
         if (std::find(s.columns_allowed.begin(), s.columns_allowed.end(), columns) == s.columns_allowed.end())
             throw Error(
-                where,
+                columns_where,
                 "the " + s.name + " offers " + fmtList(s.columns_allowed) + " columns, not " + std::to_string(columns));
         s.columns = columns;
     }
     if (s.columns < 1 || s.columns > lidar_limits::kColumns)
-        throw Error(where, "the " + s.name + " would fire " + std::to_string(s.columns) + " columns a turn (1–8192)");
+        throw Error(both, "the " + s.name + " would fire " + std::to_string(s.columns) + " columns a turn (1–8192)");
     if (s.max_column_rate_hz > 0 && s.columns * s.rate_hz > s.max_column_rate_hz * (1 + 1e-12))
-        throw Error(where,
+        throw Error(both,
                     "the " + s.name + " fires at most " + fmtList(std::vector<double>{s.max_column_rate_hz}) +
                         " columns a second: " + std::to_string(s.columns) + " columns at " +
                         fmtList(std::vector<double>{s.rate_hz}) + " Hz is not one of its modes");
     if ((long long)s.columns * s.channels() > lidar_limits::kBeamsPerFrame)
-        throw Error(where, "the " + s.name + " would fire more than 4,000,000 beams a frame");
+        throw Error(both, "the " + s.name + " would fire more than 4,000,000 beams a frame");
     // Every channel fires within its column, or columns would overlap.
     const double column_s = s.firing_cycle_s > 0 ? s.firing_cycle_s : 1 / (s.rate_hz * s.columns);
     for (double f : s.fire_offset_s)
         if (!(f < column_s))
-            throw Error(where,
+            throw Error(both,
                         "the " + s.name + "'s channels fire up to " + fmtList(std::vector<double>{f * 1e6}) +
                             " us into a column of " + fmtList(std::vector<double>{column_s * 1e6}) + " us");
 }

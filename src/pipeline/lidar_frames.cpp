@@ -205,7 +205,7 @@ int64_t keptFrames(const LidarRunConfig& sc)
     if (!(sc.rate_hz >= 0) || !std::isfinite(sc.rate_hz) || sc.columns < 0) return limits::kFrames;
     try {
         LidarSpec spec = lidarSpec(sc.sensor);
-        configureLidar(spec, sc.rate_hz, sc.columns, "--sensor " + sc.sensor);
+        configureLidar(spec, sc.rate_hz, sc.columns, "--rate", "--columns");
         const size_t beams = framePattern(spec).size();
         return beams > 0 ? std::min(limits::kFrames, limits::kKeptReadings / int64_t(beams)) : limits::kFrames;
     } catch (const Error&) {

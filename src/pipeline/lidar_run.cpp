@@ -16,7 +16,7 @@ LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene
     if (cfg.columns < 0) throw Error("--columns", "must be > 0 (0: the preset's)");
     if (std::isinf(cfg.from_s)) throw Error("--from", "must be a finite number");
     if (std::isinf(cfg.to_s)) throw Error("--to", "must be a finite number");
-    configureLidar(spec_, cfg.rate_hz, cfg.columns, "--sensor " + cfg.sensor);
+    configureLidar(spec_, cfg.rate_hz, cfg.columns, "--rate", "--columns");
     // Without a mode asked for, the sensor's own first (strongest where it offers it).
     mode_ = !cfg.returns.empty()              ? parseReturnMode(cfg.returns, "--returns")
         : spec_.offers(ReturnMode::Strongest) ? ReturnMode::Strongest

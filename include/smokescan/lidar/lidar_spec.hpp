@@ -156,8 +156,11 @@ LidarSpec lidarSpec(const std::string& name_or_path);
 LidarSpec parseLidarSpec(const std::string& text, const std::string& source);
 
 /// @brief Sets the frame rate and, when the sensor takes it, the columns (0 keeps the preset's).
-/// @throw Error naming `where` for a rate or column count the sensor does not offer.
-void configureLidar(LidarSpec& spec, double rate_hz, int columns, const std::string& where);
+/// @param rate_where, columns_where what set each (an option, a file) for errors
+/// @throw Error naming `rate_where` for a rate the sensor does not offer, `columns_where` for a
+/// column count, both for a combination of the two it cannot fire.
+void configureLidar(LidarSpec& spec, double rate_hz, int columns, const std::string& rate_where,
+                    const std::string& columns_where);
 
 /// @brief Every beam of one frame, in firing order, with its time from the frame's start.
 std::vector<PatternBeam> framePattern(const LidarSpec& spec);
