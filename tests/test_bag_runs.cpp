@@ -840,11 +840,19 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
               "lies in the frames' folder", file("lidar_bag_f5.toml"));
     EXPECT_EQ(slurp(bag / "metadata.yaml"), meta);
     // Frames stamped outside the scene's time (factory_smoke: 0 to 48 s), as a recording's
-    // wall-clock stamps would be.
+    // wall-clock stamps would be: scanned in the same room with a longer time line (scan refuses
+    // times outside its scene's).
     const fs::path late = dir() / "lidar_bag_late";
     fs::remove_all(late);
-    ASSERT_EQ(cli("scan factory_smoke --sensor vlp16 --from 60 --to 60.2 --bag " + late.string() + " --quiet").status,
-              0);
+    std::string longer = slurp("scenes/factory_smoke.toml");
+    ASSERT_NE(longer.find("t_end_s = 48\n"), std::string::npos);
+    longer.replace(longer.find("t_end_s = 48\n"), 13, "t_end_s = 80\n");
+    const std::string longer_scene = file("factory_smoke_80s.toml", longer);
+    expectBad("scan factory_smoke --sensor vlp16 --from 60 --to 60.2 --bag " + late.string(),
+              "--to: the last frame, from 60.2 s, ends at", late.string());
+    ASSERT_EQ(
+        cli("scan " + longer_scene + " --sensor vlp16 --from 60 --to 60.2 --bag " + late.string() + " --quiet").status,
+        0);
     expectBad(
         "diagnose --points " + late.string() + " --scene factory_smoke --sensor vlp16 --out " + file("lidar_bag_d5"),
         "message 0 on /points: runs from 60 to 60.0999", file("lidar_bag_d5"));

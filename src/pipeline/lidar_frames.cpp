@@ -254,9 +254,10 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     std::string topic;
     std::vector<FrameIndexEntry> frames =
         bag ? bagListing(cfg.points, cfg.topic, control, keptFrames(cfg.sensor), topic) : readFrameIndex(cfg.points);
+    // The run gives the scanner, its mount and mode; each frame is replayed at its own start
+    // (checkListing names a frame outside the scene's time).
     LidarRunConfig sc = cfg.sensor;
-    sc.from_s = frames.empty() ? NAN : frames.front().start_s;
-    sc.to_s = NAN;
+    sc.from_s = sc.to_s = NAN;
     const LidarRun run(scene, sc);
     const LidarScanner& scanner = run.scanner();
     const std::string sensor = run.spec().name;

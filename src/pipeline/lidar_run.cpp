@@ -1,5 +1,6 @@
 #include "smokescan/pipeline/lidar_run.hpp"
 
+#include "smokescan/core/format.hpp"
 #include "smokescan/core/limits.hpp"
 
 namespace smokescan {
@@ -31,8 +32,17 @@ LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene
             "--to",
             "would make " + limits::count(wanted) + " lidar frames (at most " + std::to_string(limits::kFrames) + ")");
     frames_ = (long long)wanted;
+    // Every frame within the scene's time, as the frames' readers require (lidar_frames.cpp).
+    if (from_s_ < scene.t_start_s - 1e-6)
+        throw Error("--from", fmt("%.9g s is before the scene's start, %.9g s", from_s_, scene.t_start_s));
     surfaces_ = std::make_unique<SurfaceSet>(scene_);
     scanner_ = std::make_unique<LidarScanner>(scene_, *surfaces_, mount_, spec_, mode_, cfg.seed);
+    const auto& pattern = scanner_->pattern();
+    const double last_end = frameStart(frames_ - 1) + (pattern.empty() ? 0.0 : pattern.back().time_s);
+    if (last_end > scene.t_end_s + 1e-6)
+        throw Error("--to",
+                    fmt("the last frame, from %.9g s, ends at %.9g s, after the scene's end, %.9g s",
+                        frameStart(frames_ - 1), last_end, scene.t_end_s));
 }
 
 LidarRun::~LidarRun() = default;
