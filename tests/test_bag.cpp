@@ -654,6 +654,14 @@ TEST(BagCli, ReadsTheRos1BagsDebiansRosbagWrote)
                 refused += e != "read";
             }
             EXPECT_GT(refused, 10);
+            // A scan stamped at time 0 (ROS 1's "no time", which librosbag drops): refused, not
+            // read one scan short.
+            const std::string zero = (dir() / "ros1_t0.bag").string();
+            const std::string write0 =
+                "/usr/bin/python3 " SMOKESCAN_SOURCE_DIR "/tests/py/write_ros1_bag.py " + zero + " none 3 682 0 0";
+            ASSERT_EQ(std::system(write0.c_str()), 0) << write0;
+            EXPECT_NE(bagError(zero, "/front/scan").find("is a message stamped at time 0"), std::string::npos)
+                << bagError(zero, "/front/scan");
         }
         const std::vector<uint8_t> cut(text.begin(), text.begin() + long(text.size() / 2));
         const std::string e = bagError(writeBytes("ros1_cut.bag", cut));

@@ -611,6 +611,22 @@ TEST(BagCli, ReadsThePointCloudsAnIndependentWriterWroteInOustersLayout)
     }
 }
 
+TEST(BagCli, ABagsFolderNameMustFitItsFileNameAndMetadata)
+{
+    // The folder names the bag's file (NAME_0.mcap: 7 bytes more) and metadata.yaml holds it.
+    const fs::path longest = dir() / std::string(248, 'e'), too_long = dir() / std::string(249, 'e');
+    const fs::path not_utf8 = dir() / "bag\xff\xfename";
+    fs::remove_all(longest);
+    const std::string scan = "scan plume --sensor vlp16 --from 20 --to 20 --quiet --bag ";
+    expectBad(scan + too_long.string(), "would name the bag's file 256 bytes long (NAME_0.mcap, at most 255)",
+              too_long.string());
+    expectBad(scan + "'" + not_utf8.string() + "'", "a bag's folder name must be UTF-8 without control characters",
+              not_utf8.string());
+    ASSERT_EQ(cli(scan + longest.string()).status, 0);
+    EXPECT_TRUE(fs::exists(longest / (std::string(248, 'e') + "_0.mcap")));
+    fs::remove_all(longest);
+}
+
 TEST(BagCli, ABagOfMoreFramesThanARunKeepsIsRefusedAsItsFramesAreListed)
 {
     // 200 clouds (an independent writer's) for an OS1-128 at 2048 columns: 262,144 beams a frame,

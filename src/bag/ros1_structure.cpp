@@ -172,7 +172,10 @@ void checkRos1Structure(const std::string& path)
                 const uint8_t iop = opOf(ir.fields, w);
                 if (iop == 0x02) {
                     (void)fieldOf<uint32_t>(ir.fields, "conn", w);
-                    (void)fieldOf<uint64_t>(ir.fields, "time", w);
+                    // Time 0 is ROS 1's "no time": librosbag drops such a message from its index
+                    // with a note on stderr, and the bag would be read short by one.
+                    if (fieldOf<uint64_t>(ir.fields, "time", w) == 0)
+                        throw Error(w, "is a message stamped at time 0 (ROS 1's 'no time': librosbag drops it)");
                     message_offsets.insert(uint32_t(at));
                 } else if (iop == 0x07) {
                     (void)fieldOf<uint32_t>(ir.fields, "conn", w);

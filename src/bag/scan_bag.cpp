@@ -14,12 +14,22 @@ namespace smokescan {
 namespace {
 constexpr const char* kWorld = "map";
 
-/// The bag's name: its folder's (`runs/b1/` → b1).
+/// The bag's name: its folder's (`runs/b1/` → b1). It names the bag's file (NAME_0.mcap) and
+/// metadata.yaml holds it, so it must be UTF-8 without control characters and short enough.
 std::string bagName(const std::string& dir)
 {
     std::filesystem::path p = std::filesystem::path(dir).lexically_normal();
     if (p.filename().empty()) p = p.parent_path();
-    return p.filename().string();
+    const std::string name = p.filename().string();
+    if (printableWhole(name) != name)
+        throw Error(dir,
+                    "a bag's folder name must be UTF-8 without control characters (its file's name and "
+                    "metadata.yaml hold it)");
+    const size_t file = name.size() + std::string("_0.mcap").size();
+    if (file > 255)
+        throw Error(dir,
+                    "would name the bag's file " + std::to_string(file) + " bytes long (NAME_0.mcap, at most 255)");
+    return name;
 }
 }  // namespace
 
@@ -29,12 +39,14 @@ BagFrame bagFrameOf(const Camera& c) { return {c.name, c.pose, c.robot}; }
 
 struct ScanBag::Impl {
     const Scene& scene;
+    std::string name;  ///< checked before the folder is made
     AtomicFolder folder;
     Rosbag2Writer bag;
     std::map<std::string, uint16_t> topics;
     std::set<std::string> mounted;  ///< frames whose mount is on /tf_static
     std::map<int, uint64_t> robot_stamp;  ///< each robot's last pose on /tf [ns]
-    Impl(const std::string& dir, const Scene& s) : scene(s), folder(dir, "the bag", "--bag"), bag(folder, bagName(dir))
+    Impl(const std::string& dir, const Scene& s)
+        : scene(s), name(bagName(dir)), folder(dir, "the bag", "--bag"), bag(folder, name)
     {
     }
     uint16_t topic(const std::string& name, const RosType& type)

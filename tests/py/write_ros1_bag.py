@@ -4,8 +4,9 @@ rule tests/js/write_bag.mjs uses: scan k at stamp 10 + 0.5 k s, beam i reads 0.5
 beam 3 +Inf and beam 5 NaN in every scan. With FRAMES, /cam/image Images too, drawn by
 tests/js/write_bag.mjs's rule (bgra8, rows padded to 40 bytes, 8×6 px at stamp 10 + 0.5 k s, grey
 but for the block x 2…5, y 1…3 of (R, G, B) = (200, 200 − 20 k, 200 − 40 k): saturation 0.2 k),
-recorded 1 ms after their stamps.
-Usage: python3 write_ros1_bag.py FILE.bag none|bz2|lz4 SCANS BEAMS [FRAMES]"""
+recorded 1 ms after their stamps. With FIRST_S, the scans start at FIRST_S s instead of 10 s (0: a
+message at ROS 1's "no time", which librosbag drops from its index).
+Usage: python3 write_ros1_bag.py FILE.bag none|bz2|lz4 SCANS BEAMS [FRAMES [FIRST_S]]"""
 import math
 import sys
 
@@ -17,9 +18,10 @@ from tf2_msgs.msg import TFMessage
 
 path, compression, scans, beams = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
 frames = int(sys.argv[5]) if len(sys.argv) > 5 else 0
+first_ns = round(float(sys.argv[6]) * 1e9) if len(sys.argv) > 6 else 10_000_000_000
 with rosbag.Bag(path, "w", compression=compression, chunk_threshold=16 * 1024) as bag:
     for k in range(scans):
-        ns = 10_000_000_000 + k * 500_000_000
+        ns = first_ns + k * 500_000_000
         stamp = genpy.Time(ns // 10**9, ns % 10**9)
         s = LaserScan()
         s.header.stamp, s.header.frame_id, s.header.seq = stamp, "laser", k
