@@ -241,6 +241,12 @@ TEST(Hardening, UnboundedRequestsAreRefusedBeforeWork)
               file("z.toml"));
     expectBad("fit --laser " + run.log + " --saturation /dev/zero --scene bocas --out " + file("z.toml"), "is not text",
               file("z.toml"));
+    // A NUL deep in a text file: named at its byte, not at the start of the block read.
+    std::string nul(100000, 'a');
+    nul[70001] = '\0';
+    const std::string binary = file("nul_inside.toml");
+    std::ofstream(binary, std::ios::binary) << nul;
+    expectBad("scan " + binary + " --out " + out, "is not text (a NUL byte at byte 70001)", out);
 }
 
 TEST(Hardening, ScanMemoryDoesNotGrowWithTheRunsLength)

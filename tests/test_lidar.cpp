@@ -775,6 +775,22 @@ TEST(Lidar, BadPointCloudsAreOneLineErrorsNamingTheLine)
         "holds 1 whole points of the 4 its header gives (truncated)");
     expectRefused("ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\nend_header\n",
                   "property type 'half' is not a PLY scalar type");
+    // A field twice: refused by name (the second would be read in place of the first).
+    expectRefused("FIELDS x y z x\nSIZE 4 4 4 4\nTYPE F F F F\nPOINTS 0\nDATA ascii\n",
+                  "bad.pcd: has the field 'x' twice");
+    expectRefused(
+        "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float y\nend_header\n",
+        "has the field 'y' twice");
+    // A .ply whose magic is wrong is named a bad PLY, not a bad PCD.
+    try {
+        parsePointCloud("plx\nformat ascii 1.0\n", "frame.ply");
+        ADD_FAILURE() << "a bad PLY was read";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("frame.ply:1: is not a PLY file (its first line is not 'ply')"),
+                  std::string::npos)
+            << e.what();
+    }
     try {
         readPointCloud(scratch("lidar_readback_dir").string());
         ADD_FAILURE() << "a folder was read";

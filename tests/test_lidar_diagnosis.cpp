@@ -866,6 +866,20 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("2.pcd: its recorded start pose is 0.3 m"),
               std::string::npos)
         << test::errorOf([&] { runLidarDiagnosis(cfg); });
+    // A frame's file named longer than the file system allows: that frame named, no raw
+    // std::filesystem error.
+    {
+        std::ifstream in(dir + "/frames.csv");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const size_t at = text.find(",2.pcd,") + 1;
+        ASSERT_NE(at, std::string::npos + 1);
+        text.replace(at, 5, std::string(300, 'b'));
+        std::ofstream(dir + "/frames.csv") << text;
+        const std::string e = test::errorOf([&] { runLidarDiagnosis(cfg); });
+        EXPECT_NE(e.find("frames.csv, frame 2 (" + std::string(300, 'b') + "): its file is missing or not a file"),
+                  std::string::npos)
+            << e;
+    }
     // Frames with no points at all: most certain beams unanswered.
     cfg.points = writePlantedFrames("refused_empty", [](LidarFrame& f, KeyedRng&) { f.points.clear(); });
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("have no recorded return"), std::string::npos);

@@ -446,9 +446,30 @@ TEST(LidarFitRun, SurfacesSharingANameAreOneExtensionFittedAsOne)
     c.to_s = 0.05;
     LidarFitRunConfig fc;
     fc.frames.scene = (dir / "twins.toml").string();
-    fc.frames.points = writeFrames("twins", LidarRun(scene, c).collect());
+    std::vector<LidarFrame> frames = LidarRun(scene, c).collect();
+    fc.frames.points = writeFrames("twins", frames);
     fc.frames.sensor.sensor = "vlp16";
     const LidarFitRunResult r = runLidarFit(fc);
+    EXPECT_EQ(r.unusable_intensities, 0);
+    {
+        // Every fifth point's intensity corrupted (NaN, infinite, negative, zero): counted and left
+        // out, and the factor the same within its errors.
+        const float bad[] = {NAN, INFINITY, -50.0f, 0.0f};
+        size_t k = 0;
+        for (LidarFrame& f : frames)
+            for (LidarPoint& p : f.points)
+                if (k++ % 5 == 0) p.intensity = bad[(k / 5) % 4];
+        LidarFitRunConfig corrupt = fc;
+        corrupt.frames.points = writeFrames("twins_corrupt", frames);
+        const LidarFitRunResult rc = runLidarFit(corrupt);
+        const double share = double(rc.unusable_intensities) / double(rc.unusable_intensities + rc.clear);
+        EXPECT_GT(share, 0.15) << rc.unusable_intensities << " of " << rc.clear;
+        EXPECT_LT(share, 0.25) << rc.unusable_intensities << " of " << rc.clear;
+        for (const SurfaceReflectanceFit& f : rc.fit.surfaces)
+            if (f.fitted && rc.surface_names[size_t(f.surface)] == "wall") EXPECT_NEAR(f.factor, 0.6, 4 * totalSe(f));
+        EXPECT_NE(lidarFitJson(rc).find("\"unusable_intensities\": " + std::to_string(rc.unusable_intensities)),
+                  std::string::npos);
+    }
     int walls = 0;
     for (const SurfaceReflectanceFit& f : r.fit.surfaces)
         if (f.fitted && r.surface_names[size_t(f.surface)] == "wall") {

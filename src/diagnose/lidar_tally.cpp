@@ -106,9 +106,14 @@ void LidarTally::add(const std::vector<ExpectedBeam>& expected, const std::vecto
             f.residual_m[c].push_back(got[i] - expected[i].range_m);
             f.residual_surface[c].push_back(surface);
             const ExpectedBeam& x = expected[i];
-            if (keep_intensities_ && surface >= 0 && x.intensity > 0 && got_intensity[i] > 0)
-                intensities_.push_back({surface, got_intensity[i], got_range[i], x.intensity, x.range_m, x.peak_sd,
-                                        x.peak_noise, x.peak_at_half, x.peak_at_quarter});
+            const float recorded = got_intensity[i];
+            if (keep_intensities_ && surface >= 0 && x.intensity > 0 && std::isfinite(off_m[i])) {
+                if (std::isfinite(recorded) && recorded > 0)
+                    intensities_.push_back({surface, recorded, got_range[i], x.intensity, x.range_m, x.peak_sd,
+                                            x.peak_noise, x.peak_at_half, x.peak_at_quarter});
+                else
+                    ++unusable_intensities_;  // NaN, infinite, zero or negative: no reflectivity to fit
+            }
         }
     }
     ++frames_;

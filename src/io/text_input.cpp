@@ -43,10 +43,10 @@ std::string readInputBytes(const std::string& path, const std::string& what, siz
             ::close(fd);
             throw Error(path, "cannot read (" + std::string(std::strerror(e)) + ")");
         }
-        if (text_only && std::memchr(buf, '\0', size_t(n))) {
+        if (const void* nul = text_only ? std::memchr(buf, '\0', size_t(n)) : nullptr) {
             ::close(fd);
-            throw Error(path,
-                        "is not text (a NUL byte near byte " + std::to_string(text.size()) + "); expected a " + what);
+            const size_t at = text.size() + size_t(static_cast<const char*>(nul) - buf);
+            throw Error(path, "is not text (a NUL byte at byte " + std::to_string(at) + "); expected a " + what);
         }
         if (text.size() + size_t(n) > max_bytes) {
             ::close(fd);

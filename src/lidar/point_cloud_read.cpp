@@ -222,8 +222,12 @@ void readBody(const std::string& bytes, size_t at, bool binary, long long n, con
     }
 }
 
+/// Each field once (a second 'x' would be read in place of the first), and x, y and z among them.
 void requireXyz(const std::vector<Field>& fields, const std::string& path)
 {
+    for (size_t i = 0; i < fields.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (fields[i].name == fields[j].name) throw Error(path, "has the field '" + fields[i].name + "' twice");
     for (const char* axis : {"x", "y", "z"}) {
         bool found = false;
         for (const Field& f : fields) found = found || f.name == axis;
@@ -408,7 +412,10 @@ PointCloudFile readPointRecords(const std::string& bytes, long long n, size_t st
 
 PointCloudFile parsePointCloud(const std::string& bytes, const std::string& name)
 {
-    if (bytes.rfind("ply", 0) == 0) return readPly(name, bytes);
+    // By the content, or by the name's suffix (a .ply that does not open with 'ply' is named a bad PLY).
+    const bool ply_name = name.size() >= 4 &&
+        (name.compare(name.size() - 4, 4, ".ply") == 0 || name.compare(name.size() - 4, 4, ".PLY") == 0);
+    if (bytes.rfind("ply", 0) == 0 || ply_name) return readPly(name, bytes);
     return readPcd(name, bytes);
 }
 

@@ -152,6 +152,7 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         // The clear beams and their ranges' spread as the last replay sees them (a surface's
         // factor moves where its echo reads in the smoke).
         out.clear = (long long)last->intensities().size();
+        out.unusable_intensities = last->unusableIntensities();
         const double sd = robustResidualSd({&last->fold(0).residual_m, &last->fold(1).residual_m});
         size_t n = 0;
         for (int k : {0, 1})
@@ -178,6 +179,7 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     j["frames"] = r.frames;
     j["replays"] = r.replays;
     j["clear_beams_answered"] = r.clear;
+    j["unusable_intensities"] = r.unusable_intensities;
     j["beams_used"] = r.fit.beams;
     j["intensity_scatter"] = num(r.fit.scatter);
     j["intensity_scatter_se"] = num(r.fit.scatter_se);

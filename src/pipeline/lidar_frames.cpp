@@ -58,8 +58,9 @@ void checkListing(const std::vector<FrameIndexEntry>& frames, size_t min_frames,
             continue;
         }
         const std::string where = index + ", frame " + std::to_string(e.frame) + " (" + e.file + ")";
-        if (!std::filesystem::is_regular_file(dir + "/" + e.file))
-            throw Error(where, "its file is missing or not a file");
+        std::error_code ec;  // a name too long for the file system is a missing file, not a throw
+        if (!std::filesystem::is_regular_file(dir + "/" + e.file, ec))
+            throw Error(where, "its file is missing or not a file" + (ec ? " (" + ec.message() + ")" : std::string()));
         if (std::abs((e.end_s - e.start_s) - span) > kTimeTolerance_s)
             throw Error(where,
                         fmt("spans %.6g s where the %s's frame spans %.6g s (another rate or column count?)",
@@ -244,7 +245,8 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
 {
     if (cfg.points.empty()) throw Error("--points", "names no folder");
     const bool bag = isLidarFramesBag(cfg.points);
-    if (!bag && !std::filesystem::is_directory(cfg.points))
+    std::error_code ec;
+    if (!bag && !std::filesystem::is_directory(cfg.points, ec))
         throw Error("--points", cfg.points + " is not a folder of frames or a ROS 2 bag");
     if (!bag) noBagWithoutItsMetadata(cfg.points);
     if (!bag && !cfg.topic.empty())

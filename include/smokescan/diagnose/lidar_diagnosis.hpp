@@ -153,6 +153,9 @@ public:
     /// Every clear beam answered on a surface, both folds: its recorded and replayed intensity
     /// (what `smokescan fit --points` fits, fit/lidar_fit.hpp), kept once asked for (36 bytes a beam).
     const std::vector<LidarIntensitySample>& intensities() const { return intensities_; }
+    /// Clear beams answered at their surface whose recorded intensity is not finite or not
+    /// positive: left out of intensities() (counted once asked for).
+    long long unusableIntensities() const { return unusable_intensities_; }
     void keepIntensities(bool keep) { keep_intensities_ = keep; }
 
 private:
@@ -166,6 +169,7 @@ private:
     size_t frames_ = 0;
     long long unmatched_ = 0;
     std::vector<LidarIntensitySample> intensities_;
+    long long unusable_intensities_ = 0;
     bool keep_intensities_ = false;
 };
 

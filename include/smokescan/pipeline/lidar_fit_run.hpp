@@ -36,6 +36,8 @@ struct LidarFitRunResult {
     size_t frames = 0;
     int replays = 1;  ///< the frames replayed this many times (the last with the factors before the last step)
     long long clear = 0;  ///< clear beams answered at their surface (the fit's candidates)
+    long long unusable_intensities =
+        0;  ///< of those answered, recorded intensities not finite or not positive: left out
     double range_sd_m = NAN;  ///< the clear beams' range residuals' robust sd (1.4826·MAD) [m]
     double range_sd_se_m = NAN;  ///< its standard error (1.166·sd/√n, the MAD's for a normal)
     double preset_range_sd_m = NAN;  ///< the preset's range_sigma_m
