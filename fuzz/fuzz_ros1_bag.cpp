@@ -1,5 +1,5 @@
 // Fuzzes the ROS 1 bag reader (bag/bag_input.hpp: the structure check, then librosbag_storage),
-// its LaserScans and its Images:
+// its LaserScans, its Images and its PointCloud2s:
 // the bytes go to a file, which is what librosbag reads.
 #include <unistd.h>
 
@@ -21,6 +21,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     (void)fuzzReader(data, size, [](const std::string&) {
         (void)smokescan::readBagImages(
             path, "", [](smokescan::ImageMsg&& m, const std::string& what) { (void)smokescan::imageOf(m, what); });
+    });
+    (void)fuzzReader(data, size, [](const std::string&) {
+        (void)smokescan::readBagPointClouds(path, "",
+                                            [](const smokescan::PointCloud2Msg& m, double, const std::string& what) {
+                                                (void)smokescan::pointCloudFileOf(m, what);
+                                            });
     });
     std::remove(path.c_str());
     return r;

@@ -611,6 +611,57 @@ TEST(BagCli, ReadsThePointCloudsAnIndependentWriterWroteInOustersLayout)
     }
 }
 
+TEST(BagCli, AROS1BagOfALidarsFramesGivesTheFramesFoldersDiagnosisAndFit)
+{
+    // A VLP-16 whose ring 5 reads 0.2 m long, scanned into a frames folder; Debian's python3-rosbag
+    // writes its PCDs (read by the script's own parser) as PointCloud2s with padded rows, in each
+    // compression. Diagnosed and fitted from the ROS 1 bag: what the folder gives.
+    if (std::system("/usr/bin/python3 -c 'import rosbag, sensor_msgs.msg, numpy' >/dev/null 2>&1") != 0) {
+        if (std::getenv("SMOKESCAN_REQUIRE_READERS")) FAIL() << "python3-rosbag is not installed";
+        GTEST_SKIP() << "python3-rosbag, python3-sensor-msgs or numpy is missing (scripts/setup.sh installs them)";
+    }
+    const fs::path pts = dir() / "ros1_lidar_pts";
+    fs::remove_all(pts);
+    const std::string preset = file("ros1_lidar_biased.toml",
+                                    "name = \"biased\"\nbase = \"vlp16\"\n[extensions]\n[[extensions.channel]]\n"
+                                    "ring = 5\nrange_offset_m = 0.2\n");
+    CliRun r = cli("scan factory_smoke --sensor " + preset + " --from 38 --to 38.25 --returns dual --points " +
+                   pts.string() + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string common = " --scene factory_smoke --sensor vlp16 --returns dual ";
+    auto diagnosisOf = [&](const std::string& in, const std::string& name) {
+        const fs::path out = dir() / name;
+        fs::remove_all(out);
+        const CliRun d = cli("diagnose --points " + in + common + "--out " + out.string());
+        EXPECT_EQ(d.status, 0) << in << d.err;
+        nlohmann::json j = nlohmann::json::parse(slurp(out / "diagnosis.json"));
+        for (const char* k : {"pose_mismatch_m", "pose_mismatch_deg", "points", "topic"}) j.erase(k);
+        return j;
+    };
+    const nlohmann::json folder = diagnosisOf(pts.string(), "ros1_lidar_diag_pts");
+    EXPECT_EQ(folder["verdict"], "biased_channel");
+    const std::string fit_folder = file("ros1_lidar_fit_pts.toml");
+    ASSERT_EQ(cli("fit --points " + pts.string() + common + "--out " + fit_folder).status, 0);
+    for (const std::string compression : {"none", "lz4", "bz2"}) {
+        const std::string bag = (dir() / ("ros1_lidar_" + compression + ".bag")).string();
+        const std::string write = "/usr/bin/python3 " SMOKESCAN_SOURCE_DIR "/tests/py/write_ros1_clouds.py " +
+            pts.string() + " " + bag + " " + compression + " 8";
+        ASSERT_EQ(std::system(write.c_str()), 0) << write;
+        EXPECT_EQ(diagnosisOf(bag, "ros1_lidar_diag_" + compression), folder) << compression;
+        const std::string fit = file("ros1_lidar_fit_" + compression + ".toml");
+        r = cli("fit --points " + bag + common + "--out " + fit);
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_EQ(slurp(fit), slurp(fit_folder)) << compression;
+        const nlohmann::json report =
+            nlohmann::json::parse(slurp(dir() / ("ros1_lidar_fit_" + compression + "_report.json")));
+        EXPECT_EQ(report["topic"], "/points");
+    }
+    // A topic it does not have: named, with the PointCloud2 topics it has.
+    expectBad("diagnose --points " + (dir() / "ros1_lidar_none.bag").string() + common + "--topic /cloud --out " +
+                  file("ros1_lidar_d2"),
+              "has no topic /cloud (PointCloud2 topics: /points)", file("ros1_lidar_d2"));
+}
+
 TEST(BagCli, ABagsFolderNameMustFitItsFileNameAndMetadata)
 {
     // The folder names the bag's file (NAME_0.mcap: 7 bytes more) and metadata.yaml holds it.

@@ -265,14 +265,17 @@ PointCloudFile pointCloudFileOf(const PointCloud2Msg& m, const std::string& what
 std::string readBagPointClouds(const std::string& path, const std::string& topic,
                                const std::function<void(const PointCloud2Msg&, double, const std::string&)>& each)
 {
-    if (isRos1BagFile(path))
-        throw Error(path, "is a ROS 1 bag: smokescan reads a 3D lidar's PointCloud2 frames from ROS 2 bags (MCAP)");
     FrameStamps stamps;
-    return readTopic(path, topic, kPointCloud2Type, "PointCloud2", [&](McapMessage&& msg, const std::string& what) {
-        const PointCloud2Msg m = decodePointCloud2(msg.data, what);
+    const auto checked = [&](const PointCloud2Msg& m, const std::string& what) {
         const RosTime& t = m.header.stamp;
         stamps.check(t, what);
         each(m, double(t.sec) + 1e-9 * double(t.nanosec), what);
+    };
+    if (isRos1BagFile(path))
+        return detail::readRos1PointClouds(path, topic,
+                                           [&](PointCloud2Msg&& m, const std::string& what) { checked(m, what); });
+    return readTopic(path, topic, kPointCloud2Type, "PointCloud2", [&](McapMessage&& msg, const std::string& what) {
+        checked(decodePointCloud2(msg.data, what), what);
     });
 }
 

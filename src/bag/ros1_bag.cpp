@@ -6,6 +6,7 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include <cstring>
 #include <fstream>
@@ -69,6 +70,24 @@ void checkImageBytes(const std::vector<uint8_t>& b, const std::string& what)
     w.skip(w.u32());  // encoding
     w.skip(5);  // is_bigendian, step
     w.skip(w.u32());  // data
+}
+
+/// A PointCloud2: the header, height, width, the fields (a uint32 count, each a name, offset,
+/// datatype and count), is_bigendian, point_step, row_step, data (a uint32 count and the bytes),
+/// is_dense.
+void checkPointCloud2Bytes(const std::vector<uint8_t>& b, const std::string& what)
+{
+    ByteWalk w(b, what);
+    w.skip(12);  // seq, stamp
+    w.skip(w.u32());  // frame_id
+    w.skip(8);  // height, width
+    for (uint32_t n = w.u32(), i = 0; i < n; ++i) {  // each field takes 13 bytes at least: n is bounded by them
+        w.skip(w.u32());  // name
+        w.skip(9);  // offset, datatype, count
+    }
+    w.skip(9);  // is_bigendian, point_step, row_step
+    w.skip(w.u32());  // data
+    w.skip(1);  // is_dense
 }
 
 /// A ROS 1 header as ROS 2's (no sequence number).
@@ -185,6 +204,31 @@ std::string readRos1Images(const std::string& path, const std::string& topic,
             m.data = std::move(s.data);
             if (uint64_t(m.step) * m.height != m.data.size())
                 throw Error(what, "has " + std::to_string(m.data.size()) + " bytes of pixels, not height × step");
+            each(std::move(m), what);
+        },
+        chosen);
+    return chosen;
+}
+
+std::string readRos1PointClouds(const std::string& path, const std::string& topic,
+                                const std::function<void(PointCloud2Msg&&, const std::string& what)>& each)
+{
+    std::string chosen;
+    readRos1Topic<sensor_msgs::PointCloud2>(
+        path, topic, "sensor_msgs/PointCloud2", "--topic", checkPointCloud2Bytes,
+        [&](sensor_msgs::PointCloud2&& s, const std::string& what) {
+            PointCloud2Msg m;
+            m.header = headerOf(s.header);
+            m.height = s.height;
+            m.width = s.width;
+            for (const sensor_msgs::PointField& f : s.fields)
+                m.fields.push_back({f.name, f.offset, f.datatype, f.count});
+            m.is_bigendian = s.is_bigendian;
+            m.point_step = s.point_step;
+            m.row_step = s.row_step;
+            m.data = std::move(s.data);
+            m.is_dense = s.is_dense;
+            checkPointCloud2Layout(m, what);
             each(std::move(m), what);
         },
         chosen);

@@ -26,4 +26,11 @@ BagLaserScans readRos1LaserScans(const std::string& path, const std::string& top
 std::string readRos1Images(const std::string& path, const std::string& topic,
                            const std::function<void(ImageMsg&&, const std::string& what)>& each);
 
+/// @brief Calls `each` with every sensor_msgs/PointCloud2 on `topic` ("" = the only PointCloud2
+/// topic) of a ROS 1 bag, checked as readRos1LaserScans checks scans and its layout as a ROS 2
+/// bag's (checkPointCloud2Layout). @return the topic read
+/// @throw Error naming the file.
+std::string readRos1PointClouds(const std::string& path, const std::string& topic,
+                                const std::function<void(PointCloud2Msg&&, const std::string& what)>& each);
+
 }  // namespace smokescan::detail

@@ -233,6 +233,12 @@ PointCloud2Msg decodePointCloud2(const std::vector<uint8_t>& b, const std::strin
     m.data = r.getSequence<uint8_t>();
     m.is_dense = r.getBool();
     finished(r, what);
+    checkPointCloud2Layout(m, what);
+    return m;
+}
+
+void checkPointCloud2Layout(const PointCloud2Msg& m, const std::string& what)
+{
     if (uint64_t(m.point_step) * m.width > m.row_step)
         throw Error(what,
                     "has rows of " + std::to_string(m.width) + " points of " + std::to_string(m.point_step) +
@@ -241,7 +247,6 @@ PointCloud2Msg decodePointCloud2(const std::vector<uint8_t>& b, const std::strin
         throw Error(what,
                     "has " + std::to_string(m.data.size()) + " bytes of points, not height × row_step (" +
                         std::to_string(m.height) + " × " + std::to_string(m.row_step) + ")");
-    return m;
 }
 
 }  // namespace smokescan

@@ -113,6 +113,10 @@ std::vector<uint8_t> encode(const MultiEchoLaserScanMsg& m);
 LaserScanMsg decodeLaserScan(const std::vector<uint8_t>& b, const std::string& what);
 TfMsg decodeTf(const std::vector<uint8_t>& b, const std::string& what);
 PointCloud2Msg decodePointCloud2(const std::vector<uint8_t>& b, const std::string& what);
+/// @brief Refuses a PointCloud2 whose rows hold more points than their bytes (width × point_step
+/// over row_step) or whose bytes are not its rows' (height × row_step): what every reader checks.
+/// @throw Error naming `what`.
+void checkPointCloud2Layout(const PointCloud2Msg& m, const std::string& what);
 ImageMsg decodeImage(const std::vector<uint8_t>& b, const std::string& what);
 
 }  // namespace smokescan
