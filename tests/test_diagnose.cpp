@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -582,6 +584,21 @@ TEST(Diagnose, TheReportIsTheSameOnOneThreadAndOnAll)
     EXPECT_EQ(one, all);
     EXPECT_NE(all.find('"' + a.cause + '"'), std::string::npos) << all;  // a report with findings
     EXPECT_NE(all.find('"' + b.cause + '"'), std::string::npos) << all;
+}
+
+TEST(DiagnosisReport, EveryInputsNameIsWrittenEscapedWhateverItsBytes)
+{
+    // Each input named with a byte that is not UTF-8 and a line break: the JSON is valid and names
+    // each escaped, whole (the JSON writer would throw on the raw byte after all the work).
+    DiagnosisSources src{"laser\xff.log", "sat\nurated.csv", "scene\xfe.toml", "calib\x01.json", "sensor\xc3.toml"};
+    DiagnosisResult r;
+    r.verdict = "none";
+    const nlohmann::json j = nlohmann::json::parse(diagnosisJson(r, src));
+    EXPECT_EQ(j["inputs"]["laser"], "laser\\xFF.log");
+    EXPECT_EQ(j["inputs"]["saturation"], "sat\\x0Aurated.csv");
+    EXPECT_EQ(j["inputs"]["scene"], "scene\\xFE.toml");
+    EXPECT_EQ(j["inputs"]["calibration"], "calib\\x01.json");
+    EXPECT_EQ(j["inputs"]["sensor_file"], "sensor\\xC3.toml");
 }
 
 TEST(Diagnose, BelowDetectabilityIsNotClaimed)
