@@ -198,22 +198,6 @@ std::string eachBagCloud(const std::string& bag, const std::string& topic, const
     }
 }
 
-/// The most frames of the lidar `sc` names whose readings a run keeps (limits::kKeptReadings),
-/// known before its frames are listed; limits::kFrames when its options are wrong (the run names
-/// them, after the listing).
-int64_t keptFrames(const LidarRunConfig& sc)
-{
-    if (!(sc.rate_hz >= 0) || !std::isfinite(sc.rate_hz) || sc.columns < 0) return limits::kFrames;
-    try {
-        LidarSpec spec = lidarSpec(sc.sensor);
-        configureLidar(spec, sc.rate_hz, sc.columns, "--rate", "--columns");
-        const size_t beams = framePattern(spec).size();
-        return beams > 0 ? std::min(limits::kFrames, limits::kKeptReadings / int64_t(beams)) : limits::kFrames;
-    } catch (const Error&) {
-        return limits::kFrames;
-    }
-}
-
 /// A bag's frames as a listing: one a PointCloud2 message, starting at its stamp and spanning the
 /// sensor's frame (set by the caller); `file` names the message. `read` is set to the topic read.
 /// More than `most` frames are refused as they are listed, not after the bag's last.
@@ -253,15 +237,19 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         throw Error("--topic", "names a bag's topic, and " + cfg.points + " is a folder of frames (frames.csv)");
     const Scene scene = loadScene(cfg.scene);
     if (cfg.on_scene) cfg.on_scene(scene);
-    std::string topic;
-    std::vector<FrameIndexEntry> frames =
-        bag ? bagListing(cfg.points, cfg.topic, control, keptFrames(cfg.sensor), topic) : readFrameIndex(cfg.points);
-    // The run gives the scanner, its mount and mode; each frame is replayed at its own start
-    // (checkListing names a frame outside the scene's time).
+    // The run gives the scanner, its mount and mode (its options checked before the frames are
+    // listed); each frame is replayed at its own start (checkListing names a frame outside the
+    // scene's time).
     LidarRunConfig sc = cfg.sensor;
     sc.from_s = sc.to_s = NAN;
     const LidarRun run(scene, sc);
     const LidarScanner& scanner = run.scanner();
+    // A bag of more frames than a run keeps the readings of is refused as it is listed.
+    const int64_t most =
+        std::min(limits::kFrames, limits::kKeptReadings / int64_t(std::max<size_t>(1, scanner.pattern().size())));
+    std::string topic;
+    std::vector<FrameIndexEntry> frames =
+        bag ? bagListing(cfg.points, cfg.topic, control, most, topic) : readFrameIndex(cfg.points);
     const std::string sensor = run.spec().name;
     if (bag)
         for (FrameIndexEntry& e : frames) e.end_s = e.start_s + scanner.pattern().back().time_s;
