@@ -662,6 +662,31 @@ TEST(BagCli, ReadsTheRos1BagsDebiansRosbagWrote)
             ASSERT_EQ(std::system(write0.c_str()), 0) << write0;
             EXPECT_NE(bagError(zero, "/front/scan").find("is a message stamped at time 0"), std::string::npos)
                 << bagError(zero, "/front/scan");
+            // The first index record's entries ([time 8 bytes, offset 4] each) changed: an entry at
+            // time 0, and an entry pointing at its neighbour's message, which leaves one message
+            // that no entry points to. librosbag would read the bag one message short either way.
+            size_t entries = std::string::npos;
+            for (size_t pos = 13; pos + 8 <= text.size();) {  // the top-level records after the magic
+                uint32_t hl, dl;
+                std::memcpy(&hl, text.data() + pos, 4);
+                std::memcpy(&dl, text.data() + pos + 4 + hl, 4);
+                if (text.substr(pos + 4, hl).find(std::string("op=\x04", 4)) != std::string::npos) {
+                    entries = pos + 8 + hl;
+                    break;
+                }
+                pos += 8 + size_t(hl) + dl;
+            }
+            ASSERT_NE(entries, std::string::npos);
+            std::string at0 = text;
+            std::fill(at0.begin() + long(entries), at0.begin() + long(entries) + 8, '\0');
+            const std::string e0 = bagError(writeBytes("ros1_index_t0.bag", {at0.begin(), at0.end()}), "/front/scan");
+            EXPECT_NE(e0.find("of its chunk at time 0"), std::string::npos) << e0;
+            std::string twice = text;
+            std::copy(text.begin() + long(entries) + 8, text.begin() + long(entries) + 12,
+                      twice.begin() + long(entries) + 20);
+            const std::string e1 =
+                bagError(writeBytes("ros1_unindexed.bag", {twice.begin(), twice.end()}), "/front/scan");
+            EXPECT_NE(e1.find("no index entry points to (librosbag would skip it)"), std::string::npos) << e1;
         }
         const std::vector<uint8_t> cut(text.begin(), text.begin() + long(text.size() / 2));
         const std::string e = bagError(writeBytes("ros1_cut.bag", cut));

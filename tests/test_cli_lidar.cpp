@@ -105,6 +105,11 @@ TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
     expectBad(scan + "vlp16 --out x.log", "--out: is for the 2D lasers", pts);
     expectBad(scan + "vlp16 --top-view " + (dir() / "t.bmpx").string(), "t.bmpx: unknown image format", pts);
     expectBad(scan + "vlp16 --from 0 --to 20000", "would make 200001 lidar frames (at most 100000)", pts);
+    // Frames within the scene's time (plume: 0 to 150 s), the last ending by its end; the option
+    // that set the time at fault named.
+    expectBad(scan + "vlp16 --from -1", "--from: -1 s is before the scene's start, 0 s", pts);
+    expectBad(scan + "vlp16 --from 149.95", "--from: the last frame, from 149.95 s, ends at 150.0", pts);
+    expectBad(scan + "vlp16 --from 149 --to 150", "--to: the last frame, from 150 s, ends at 150.0", pts);
     expectBad(scan + (dir() / "nosuch.toml").string(), "nosuch.toml", pts);
     expectBad("scan plume --sensor vlp16", "--points: a lidar's frames need a folder", pts);
     expectBad("scan bocas --sensor urg04lx --out " + file("u.log") + " --returns dual", "--returns: is for a 3D lidar",

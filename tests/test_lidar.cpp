@@ -235,6 +235,19 @@ TEST(Lidar, PresetsRefuseWhatTheSensorDoesNotOffer)
         {"m.toml", "elevation_uniform_deg = [100, -10, 3]\n", "m.toml:3: elevation_uniform_deg must lie within ±90°"},
     }};
     for (const auto& row : bad) refused([&] { lidarSpec(write(dir / row[0], head + row[1])); }, row[2]);
+    // A combination the sensor cannot fire, set by one option: that option named alone.
+    LidarSpec many = lidarSpec(write(dir / "many.toml",
+                                     head +
+                                         "elevation_uniform_deg = [-10, 10, 512]\ncolumns = 1024\n"
+                                         "columns_allowed = [1024, 8192]\n"));
+    refused([&] { configureLidar(many, 0, 8192, "--rate", "--columns"); },
+            "--columns: the x would fire more than 4,000,000 beams a frame");
+    LidarSpec fast = lidarSpec(write(dir / "fast.toml",
+                                     head +
+                                         "elevation_deg = [0]\ncolumns = 2048\nrates_hz = [10, 20]\n"
+                                         "max_column_rate_hz = 20480\n"));
+    refused([&] { configureLidar(fast, 20, 0, "--rate", "--columns"); },
+            "--rate: the x fires at most 20480 columns a second");
     // A pattern timed for 10 Hz cannot run at 20 Hz: its beams would leave the frame.
     LidarSpec slow = lidarSpec(patternedLidar("slow", "0, 0, 0\n1, 0, 0.08\n", "rates_hz = [10, 20]\n"));
     refused([&] { configureLidar(slow, 20, 0, "--rate", "--columns"); },

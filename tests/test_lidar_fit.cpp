@@ -462,11 +462,18 @@ TEST(LidarFitRun, SurfacesSharingANameAreOneExtensionFittedAsOne)
         LidarFitRunConfig corrupt = fc;
         corrupt.frames.points = writeFrames("twins_corrupt", frames);
         const LidarFitRunResult rc = runLidarFit(corrupt);
+        // A fifth of the answered beams, every kind of bad value among them (letting one kind
+        // through, e.g. +Inf, would leave three twentieths).
         const double share = double(rc.unusable_intensities) / double(rc.unusable_intensities + rc.clear);
-        EXPECT_GT(share, 0.15) << rc.unusable_intensities << " of " << rc.clear;
-        EXPECT_LT(share, 0.25) << rc.unusable_intensities << " of " << rc.clear;
+        EXPECT_GT(share, 0.19) << rc.unusable_intensities << " of " << rc.clear;
+        EXPECT_LT(share, 0.21) << rc.unusable_intensities << " of " << rc.clear;
+        int fitted = 0;
         for (const SurfaceReflectanceFit& f : rc.fit.surfaces)
-            if (f.fitted && rc.surface_names[size_t(f.surface)] == "wall") EXPECT_NEAR(f.factor, 0.6, 4 * totalSe(f));
+            if (f.fitted && rc.surface_names[size_t(f.surface)] == "wall") {
+                ++fitted;
+                EXPECT_NEAR(f.factor, 0.6, 4 * totalSe(f));
+            }
+        EXPECT_EQ(fitted, 1);
         EXPECT_NE(lidarFitJson(rc).find("\"unusable_intensities\": " + std::to_string(rc.unusable_intensities)),
                   std::string::npos);
     }

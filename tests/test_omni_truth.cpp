@@ -204,6 +204,21 @@ TEST(SensorsVersusSmoke, PairsEachScanlineAndBeamWithItsOwnTruthInClearAir)
     EXPECT_THROW(SensorsVersusSmoke(parseScene("[scene]\n", "empty.toml", ""), surfaces, rc.range), Error);
 }
 
+TEST(OmniRun, ASceneWhoseTimeStartsAfterZeroIsRunFromItsStart)
+{
+    // The laser beside the camera is set up at the scene's start (it was set up at 0 s, which a
+    // scene from 5 s refuses as before its start).
+    std::string text = test::omniCourt();
+    text.replace(text.find("t_start_s = 0\nt_end_s = 2"), 24, "t_start_s = 5\nt_end_s = 7");
+    const Scene scene = parseScene(text, "court.toml", "");
+    const SurfaceSet surfaces(scene);
+    OmniRunConfig rc;
+    rc.spp = 4;
+    rc.range.height_m = 0.931;
+    OmniRun run(scene, surfaces, rc);
+    EXPECT_GT(run.laser().scanAt(5, 0).value.size(), 0u);
+}
+
 TEST(OmniTraining, LeavesOutTheScanlinesThatDisagreeWithTheLaser)
 {
     // The court stretched to a wall 3 m ahead, and a narrow yellow table top (0.45–0.5 m high,

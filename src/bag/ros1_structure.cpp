@@ -123,7 +123,16 @@ void checkRos1Structure(const std::string& path)
         throw Error(path, "is not a ROS 1 bag (format 2.0)");
     std::set<uint64_t> starts, chunks;  // record starts; chunk starts
     std::set<uint32_t> message_offsets;  // the last chunk's message records, by offset in it
+    std::set<uint32_t> unindexed;  // those no index entry has pointed at yet
+    uint64_t last_chunk = 0;
     bool after_chunk = false;
+    // librosbag reads a chunk's messages through its index entries: one they miss is skipped.
+    auto closeChunk = [&] {
+        if (!unindexed.empty())
+            throw Error(path + ": record at byte " + std::to_string(last_chunk),
+                        "is a chunk whose message at byte " + std::to_string(*unindexed.begin()) +
+                            " no index entry points to (librosbag would skip it)");
+    };
     uint64_t index_pos = 0, pos = kMagicBytes, records = 0;
     std::vector<uint8_t> buf;
     std::vector<std::pair<uint64_t, uint64_t>> chunk_infos;  // (record, chunk_pos)
@@ -165,6 +174,7 @@ void checkRos1Structure(const std::string& path)
             if (c == r.fields.end()) throw Error(where, "is a chunk without its compression");
             const std::vector<uint8_t> inner =
                 unpack(c->second, r.data, r.data_len, fieldOf<uint32_t>(r.fields, "size", where), where);
+            closeChunk();
             message_offsets.clear();
             for (size_t at = 0; at < inner.size();) {
                 const std::string w = where + " (its record at byte " + std::to_string(at) + ")";
@@ -186,6 +196,8 @@ void checkRos1Structure(const std::string& path)
                 at += ir.size;
             }
             chunks.insert(pos);
+            unindexed = message_offsets;
+            last_chunk = pos;
             after_chunk = true;
             break;
         }
@@ -196,12 +208,19 @@ void checkRos1Structure(const std::string& path)
             if (fieldOf<uint32_t>(r.fields, "ver", where) != 1 || uint64_t(n) * 12 != r.data_len)
                 throw Error(where, "is an index record of another version or length");
             for (uint32_t i = 0; i < n; ++i) {
+                uint64_t time;
                 uint32_t offset;
+                std::memcpy(&time, r.data + 12 * size_t(i), 8);
                 std::memcpy(&offset, r.data + 12 * size_t(i) + 8, 4);
                 if (!message_offsets.count(offset))
                     throw Error(
                         where,
                         "indexes a message at byte " + std::to_string(offset) + " of its chunk, where none starts");
+                if (time == 0)  // ROS 1's "no time": librosbag drops the entry, and with it the message
+                    throw Error(where,
+                                "indexes the message at byte " + std::to_string(offset) +
+                                    " of its chunk at time 0 (ROS 1's 'no time': librosbag drops it)");
+                unindexed.erase(offset);
             }
             break;
         }
@@ -224,6 +243,7 @@ void checkRos1Structure(const std::string& path)
         if (++records > uint64_t(limits::kBagMessages)) throw Error(path, "has too many records");
         pos += buf.size();
     }
+    closeChunk();
     if (index_pos != 0 && index_pos != size && !starts.count(index_pos))
         throw Error(path, "has its index at byte " + std::to_string(index_pos) + ", where no record starts");
     for (const auto& [at, chunk] : chunk_infos)

@@ -32,7 +32,7 @@ OmniRun::OmniRun(const Scene& scene, const SurfaceSet& surfaces, const OmniRunCo
     ScanConfig sc;
     sc.sensor = cfg.laser;
     sc.seed = cfg.seed;
-    sc.from_s = sc.to_s = 0;
+    sc.from_s = sc.to_s = scene.t_start_s;  // each frame's scan is taken at its own time (scanAt)
     sc.rate_hz = 1;
     scanner_ = std::make_unique<Scanner>(scene, surfaces, sc);
     if (!(std::abs(cfg.exposure) <= 1e6) || (cfg.exposure > 0 && cfg.exposure < 1e-6))

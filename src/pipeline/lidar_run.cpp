@@ -40,7 +40,7 @@ LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene
     const auto& pattern = scanner_->pattern();
     const double last_end = frameStart(frames_ - 1) + (pattern.empty() ? 0.0 : pattern.back().time_s);
     if (last_end > scene.t_end_s + 1e-6)
-        throw Error("--to",
+        throw Error(std::isnan(cfg.to_s) ? "--from" : "--to",  // the option that set the last frame
                     fmt("the last frame, from %.9g s, ends at %.9g s, after the scene's end, %.9g s",
                         frameStart(frames_ - 1), last_end, scene.t_end_s));
 }
