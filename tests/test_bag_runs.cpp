@@ -669,6 +669,13 @@ TEST(BagCli, AROS1BagOfALidarsFramesGivesTheFramesFoldersDiagnosisAndFit)
     ASSERT_EQ(std::system(write.c_str()), 0) << write;
     expectBad("diagnose --points " + short_rows + common + "--out " + file("ros1_lidar_d3"),
               "message 0 on /points: has rows of", file("ros1_lidar_d3"));
+    // A header stamp never set (0, ROS 1's "no time"): the frame's time is not known.
+    const std::string zero = (dir() / "ros1_lidar_zero.bag").string();
+    const std::string write0 = "/usr/bin/python3 " SMOKESCAN_SOURCE_DIR "/tests/py/write_ros1_clouds.py " +
+        pts.string() + " " + zero + " none 0 zero-stamp";
+    ASSERT_EQ(std::system(write0.c_str()), 0) << write0;
+    expectBad("diagnose --points " + zero + common + "--out " + file("ros1_lidar_d4"),
+              "message 0 on /points: has the header stamp 0", file("ros1_lidar_d4"));
 }
 
 TEST(BagCli, ABagsFolderNameMustFitItsFileNameAndMetadata)
@@ -925,7 +932,7 @@ TEST(BagCli, ALidarsBagAndItsFramesFolderGiveTheSameDiagnosisAndFit)
     longer.replace(longer.find("t_end_s = 48\n"), 13, "t_end_s = 80\n");
     const std::string longer_scene = file("factory_smoke_80s.toml", longer);
     expectBad("scan factory_smoke --sensor vlp16 --from 60 --to 60.2 --bag " + late.string(),
-              "--to: the last frame, from 60.2 s, ends at", late.string());
+              "--from: 60 s is after the scene's end, 48 s", late.string());
     ASSERT_EQ(
         cli("scan " + longer_scene + " --sensor vlp16 --from 60 --to 60.2 --bag " + late.string() + " --quiet").status,
         0);

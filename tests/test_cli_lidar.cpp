@@ -99,15 +99,28 @@ TEST(LidarCli, BadLidarOptionsAreOneLineErrorsAndLeaveNoFolder)
     expectBad(scan + "os1-128 --rate 20 --columns 2048",
               "--rate and --columns: the os1-128 fires at most 20480 columns a second", pts);
     expectBad(scan + "vlp16 --rate 7", "--rate: the vlp16 spins at 5, 10, 15, 20 Hz, not 7", pts);
-    expectBad(scan + "vlp16 --columns 1024", "--columns: the vlp16's columns follow from its rate", pts);
+    expectBad(
+        scan + "vlp16 --columns 1024",
+        "--columns: the vlp16's columns follow from its rate (a column each firing cycle): 1808 at 10 Hz, not 1024",
+        pts);
     expectBad(scan + "os1-128 --columns 8192", "--columns: the os1-128 offers 512, 1024, 2048 columns, not 8192", pts);
     expectBad(scan + "vlp16 --points-format las", "--points-format: must be pcd or ply", pts);
     expectBad(scan + "vlp16 --out x.log", "--out: is for the 2D lasers", pts);
     expectBad(scan + "vlp16 --top-view " + (dir() / "t.bmpx").string(), "t.bmpx: unknown image format", pts);
-    expectBad(scan + "vlp16 --from 0 --to 20000", "would make 200001 lidar frames (at most 100000)", pts);
+    {
+        // The bound on frames, in the plume made to last 30,000 s.
+        std::string longer = slurp("scenes/plume.toml");
+        longer.replace(longer.find("t_end_s = 150\n"), 14, "t_end_s = 30000\n");
+        expectBad(
+            "scan " + file("plume_long.toml", longer) + " --points " + pts + " --sensor vlp16 --from 0 --to 20000",
+            "would make 200001 lidar frames (at most 100000)", pts);
+    }
     // Frames within the scene's time (plume: 0 to 150 s), the last ending by its end; the option
     // that set the time at fault named.
     expectBad(scan + "vlp16 --from -1", "--from: -1 s is before the scene's start, 0 s", pts);
+    expectBad(scan + "vlp16 --from -1e-9", "--from: -1e-09 s is before the scene's start, 0 s", pts);
+    expectBad(scan + "vlp16 --from 151", "--from: 151 s is after the scene's end, 150 s", pts);
+    expectBad(scan + "vlp16 --from 20 --to -1", "--to: -1 s is before the scene's start, 0 s", pts);
     expectBad(scan + "vlp16 --from 149.95", "--from: the last frame, from 149.95 s, ends at 150.0", pts);
     expectBad(scan + "vlp16 --from 149 --to 150", "--to: the last frame, from 150 s, ends at 150.0", pts);
     expectBad(scan + (dir() / "nosuch.toml").string(), "nosuch.toml", pts);

@@ -231,6 +231,9 @@ TEST(Hardening, UnboundedRequestsAreRefusedBeforeWork)
     expectBad("scan bocas --from 0 --to 360 --rate 99999 --out " + out, "million scans", out);
     expectBad("scan bocas --from -1 --to 3 --out " + out, "--from: -1 s is before the scene's start, 0 s", out);
     expectBad("scan bocas --from 1 --to 361 --out " + out, "--to: 361 s is after the scene's end, 360 s", out);
+    expectBad("scan bocas --from 1 --to 360.0000001 --out " + out,
+              "--to: 360.0000001 s is after the scene's end, 360 s", out);
+    expectBad("scan bocas --from 400 --out " + out, "--from: 400 s is after the scene's end, 360 s", out);
     expectBad("scan bocas --from 0 --to 360 --rate 200 --out " + out + " --image " + png, "--image: would draw", out);
     expectBad("render bocas --spp 2147483647 --out " + png, "--spp", png);
     expectBad("render bocas --from 0 --to 10 --every 1e-9 --out " + file("f{i}.png"), "--every: would render", png);

@@ -202,8 +202,11 @@ TEST(Lidar, PresetsRefuseWhatTheSensorDoesNotOffer)
     refused([&] { configureLidar(o, 0, 8192, "--rate", "--columns"); },
             "--columns: the os1-128 offers 512, 1024, 2048 columns, not 8192");
     LidarSpec v = lidarSpec("vlp16");
-    refused([&] { configureLidar(v, 10, 1024, "--rate", "--columns"); },
-            "--columns: the vlp16's columns follow from its rate");
+    refused(
+        [&] { configureLidar(v, 10, 1024, "--rate", "--columns"); },
+        "--columns: the vlp16's columns follow from its rate (a column each firing cycle): 1808 at 10 Hz, not 1024");
+    configureLidar(v, 20, 904, "--rate", "--columns");  // the column count its rate gives: accepted
+    EXPECT_EQ(v.columns, 904);
     refused([] { lidarSpec("vlp32"); }, "no lidar preset 'vlp32' (presets: hdl32e, os1-128, vlp16");
     refused([] { parseReturnMode("both", "--returns"); }, "unknown return mode 'both'");
     const Scene scene = parseScene(wallScene(5, 0.5), "s", ".");

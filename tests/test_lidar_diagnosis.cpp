@@ -880,6 +880,12 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
                   std::string::npos)
             << e;
     }
+    // A third return (return index 2): not a return the diagnosis reads; refused, not dropped.
+    cfg.points = writePlantedFrames("refused_third", [](LidarFrame& f, KeyedRng&) {
+        for (size_t i = 0; i < f.points.size(); i += 50) f.points[i].return_index = 2;
+    });
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("holds a point of return index 2"), std::string::npos)
+        << test::errorOf([&] { runLidarDiagnosis(cfg); });
     // Frames with no points at all: most certain beams unanswered.
     cfg.points = writePlantedFrames("refused_empty", [](LidarFrame& f, KeyedRng&) { f.points.clear(); });
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("have no recorded return"), std::string::npos);

@@ -106,7 +106,8 @@ TEST(OmnirangeCli, BadInputGivesOneLineAndNoOutput)
     expectBad(base + "--train 0 --outlier 0.001 --out " + out, "--outlier", out);
     expectBad(base + "--train 0 --floor-z -200 --out " + out, "--floor-z: puts the floor over 100 m", out);
     expectBad(base + "--train 100 --out " + out, "--train: time 100", out);
-    expectBad("omnirange " + scene + " --from 1 --to 5 --spp 1 --train 0 --out " + out, "--from", out);
+    expectBad("omnirange " + scene + " --from 1 --to 5 --spp 1 --train 0 --out " + out,
+              "--to: 5 s is after the scene's end, 2 s", out);
     expectBad(base + "--train 0 --floor-z 0.5 --out " + out, "--floor-z", out);
     // A file the scene reads (a sensor file) is an input: never an output.
     const std::string sens = file("court_sick.toml", "type = \"lms200\"\n");

@@ -219,6 +219,9 @@ std::string readRos1PointClouds(const std::string& path, const std::string& topi
         [&](sensor_msgs::PointCloud2&& s, const std::string& what) {
             PointCloud2Msg m;
             m.header = headerOf(s.header);
+            // A frame's time is its header's stamp: 0 is ROS 1's "no time" (a stamp never set).
+            if (s.header.stamp.isZero())
+                throw Error(what, "has the header stamp 0 (ROS 1's 'no time': the frame's time is not known)");
             m.height = s.height;
             m.width = s.width;
             for (const sensor_msgs::PointField& f : s.fields)

@@ -145,10 +145,11 @@ void addDiagnose(CLI::App& app, Runner& run)
     addSaturationOptions(c, a->run.in.saturation, a->run.in.image_topic, a->run.in.rects, a->run.in.polygons,
                          "The camera's saturation CSV (drives the replayed smoke; without it the scene's own smoke "
                          "time line is replayed)");
-    c->add_option("--points", a->lidar.points,
-                  "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
-                  "with ring and time fields) or a ROS 2 bag of PointCloud2 frames (--topic); --sensor names the "
-                  "lidar");
+    c->add_option(
+        "--points", a->lidar.points,
+        "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
+        "with ring and time fields) or a ROS 2 or ROS 1 bag of PointCloud2 frames (--topic); --sensor names the "
+        "lidar");
     c->add_option("--returns", a->lidar.sensor.returns, "3D lidar: the frames' return mode (default: the preset's)");
     c->add_option("--columns", a->lidar.sensor.columns, "3D lidar: columns a turn (default: the preset's)")
         ->check(positive());

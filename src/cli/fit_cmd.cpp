@@ -366,11 +366,12 @@ void addFit(CLI::App& app, Runner& run)
                   "Also write per-beam, per-scan covariates from the scene (CSV; needs --scene)")
         ->check(nonEmpty());
     c->add_flag("--covariates-all", a->covariates_all, "Covariates for every beam, not only the groups'");
-    c->add_option("--points", a->points,
-                  "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
-                  "with ring, time and intensity fields) or a ROS 2 bag of PointCloud2 frames (--topic); --sensor "
-                  "names the lidar, --scene its scene; --out the "
-                  "preset extended by each surface's reflectance factor");
+    c->add_option(
+        "--points", a->points,
+        "Or a 3D lidar's frames: a folder as `scan --points` writes it (frames.csv, a PCD or PLY a frame, "
+        "with ring, time and intensity fields) or a ROS 2 or ROS 1 bag of PointCloud2 frames (--topic); --sensor "
+        "names the lidar, --scene its scene; --out the "
+        "preset extended by each surface's reflectance factor");
     c->add_option("--returns", a->lidar.returns, "3D lidar: the frames' return mode (default: the preset's)");
     c->add_option("--columns", a->lidar.columns, "3D lidar: columns a turn (default: the preset's)")->check(positive());
     c->add_option("--rate", a->lidar.rate_hz, "3D lidar: spin rate [Hz] (default: the preset's)")->check(positive());

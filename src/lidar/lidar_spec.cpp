@@ -362,7 +362,7 @@ void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string
         std::string out;
         for (const auto& x : v) {
             char buf[32];
-            std::snprintf(buf, sizeof buf, "%.10g", double(x));
+            std::snprintf(buf, sizeof buf, "%.12g", double(x));
             out += (out.empty() ? "" : ", ") + std::string(buf);
         }
         return out;
@@ -390,10 +390,13 @@ void configureLidar(LidarSpec& s, double rate_hz, int columns, const std::string
         return;
     }
     if (s.firing_cycle_s > 0) {
-        if (columns > 0)
+        const int follow = int(std::floor(1 / (s.rate_hz * s.firing_cycle_s) + 1e-9));
+        if (columns > 0 && columns != follow)
             throw Error(columns_where,
-                        "the " + s.name + "'s columns follow from its rate (a column each firing cycle)");
-        s.columns = int(std::floor(1 / (s.rate_hz * s.firing_cycle_s) + 1e-9));
+                        "the " + s.name +
+                            "'s columns follow from its rate (a column each firing cycle): " + std::to_string(follow) +
+                            " at " + fmtList(std::vector<double>{s.rate_hz}) + " Hz, not " + std::to_string(columns));
+        s.columns = follow;
     } else if (columns > 0) {
         if (std::find(s.columns_allowed.begin(), s.columns_allowed.end(), columns) == s.columns_allowed.end())
             throw Error(

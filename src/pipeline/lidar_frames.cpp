@@ -231,7 +231,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     const bool bag = isLidarFramesBag(cfg.points);
     std::error_code ec;
     if (!bag && !std::filesystem::is_directory(cfg.points, ec))
-        throw Error("--points", cfg.points + " is not a folder of frames or a ROS 2 bag");
+        throw Error("--points", cfg.points + " is not a folder of frames, a ROS 2 bag or a ROS 1 bag");
     if (!bag) noBagWithoutItsMetadata(cfg.points);
     if (!bag && !cfg.topic.empty())
         throw Error("--topic", "names a bag's topic, and " + cfg.points + " is a folder of frames (frames.csv)");
@@ -283,7 +283,15 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         if (cfg.intensities && std::find(pc.fields.begin(), pc.fields.end(), "intensity") == pc.fields.end())
             throw Error(path, "has no intensity field: the fit reads each point's intensity");
         long long frame_first = 0;
-        for (const LidarPoint& p : pc.points) (p.return_index == 0 ? frame_first : second) += 1;
+        for (const LidarPoint& p : pc.points) {
+            // A lidar keeps two returns at most (the first kept and a second): a third is not a
+            // return this diagnosis reads, and dropping it would be silent.
+            if (p.return_index > 1)
+                throw Error(path,
+                            "holds a point of return index " + std::to_string(int(p.return_index)) +
+                                " (0 the first kept return, 1 the second: a lidar keeps two at most)");
+            (p.return_index == 0 ? frame_first : second) += 1;
+        }
         first += frame_first;
         const long long before = tally.unmatched();
         tally.add(scanner.expected(e.start_s, cfg.intensities), pc.points, int(k % 2));

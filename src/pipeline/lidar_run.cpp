@@ -25,23 +25,21 @@ LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene
     mount_ = defaultLidarMount(scene, spec_.name);
     from_s_ = std::isnan(cfg.from_s) ? scene.t_start_s : cfg.from_s;
     const double to = std::isnan(cfg.to_s) ? from_s_ : cfg.to_s;
-    if (!(to >= from_s_)) throw Error("--to", "must not precede --from");
+    scene.checkSpan(from_s_, to);  // frames start within the scene's time; the last ends by its end (below)
     const double wanted = std::floor((to - from_s_) * spec_.rate_hz + 1e-9) + 1;
     if (wanted > double(limits::kFrames))
         throw Error(
             "--to",
             "would make " + limits::count(wanted) + " lidar frames (at most " + std::to_string(limits::kFrames) + ")");
     frames_ = (long long)wanted;
-    // Every frame within the scene's time, as the frames' readers require (lidar_frames.cpp).
-    if (from_s_ < scene.t_start_s - 1e-6)
-        throw Error("--from", fmt("%.9g s is before the scene's start, %.9g s", from_s_, scene.t_start_s));
     surfaces_ = std::make_unique<SurfaceSet>(scene_);
     scanner_ = std::make_unique<LidarScanner>(scene_, *surfaces_, mount_, spec_, mode_, cfg.seed);
     const auto& pattern = scanner_->pattern();
     const double last_end = frameStart(frames_ - 1) + (pattern.empty() ? 0.0 : pattern.back().time_s);
+    // Every frame within the scene's time, as the frames' readers require (lidar_frames.cpp).
     if (last_end > scene.t_end_s + 1e-6)
         throw Error(std::isnan(cfg.to_s) ? "--from" : "--to",  // the option that set the last frame
-                    fmt("the last frame, from %.9g s, ends at %.9g s, after the scene's end, %.9g s",
+                    fmt("the last frame, from %.12g s, ends at %.12g s, after the scene's end, %.12g s",
                         frameStart(frames_ - 1), last_end, scene.t_end_s));
 }
 

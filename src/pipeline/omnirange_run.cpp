@@ -21,9 +21,7 @@ std::vector<double> frameTimes(const OmnirangeRunConfig& a, const Scene& scene)
     const double from = std::isnan(a.from_s) ? scene.t_start_s : a.from_s,
                  to = std::isnan(a.to_s) ? scene.t_end_s : a.to_s;
     if (!std::isfinite(from) || !std::isfinite(to)) throw Error("--from", "and --to must be finite numbers [s]");
-    if (!(to >= from)) throw Error("--to", "must not precede --from");
-    if (from < scene.t_start_s || to > scene.t_end_s)
-        throw Error("--from", "and --to must lie within the scene's " + span(scene));
+    scene.checkSpan(from, to);
     const double n = std::floor((to - from) * a.rate_hz + 1e-9) + 1;
     if (n > double(limits::kFrames))
         throw Error("--rate", "would render over " + std::to_string(limits::kFrames) + " frames");

@@ -1,5 +1,8 @@
 #include "smokescan/scene/scene.hpp"
 
+#include "smokescan/core/error.hpp"
+#include "smokescan/core/format.hpp"
+
 namespace smokescan {
 
 std::optional<LightKind> parseLightKind(const std::string& name)
@@ -53,6 +56,17 @@ int Scene::findSurface(const std::string& name) const
     for (size_t i = 0; i < surfaces.size(); ++i)
         if (surfaces[i].name == name) return int(i);
     return -1;
+}
+
+void Scene::checkSpan(double from_s, double to_s) const
+{
+    auto outside = [&](const char* option, double t) {
+        if (t < t_start_s) throw Error(option, fmt("%.12g s is before the scene's start, %.12g s", t, t_start_s));
+        if (t > t_end_s) throw Error(option, fmt("%.12g s is after the scene's end, %.12g s", t, t_end_s));
+    };
+    outside("--from", from_s);
+    outside("--to", to_s);
+    if (!(to_s >= from_s)) throw Error("--to", "must not precede --from");
 }
 
 int Scene::findSensor(const std::string& key) const

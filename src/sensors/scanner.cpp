@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "smokescan/core/error.hpp"
-#include "smokescan/core/format.hpp"
 #include "smokescan/core/random.hpp"
 #include "smokescan/sensor_config/sensor_file.hpp"
 
@@ -35,11 +34,7 @@ Scanner::Scanner(const Scene& scene, const SurfaceSet& surfaces, const ScanConfi
     if (!std::isfinite(cfg_.from_s)) cfg_.from_s = scene.t_start_s;
     if (!std::isfinite(cfg_.to_s)) cfg_.to_s = scene.t_end_s;
     if (!(cfg_.rate_hz > 0) || !std::isfinite(cfg_.rate_hz)) throw Error("--rate", "must be finite and > 0");
-    if (!(cfg_.to_s >= cfg_.from_s)) throw Error("--to", "must not precede --from");
-    if (cfg_.from_s < scene.t_start_s - 1e-9)
-        throw Error("--from", fmt("%.9g s is before the scene's start, %.9g s", cfg_.from_s, scene.t_start_s));
-    if (cfg_.to_s > scene.t_end_s + 1e-9)
-        throw Error("--to", fmt("%.9g s is after the scene's end, %.9g s", cfg_.to_s, scene.t_end_s));
+    scene.checkSpan(cfg_.from_s, cfg_.to_s);
     if ((cfg_.to_s - cfg_.from_s) * cfg_.rate_hz > 1e6) throw Error("--rate", "more than a million scans requested");
 }
 

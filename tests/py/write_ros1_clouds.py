@@ -5,8 +5,9 @@ stamped at the frame's start and the message recorded 1 ms later (as a recorder 
 fields and values as the PCD holds them, in two rows (a point of NaN coordinates, a driver's
 no-return, appended when the count is odd), each row padded by PAD bytes (row_step = width ·
 point_step + PAD) as some drivers lay out their clouds. With `short-rows`, row_step is one byte
-short of a row's points (a bad layout a reader must refuse).
-Usage: python3 write_ros1_clouds.py FRAMES_DIR OUT.bag none|bz2|lz4 [PAD [short-rows]]"""
+short of a row's points (a bad layout a reader must refuse); with `zero-stamp`, the first frame's
+header stamp is 0 (ROS 1's "no time", as a driver that never set it leaves it).
+Usage: python3 write_ros1_clouds.py FRAMES_DIR OUT.bag none|bz2|lz4 [PAD [short-rows|zero-stamp]]"""
 import csv
 import os
 import sys
@@ -19,6 +20,7 @@ from sensor_msgs.msg import PointCloud2, PointField
 folder, out, compression = sys.argv[1], sys.argv[2], sys.argv[3]
 pad = int(sys.argv[4]) if len(sys.argv) > 4 else 0
 short_rows = len(sys.argv) > 5 and sys.argv[5] == "short-rows"
+zero_stamp = len(sys.argv) > 5 and sys.argv[5] == "zero-stamp"
 DATATYPE = {("I", 1): PointField.INT8, ("U", 1): PointField.UINT8, ("I", 2): PointField.INT16,
             ("U", 2): PointField.UINT16, ("I", 4): PointField.INT32, ("U", 4): PointField.UINT32,
             ("F", 4): PointField.FLOAT32, ("F", 8): PointField.FLOAT64}
@@ -79,4 +81,6 @@ with rosbag.Bag(out, "w", compression=compression) as bag:
             msg.data = b"".join(rows)
             msg.is_dense = False
             recorded = ns + 1_000_000
+            if zero_stamp and row["frame"] == "0":
+                msg.header.stamp = genpy.Time(0, 0)
             bag.write("/points", msg, genpy.Time(recorded // 10**9, recorded % 10**9))

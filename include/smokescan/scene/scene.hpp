@@ -126,6 +126,10 @@ struct Scene {
     std::vector<Robot> robots;
     double t_start_s = 0, t_end_s = 60;
 
+    /// @brief Refuses a run's times outside the scene's time line: `from_s` [s] before its start or
+    /// after its end, `to_s` [s] likewise, `to_s` before `from_s`.
+    /// @throw Error naming --from or --to.
+    void checkSpan(double from_s, double to_s) const;
     /// @brief Index of the sensor with this name, else of the first of this type; −1 if none.
     int findSensor(const std::string& name_or_type) const;
     /// @brief The sensor at time t_s, its pose in the world (on its robot, when it rides on one).
