@@ -234,6 +234,10 @@ TEST(Hardening, UnboundedRequestsAreRefusedBeforeWork)
     expectBad("scan bocas --from 1 --to 360.0000001 --out " + out,
               "--to: 360.0000001 s is after the scene's end, 360 s", out);
     expectBad("scan bocas --from 400 --out " + out, "--from: 400 s is after the scene's end, 360 s", out);
+    // An empty path is not an absent one: named, not taken as no bag (the error named --out).
+    expectBad("scan bocas --bag '' --out " + out, "--bag: must not be empty", out);
+    expectBad("render bocas --bag '' --out " + png, "--bag: must not be empty", png);
+    expectBad("fit --laser '' --saturation x.csv --scene bocas --out " + out, "--laser: must not be empty", out);
     expectBad("scan bocas --from 0 --to 360 --rate 200 --out " + out + " --image " + png, "--image: would draw", out);
     expectBad("render bocas --spp 2147483647 --out " + png, "--spp", png);
     expectBad("render bocas --from 0 --to 10 --every 1e-9 --out " + file("f{i}.png"), "--every: would render", png);

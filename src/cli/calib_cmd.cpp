@@ -193,7 +193,8 @@ void addCalibration(CLI::App& app, Runner& run)
     auto s = std::make_shared<SatArgs>();
     auto* t = app.add_subcommand("saturation", "Target HSV saturation of camera frames (files or a folder) → CSV");
     t->add_option("inputs", s->inputs, "Image files or a folder of frames");
-    t->add_option("--bag", s->bag, "Or a bag (rosbag2 folder, .mcap, ROS 1 .bag) whose Image topic holds the frames");
+    t->add_option("--bag", s->bag, "Or a bag (rosbag2 folder, .mcap, ROS 1 .bag) whose Image topic holds the frames")
+        ->check(nonEmpty());
     t->add_option("--topic", s->topic, "The bag's sensor_msgs/Image topic (default: its only one)")->check(nonEmpty());
     t->add_option("--out", s->out, "CSV to write: time_s,saturation,... per-patch columns")->required();
     t->add_option("--rect", s->rects, "A patch: NAME=x,y,width,height in pixels (repeatable)");

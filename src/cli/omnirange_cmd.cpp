@@ -155,7 +155,8 @@ void addOmnirange(CLI::App& app, Runner& run)
     c->add_option("--out", a->out, "The omnicam's ranges as a laser log (one range per scanline)");
     c->add_option("--bag", a->bag,
                   "Also (or instead) write a ROS 2 bag: a new folder with the omnicam's ranges on /omni/scan and the "
-                  "laser's on /scan (docs/bags.md)");
+                  "laser's on /scan (docs/bags.md)")
+        ->check(nonEmpty());
     c->add_option("--train", a->train, "Times [s] at which the laser's scan trains the colour histogram (comma list)");
     c->add_option("--histogram", a->histogram, "A trained colour histogram to use instead of --train");
     c->add_option("--save-histogram", a->save_histogram, "Also write the trained colour histogram");

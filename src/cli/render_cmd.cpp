@@ -143,7 +143,8 @@ void addRender(CLI::App& app, Runner& run)
     c->add_option("--spp", a->cfg.spp, "Samples per pixel")->capture_default_str()->check(intRange(1, limits::kSpp));
     c->add_option("--out", a->out, "8-bit sRGB frame (.png, .jpg, .tif); {i}/{t} in a time series");
     c->add_option("--bag", a->bag,
-                  "Also (or instead) write the frames as a ROS 2 bag: a new folder, /camera/image (docs/bags.md)");
+                  "Also (or instead) write the frames as a ROS 2 bag: a new folder, /camera/image (docs/bags.md)")
+        ->check(nonEmpty());
     c->add_option("--exr", a->exr, "Also write linear radiance (.exr)");
     c->add_option("--ids", a->ids, "Also write object id, material id and depth AOVs (.exr)");
     c->add_option("--camera", a->cfg.camera, "Scene camera name (default: the first)");

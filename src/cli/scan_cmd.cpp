@@ -314,7 +314,8 @@ void addScan(CLI::App& app, Runner& run)
     c->add_option("--bag", a->bag,
                   "Also (or instead of --out, --points) a ROS 2 bag, a new folder: metadata.yaml and an MCAP file "
                   "with /scan (sensor_msgs/LaserScan) or a 3D lidar's /points (PointCloud2), /tf and /tf_static "
-                  "(docs/bags.md)");
+                  "(docs/bags.md)")
+        ->check(nonEmpty());
     c->add_option("--tau", a->tau_csv, "Also write per-beam optical depth and columns (CSV)");
     c->add_option(
         "--image", a->image,

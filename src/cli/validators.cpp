@@ -165,11 +165,12 @@ void addOmniClassOptions(CLI::App* c, OmniFitConfig& omni, std::set<std::string>
 
 void addScansOptions(CLI::App* c, std::string& laser, std::string& bag, std::string& topic, const char* laser_help)
 {
-    c->add_option("--laser", laser, laser_help);
+    c->add_option("--laser", laser, laser_help)->check(nonEmpty());
     c->add_option(
-        "--bag", bag,
-        "Or a bag: a rosbag2 folder, .mcap or ROS 1 .bag file whose sensor_msgs/LaserScan topic holds the scans "
-        "(docs/bags.md)");
+         "--bag", bag,
+         "Or a bag: a rosbag2 folder, .mcap or ROS 1 .bag file whose sensor_msgs/LaserScan topic holds the scans "
+         "(docs/bags.md)")
+        ->check(nonEmpty());
     c->add_option("--topic", topic,
                   "The bag's LaserScan topic (default: its only one); with --points, a bag's PointCloud2 topic")
         ->check(nonEmpty());
