@@ -798,6 +798,9 @@ TEST(Lidar, BadPointCloudsAreOneLineErrorsNamingTheLine)
         "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
         "property float y\nend_header\n",
         "has the field 'y' twice");
+    // Two names of one value (a point's time in s and Ouster's t in ns): refused, not one read.
+    expectRefused("FIELDS x y z time t\nSIZE 4 4 4 4 4\nTYPE F F F F U\nPOINTS 0\nDATA ascii\n",
+                  "bad.pcd: has the fields 'time' and 't', which both name one value of a point");
     // A .ply whose magic is wrong is named a bad PLY, not a bad PCD.
     try {
         parsePointCloud("plx\nformat ascii 1.0\n", "frame.ply");

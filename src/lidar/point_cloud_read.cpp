@@ -226,8 +226,15 @@ void readBody(const std::string& bytes, size_t at, bool binary, long long n, con
 void requireXyz(const std::vector<Field>& fields, const std::string& path)
 {
     for (size_t i = 0; i < fields.size(); ++i)
-        for (size_t j = 0; j < i; ++j)
+        for (size_t j = 0; j < i; ++j) {
             if (fields[i].name == fields[j].name) throw Error(path, "has the field '" + fields[i].name + "' twice");
+            // Two names drivers give one value (time and Ouster's t, return and return_index).
+            auto value = [](const std::string& n) { return slotOf(n) == Slot::TimeNs ? Slot::Time : slotOf(n); };
+            if (value(fields[i].name) != Slot::None && value(fields[i].name) == value(fields[j].name))
+                throw Error(path,
+                            "has the fields '" + fields[j].name + "' and '" + fields[i].name +
+                                "', which both name one value of a point: which holds it?");
+        }
     for (const char* axis : {"x", "y", "z"}) {
         bool found = false;
         for (const Field& f : fields) found = found || f.name == axis;
