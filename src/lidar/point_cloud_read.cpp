@@ -225,11 +225,11 @@ void readBody(const std::string& bytes, size_t at, bool binary, long long n, con
 /// Each field once (a second 'x' would be read in place of the first), and x, y and z among them.
 void requireXyz(const std::vector<Field>& fields, const std::string& path)
 {
+    // The value a field holds: two names drivers give one (time and Ouster's t, return and return_index).
+    auto value = [](const std::string& n) { return slotOf(n) == Slot::TimeNs ? Slot::Time : slotOf(n); };
     for (size_t i = 0; i < fields.size(); ++i)
         for (size_t j = 0; j < i; ++j) {
             if (fields[i].name == fields[j].name) throw Error(path, "has the field '" + fields[i].name + "' twice");
-            // Two names drivers give one value (time and Ouster's t, return and return_index).
-            auto value = [](const std::string& n) { return slotOf(n) == Slot::TimeNs ? Slot::Time : slotOf(n); };
             if (value(fields[i].name) != Slot::None && value(fields[i].name) == value(fields[j].name))
                 throw Error(path,
                             "has the fields '" + fields[j].name + "' and '" + fields[i].name +

@@ -19,8 +19,6 @@
 namespace smokescan {
 namespace {
 
-/// How far a frame's times may stray from the sensor's [s] (frames.csv keeps them to 1e-9 s).
-constexpr double kTimeTolerance_s = 1e-6;
 /// How far a frame's recorded start pose may lie from the scene's: beyond, the replay fires other
 /// beams than the recorder did (a 5 cm error already shows as channel biases; the report gives it).
 constexpr double kMaxPoseOff_m = 0.1, kMaxPoseOff_deg = 1;
@@ -44,13 +42,13 @@ void checkListing(const std::vector<FrameIndexEntry>& frames, size_t min_frames,
         const FrameIndexEntry& e = frames[k];
         // Within the scene's time: a recording's wall-clock stamps (seconds since 1970) would
         // replay a scene nobody described there and name causes for what is only the clock.
-        if (e.start_s < scene.t_start_s - kTimeTolerance_s || e.end_s > scene.t_end_s + kTimeTolerance_s)
+        if (e.start_s < scene.t_start_s - kFrameTimeTolerance_s || e.end_s > scene.t_end_s + kFrameTimeTolerance_s)
             throw Error(bag ? e.file : index + ", frame " + std::to_string(e.frame) + " (" + e.file + ")",
                         fmt("runs from %.9g to %.9g s, outside the scene's time, %g to %g s (a recording's "
                             "stamps must be brought to the scene's clock: docs/bags.md)",
                             e.start_s, e.end_s, scene.t_start_s, scene.t_end_s));
         if (bag) {  // a frame a message, from its stamp: the sensor's span, none overlapping
-            if (k > 0 && e.start_s < frames[k - 1].end_s - kTimeTolerance_s)
+            if (k > 0 && e.start_s < frames[k - 1].end_s - kFrameTimeTolerance_s)
                 throw Error(e.file,
                             fmt("starts %.6g s after the previous frame, before it ends (the %s's frame spans %.6g "
                                 "s: another rate or column count?)",
@@ -61,7 +59,7 @@ void checkListing(const std::vector<FrameIndexEntry>& frames, size_t min_frames,
         std::error_code ec;  // a name too long for the file system is a missing file, not a throw
         if (!std::filesystem::is_regular_file(dir + "/" + e.file, ec))
             throw Error(where, "its file is missing or not a file" + (ec ? " (" + ec.message() + ")" : std::string()));
-        if (std::abs((e.end_s - e.start_s) - span) > kTimeTolerance_s)
+        if (std::abs((e.end_s - e.start_s) - span) > kFrameTimeTolerance_s)
             throw Error(where,
                         fmt("spans %.6g s where the %s's frame spans %.6g s (another rate or column count?)",
                             e.end_s - e.start_s, sensor.c_str(), span));
@@ -90,7 +88,7 @@ std::pair<double, double> checkFrame(const PointCloudFile& pc, const FrameIndexE
             throw Error(path,
                         std::string("has no ") + field +
                             " field: the diagnosis tells a point's beam by its ring and firing time");
-    if (std::isfinite(pc.start_s) && std::abs(pc.start_s - e.start_s) > kTimeTolerance_s)
+    if (std::isfinite(pc.start_s) && std::abs(pc.start_s - e.start_s) > kFrameTimeTolerance_s)
         throw Error(path, fmt("starts at %.9g s by its header, at %.9g s by frames.csv", pc.start_s, e.start_s));
     if (!recorded_pose) return {NAN, NAN};
     const auto [off_m, off_deg] = poseOffset(scene_pose, e.start_pose);

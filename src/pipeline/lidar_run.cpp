@@ -37,7 +37,7 @@ LidarRun::LidarRun(const Scene& scene, const LidarRunConfig& cfg) : scene_(scene
     const auto& pattern = scanner_->pattern();
     const double last_end = frameStart(frames_ - 1) + (pattern.empty() ? 0.0 : pattern.back().time_s);
     // Every frame within the scene's time, as the frames' readers require (lidar_frames.cpp).
-    if (last_end > scene.t_end_s + 1e-6)
+    if (last_end > scene.t_end_s + kFrameTimeTolerance_s)
         throw Error(std::isnan(cfg.to_s) ? "--from" : "--to",  // the option that set the last frame
                     fmt("the last frame, from %.12g s, ends at %.12g s, after the scene's end, %.12g s",
                         frameStart(frames_ - 1), last_end, scene.t_end_s));

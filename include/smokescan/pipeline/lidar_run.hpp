@@ -28,6 +28,10 @@
 
 namespace smokescan {
 
+/// How far a frame's times may stray from the sensor's and the scene's [s] (frames.csv keeps them
+/// to 1e-9 s): what a run writes and what the frames' readers take (lidar_frames.hpp).
+inline constexpr double kFrameTimeTolerance_s = 1e-6;
+
 struct LidarRunConfig {
     std::string sensor = "vlp16";
     std::string returns;
