@@ -32,10 +32,12 @@ template BeamTerms<J> baseTerms<J>(const Replay&, const ReplayModel&, const Obs&
 
 namespace {
 
-/// A physical table's value at u = ln s: linear in u on the grid, linear in s from the clear
-/// value below it, the last value above it.
+/// A physical table's value at u = ln s: a cubic in u between grid points (Hermite, on the
+/// table's tangents `slope`), linear in s from the clear value below the grid, the last value
+/// above it.
 template <class T>
-T tableAt(const Replay::PhysicalTable& t, const std::vector<double>& v, double clear, size_t b, const T& u)
+T tableAt(const Replay::PhysicalTable& t, const std::vector<double>& v, const std::vector<double>& slope, double clear,
+          size_t b, const T& u)
 {
     using std::exp;
     const size_t G = size_t(t.grid);
@@ -49,8 +51,10 @@ T tableAt(const Replay::PhysicalTable& t, const std::vector<double>& v, double c
     const double x = (ua - t.u_lo) / t.du;
     if (x >= double(G - 1)) return T(row[G - 1]);
     const size_t j = size_t(x);
-    const T f = (u - T(t.u_lo + t.du * double(j))) / T(t.du);
-    return T(row[j]) + T(row[j + 1] - row[j]) * f;
+    const double* m = slope.data() + b * G;
+    const T f = (u - T(t.u_lo + t.du * double(j))) / T(t.du), f2 = f * f, f3 = f2 * f;
+    return T(row[j]) * (T(2.0) * f3 - T(3.0) * f2 + T(1.0)) + T(t.du * m[j]) * (f3 - T(2.0) * f2 + f) +
+        T(row[j + 1]) * (T(3.0) * f2 - T(2.0) * f3) + T(t.du * m[j + 1]) * (f3 - f2);
 }
 
 template <class T>
@@ -129,14 +133,15 @@ void finish(const Replay& r, const Obs& o, BeamTerms<T>& x, ObsMemo* memo)
     // Where the table is flat across the spread (clear air, dense smoke: most beams) the average
     // is its value; else the average over the normal's quantiles.
     if (flatBetween(t, b, valueOf(u + x.width * T(z[0])), valueOf(u + x.width * T(z[kNormalNodes - 1])))) {
-        x.ps = tableAt(t, t.err, t.err_clear[b], b, u);
+        x.ps = tableAt(t, t.err, t.err_slope, t.err_clear[b], b, u);
     } else {
         x.ps = T(0.0);
-        for (int i = 0; i < kNormalNodes; ++i) x.ps += tableAt(t, t.err, t.err_clear[b], b, u + x.width * T(z[i]));
+        for (int i = 0; i < kNormalNodes; ++i)
+            x.ps += tableAt(t, t.err, t.err_slope, t.err_clear[b], b, u + x.width * T(z[i]));
         x.ps /= T(double(kNormalNodes));
     }
-    x.mu0 = tableAt(t, t.range, t.range_clear[b], b, u);
-    x.sd0 = tableAt(t, t.sd, t.sd_clear[b], b, u);
+    x.mu0 = tableAt(t, t.range, t.range_slope, t.range_clear[b], b, u);
+    x.sd0 = tableAt(t, t.sd, t.sd_slope, t.sd_clear[b], b, u);
 }
 
 }  // namespace

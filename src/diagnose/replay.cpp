@@ -203,6 +203,24 @@ void checkStop(const std::atomic<bool>* stop)
     if (stop && *stop) throw Error("replay", "stopped");
 }
 
+/// The tangents d/du of a row of `n` values `y` on a grid of step `du`, for a cubic between the
+/// points that is monotone wherever the points are (Fritsch–Carlson: at an interior point the
+/// harmonic mean of its two secants when they agree in sign, else 0). At the top 0 (the value
+/// stays beyond the grid); at the bottom the slope of the clear-air branch below the grid,
+/// clear + (y₀ − clear)·e^(u − u_lo), within what keeps the first piece monotone.
+void monotoneTangents(const double* y, size_t n, double du, double clear, double* m)
+{
+    auto secant = [&](size_t j) { return (y[j + 1] - y[j]) / du; };
+    for (size_t j = 1; j + 1 < n; ++j) {
+        const double a = secant(j - 1), b = secant(j);
+        m[j] = a * b > 0 ? 2 * a * b / (a + b) : 0.0;
+    }
+    if (n < 2) return;
+    const double d0 = secant(0), below = y[0] - clear;
+    m[0] = below * d0 > 0 ? std::copysign(std::min(std::abs(below), 3 * std::abs(d0)), d0) : 0.0;
+    m[n - 1] = 0.0;
+}
+
 void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, const SmokeField& ref,
                     const std::vector<Ray>& rays, const std::atomic<bool>* stop)
 {
@@ -215,7 +233,7 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
     t.u_lo = std::log(s_max) - 5.0;
     t.du = 8.0 / double(t.grid - 1);
     const size_t B = r.beams.size(), G = size_t(t.grid);
-    for (auto* v : {&t.err, &t.range, &t.sd}) v->assign(B * G, 0.0);
+    for (auto* v : {&t.err, &t.range, &t.sd, &t.err_slope, &t.range_slope, &t.sd_slope}) v->assign(B * G, 0.0);
     for (auto* v : {&t.err_clear, &t.range_clear, &t.sd_clear}) v->assign(B, 0.0);
     SensorConfig plain = r.config;  // the model itself: the extensions are the diagnosis' (Replay::prior)
     plain.extensions = ModelExtensions{};
@@ -237,6 +255,11 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
             const size_t i = b * G + j;
             evaluate(b, std::exp(t.u_lo + t.du * double(j)), t.err[i], t.range[i], t.sd[i]);
         }
+    });
+    tbb::parallel_for(size_t(0), B, [&](size_t b) {
+        monotoneTangents(t.err.data() + b * G, G, t.du, t.err_clear[b], t.err_slope.data() + b * G);
+        monotoneTangents(t.range.data() + b * G, G, t.du, t.range_clear[b], t.range_slope.data() + b * G);
+        monotoneTangents(t.sd.data() + b * G, G, t.du, t.sd_clear[b], t.sd_slope.data() + b * G);
     });
     // Where each beam's error table is flat, for the predictive terms' shortcut (finishTerms).
     t.flat_reach.assign(B * G, 0);

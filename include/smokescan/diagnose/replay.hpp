@@ -128,11 +128,17 @@ struct Replay {
     /// The physical model's replay (config.model physical, the URG-04LX's): per beam, the
     /// model's error probability, noise-free range [m] and a valid reading's standard deviation
     /// [m] against u = ln s, s the regional smoke's scale against the reference state, on the grid
-    /// u_lo + j·du (j < grid), and at s = 0.
+    /// u_lo + j·du (j < grid), and at s = 0. Between grid points each is a monotone cubic in u
+    /// (its tangents below): the likelihood is smooth in a threshold's shift, as the model is, not
+    /// kinked at every grid point (a scan's beams share u, so their kinks added up to ruggedness
+    /// larger than a threshold's standard error).
     struct PhysicalTable {
         double u_lo = 0, du = 0;
         int grid = 0;
         std::vector<double> err, range, sd;  ///< [beam · grid + j]
+        /// Their tangents d/du at each grid point (Fritsch–Carlson: no overshoot between points,
+        /// 0 at the top, the clear-air branch's slope at the bottom) [beam · grid + j]
+        std::vector<double> err_slope, range_slope, sd_slope;
         std::vector<double> err_clear, range_clear, sd_clear;  ///< [beam]
         /// The last grid point k ≥ j with err[j..k] flat (max − min < 1e-12) [beam · grid + j], and
         /// the last with the clear value and err[0..k] flat [beam] (−1: err[0] differs from it).
