@@ -823,6 +823,31 @@ TEST(LidarDiagnosisRun, ASurfaceDarkerThanTheSceneSaysIsFoundByName)
     EXPECT_FALSE(triedOf(d, LidarCause::SmokeFirstReturns).named);
 }
 
+TEST(LidarDiagnosisRun, AFrameOfNoPointIsLeftOutNotReadAsEveryBeamMissing)
+{
+    // A recorder's dropped frame (a message of no point) says nothing about the sensor: left out
+    // and counted, not read as every beam of the frame unanswered (one frame of six was a sixth of
+    // the clear beams missing, a third of the odd fold's).
+    const LidarDiagnosis d = diagnoseFrames(writePlantedFrames("one_empty", [](LidarFrame& f, KeyedRng&) {
+        if (f.index == 3) f.points.clear();
+    }));
+    EXPECT_EQ(d.empty_frames, 1u);
+    EXPECT_EQ(d.frames, 5u);
+    long long missed = 0;
+    for (const LidarGroupStats& g : d.rings) missed += g.missed;
+    EXPECT_LT(double(missed), 0.01 * double(d.clear)) << missed << " of " << d.clear;
+    EXPECT_EQ(d.verdict, "none");
+    // Three of six: more than the 40 % of frames that may be empty, refused by name.
+    LidarDiagnoseRunConfig cfg;
+    cfg.scene = "factory_smoke";
+    cfg.sensor.sensor = "vlp16";
+    cfg.points = writePlantedFrames("three_empty", [](LidarFrame& f, KeyedRng&) {
+        if (f.index % 2 == 1) f.points.clear();
+    });
+    const std::string e = test::errorOf([&] { runLidarDiagnosis(cfg); });
+    EXPECT_NE(e.find("3 of its 6 frames hold no point (at most 40 % may)"), std::string::npos) << e;
+}
+
 TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
 {
     const std::string dir = writePlantedFrames("refused", [](LidarFrame&, KeyedRng&) {});
@@ -886,9 +911,10 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
     });
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("holds a point of return index 2"), std::string::npos)
         << test::errorOf([&] { runLidarDiagnosis(cfg); });
-    // Frames with no points at all: most certain beams unanswered.
+    // Frames with no points at all: refused by their count, before any is replayed.
     cfg.points = writePlantedFrames("refused_empty", [](LidarFrame& f, KeyedRng&) { f.points.clear(); });
-    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("have no recorded return"), std::string::npos);
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("6 of its 6 frames hold no point"), std::string::npos)
+        << test::errorOf([&] { runLidarDiagnosis(cfg); });
     cfg.points = (scratch("lidar_diagnosis_empty")).string();
     EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("frames.csv"), std::string::npos);
 }

@@ -66,6 +66,7 @@ std::string lidarDiagnosisJson(const LidarDiagnosis& d)
     j["points"] = printableWhole(d.points);
     j["topic"] = d.topic.empty() ? nlohmann::json() : nlohmann::json(printableWhole(d.topic));
     j["frames"] = d.frames;
+    j["empty_frames_left_out"] = d.empty_frames;
     j["beams"] = d.beams;
     j["clear_beams"] = d.clear;
     j["unmatched_points"] = d.unmatched_points;
@@ -135,6 +136,8 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
         fmt("%zu frames, %lld beams, %lld of them clear (the replay's certain surface echoes); %lld recorded points "
             "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",
             d.frames, d.beams, d.clear, d.unmatched_points, d.range_sd_m);
+    if (d.empty_frames > 0)
+        s += fmt("%zu more frames held no point and were left out (frames a recorder dropped).\n\n", d.empty_frames);
     if (std::isnan(d.pose_mismatch_m))
         s += "The frames carry no recorded pose (a bag's PointCloud2 frames): the scene's poses were taken.\n\n";
     else

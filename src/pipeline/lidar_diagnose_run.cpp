@@ -24,6 +24,7 @@ LidarDiagnoseRunResult runLidarDiagnosis(const LidarDiagnoseRunConfig& cfg, cons
         for (const Surface& sf : t.scene.surfaces) out.diagnosis.surface_names.push_back(sf.name);
         out.diagnosis.pose_mismatch_m = t.pose_mismatch_m;
         out.diagnosis.pose_mismatch_deg = t.pose_mismatch_deg;
+        out.diagnosis.empty_frames = t.empty_frames;
         out.diagnosis.sensor = out.sensor;
         out.diagnosis.returns = returnModeName(t.run.mode());
         out.diagnosis.scene = t.scene.source;

@@ -162,6 +162,7 @@ LidarFitRunResult runLidarFit(const LidarFitRunConfig& cfg, const RunControl& co
         out.preset_range_sd_m = given.range_sigma_m;
         out.pose_mismatch_m = t.pose_mismatch_m;
         out.pose_mismatch_deg = t.pose_mismatch_deg;
+        out.empty_frames = t.empty_frames;
         out.preset = fittedLidarPreset(out.fit, out.surface_names, given, t.base, &out.at_bound);
     });
     return out;
@@ -177,6 +178,7 @@ std::string lidarFitJson(const LidarFitRunResult& r)
     j["points"] = printableWhole(r.points);
     j["topic"] = r.topic.empty() ? nlohmann::json() : nlohmann::json(printableWhole(r.topic));
     j["frames"] = r.frames;
+    j["empty_frames_left_out"] = r.empty_frames;
     j["replays"] = r.replays;
     j["clear_beams_answered"] = r.clear;
     j["unusable_intensities"] = r.unusable_intensities;

@@ -111,6 +111,19 @@ void checkMatched(long long unmatched, long long first_returns, const std::strin
                         "columns and numbering of rings?");
 }
 
+/// Refuses frames of which more than kMaxMissedShare hold no point, or fewer than `min_frames`
+/// that hold points.
+void checkEmptyFrames(size_t empty, size_t frames, size_t min_frames, const std::string& dir)
+{
+    if (double(empty) > kMaxMissedShare * double(frames))
+        throw Error(dir,
+                    fmt("%zu of its %zu frames hold no point (at most %.0f %% may): a recorder that dropped them, "
+                        "or frames of another sensor or topic?",
+                        empty, frames, 100 * kMaxMissedShare));
+    if (frames - empty < min_frames)
+        throw Error(dir, fmt("holds %zu frames with points: the diagnosis needs %zu", frames - empty, min_frames));
+}
+
 /// What the frames hold as a whole against what the diagnosis assumes: second returns exactly when
 /// the mode is dual; most clear beams answered.
 void checkWhole(const LidarTally& t, long long first, long long second, ReturnMode mode, const std::string& dir)
@@ -273,13 +286,20 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     double mismatch_m = 0, mismatch_deg = 0;
     std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
     long long first = 0, second = 0;
-    // Frame k of the listing, its points read from `path`.
+    size_t empty = 0;
+    // Frame k of the listing, its points read from `path`. A frame of no point (a recorder's
+    // dropped frame) is left out, not replayed: the listing's share of them is checked at the end.
     auto tallyFrame = [&](size_t k, PointCloudFile&& pc, const std::string& path) {
         checkCancel(control);
         const FrameIndexEntry& e = frames[k];
         const auto [off_m, off_deg] = checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path, !bag);
         if (cfg.intensities && std::find(pc.fields.begin(), pc.fields.end(), "intensity") == pc.fields.end())
             throw Error(path, "has no intensity field: the fit reads each point's intensity");
+        if (pc.points.empty()) {
+            ++empty;
+            reportProgress(control, (long long)k + 1, (long long)frames.size());
+            return;
+        }
         long long frame_first = 0;
         for (const LidarPoint& p : pc.points) {
             // A lidar keeps two returns at most (the first kept and a second): a third is not a
@@ -315,8 +335,9 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
             tallyFrame(k, readPointCloud(path), path);
         }
     }
+    checkEmptyFrames(empty, frames.size(), min_frames, cfg.points);
     checkWhole(tally, first, second, run.mode(), cfg.points);
-    use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded), topic});
+    use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded), topic, empty});
 }
 
 }  // namespace smokescan

@@ -58,6 +58,9 @@ struct TalliedFrames {
     /// The bag's topic the frames were read from (the named one or its only PointCloud2 topic);
     /// empty for a frames folder.
     std::string topic;
+    /// Frames that hold no point at all: frames a recorder dropped, left out of the tally (read
+    /// as every beam unanswered they would stand for a sensor that fails everywhere at once).
+    size_t empty_frames = 0;
 };
 
 /// @brief Reads the frames one at a time, replays each and tallies them (frame k in fold k % 2),
