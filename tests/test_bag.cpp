@@ -692,6 +692,10 @@ TEST(BagCli, ReadsTheRos1BagsDebiansRosbagWrote)
         const std::string e = bagError(writeBytes("ros1_cut.bag", cut));
         EXPECT_NE(e.find("ros1_cut.bag"), std::string::npos) << e;
         EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+        // Its first line alone: named as such (librosbag's own text had no file offset).
+        const std::string magic = bagError(writeBytes("ros1_magic.bag", {text.begin(), text.begin() + 13}));
+        EXPECT_NE(magic.find("ros1_magic.bag: holds a ROS 1 bag's first line and nothing after it"), std::string::npos)
+            << magic;
     }
 }
 

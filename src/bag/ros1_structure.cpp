@@ -121,6 +121,7 @@ void checkRos1Structure(const std::string& path)
     char magic[kMagicBytes];
     if (size < kMagicBytes || !in.read(magic, kMagicBytes) || std::memcmp(magic, kMagic, kMagicBytes) != 0)
         throw Error(path, "is not a ROS 1 bag (format 2.0)");
+    if (size == kMagicBytes) throw Error(path, "holds a ROS 1 bag's first line and nothing after it (no bag header)");
     std::set<uint64_t> starts, chunks;  // record starts; chunk starts
     std::set<uint32_t> message_offsets;  // the last chunk's message records, by offset in it
     std::set<uint32_t> unindexed;  // those no index entry has pointed at yet
