@@ -356,20 +356,21 @@ TEST(DiagnoseRooms, ThePhysicalModelFindsATargetDarkerInTheInfraredAsItsThreshol
 {
     if (sanitized()) GTEST_SKIP() << "drawn rooms over seeds: the Release build";
     // A threshold planted through the physics: the run simulated with the target's NIR
-    // reflectance 0.5–0.7 of what the room's scene says (a target measured in visible light), and
+    // reflectance 0.45 or 0.6 of what the room's scene says (a target measured in visible light), and
     // diagnosed against that scene. The darker echo drowns in less smoke, so the target errs
     // earlier: no candidate assumes this (a threshold scales the smoke, not the echo). Where the
     // held-out test can reach its level on the blocks the run has (§4: 2^−blocks below it), the
     // target's surface_threshold is named, alone, with a lower threshold (θ < 0) and a finite
-    // error; where it is missed, the run must say it could not tell. Before the physical tables
-    // were smooth in u, the likelihood's kinks at their grid left a fold without an error and
-    // the lab's verdict was none on 10,000 nats of gain.
+    // error; where it is missed, the run must say it could not tell (its candidate fitted, with
+    // an error, on blocks too few for the level). With the tables linear in u (before 9f7e6f9) the
+    // likelihood's kinks at their grid left the lab (6105) with verdict none on 10,000 nats of
+    // gain and rooms 6204 and 6206 with findings ± nan.
     const std::string sensor = physicalUrgFile();
     int found = 0, rooms = 0;
-    for (uint64_t seed : {6105u, 6200u, 6201u, 6203u, 6205u, 6206u, 6207u}) {
+    for (const auto& [seed, factor] :
+         {std::pair{6105u, 0.45}, std::pair{6200u, 0.6}, std::pair{6201u, 0.6}, std::pair{6203u, 0.6},
+          std::pair{6204u, 0.6}, std::pair{6205u, 0.6}, std::pair{6206u, 0.6}, std::pair{6207u, 0.6}}) {
         const std::string target = drawRoom(seed).targets.front();
-        KeyedRng rng(seed, 0xD4A4u);
-        const double factor = 0.5 + 0.2 * rng.uniform();
         RoomRun r = simulateRoomWithTargetNir(seed, sensor, target, factor);
         const DiagnosisResult d = diagnoseRoom(r.run, SensorModel::Physical);
         ++rooms;
@@ -378,9 +379,14 @@ TEST(DiagnoseRooms, ThePhysicalModelFindsATargetDarkerInTheInfraredAsItsThreshol
         for (const Finding& x : d.findings)
             if (x.cause == "surface_threshold" && x.target == target) f = &x;
         if (!f) {
-            const Planted p{"surface_threshold", target, 0, INFINITY};
-            EXPECT_EQ(detectability(d, p), INFINITY) << "missed where the run could tell: " << what;
-            std::printf("not found, the run could not tell: %s\n", what.c_str());
+            const Tried* t = nullptr;
+            for (const Tried& x : d.tried)
+                if (x.round == 1 && x.cause == "surface_threshold" && x.target == target) t = &x;
+            ASSERT_NE(t, nullptr) << "never tried: " << what;
+            EXPECT_TRUE(t->blocks > 0 && std::isfinite(t->effect_se)) << "not fitted: " << what;
+            EXPECT_GE(std::exp2(-t->blocks), t->level) << "missed where the run could tell: " << what;
+            std::printf("not found, the run could not tell (%.1f blocks, level %.2g): %s\n", t->blocks, t->level,
+                        what.c_str());
             continue;
         }
         ++found;
@@ -390,7 +396,7 @@ TEST(DiagnoseRooms, ThePhysicalModelFindsATargetDarkerInTheInfraredAsItsThreshol
         EXPECT_TRUE(std::isfinite(e.se) && e.se > 0 && e.se < std::abs(e.value)) << what;
         std::printf("found: %s\n", what.c_str());
     }
-    EXPECT_GE(found, rooms / 2) << "most rooms must tell, or the test would test nothing";
+    EXPECT_GT(found, rooms / 2) << "most rooms must tell, or the test would test nothing";
 }
 
 TEST(DiagnoseRooms, Explore)

@@ -62,7 +62,7 @@ int diagnoseLidarFrames(const DiagnoseArgs& a0)
     auto tidy = [](double v) { return std::abs(v) < 1e-9 ? 0.0 : v; };
     say("%zu frames, %lld clear beams compared, %.2f %% of them unanswered; %lld points matched no beam; ", d.frames,
         d.clear, d.clear ? 100.0 * double(missed) / double(d.clear) : 0.0, d.unmatched_points);
-    if (d.empty_frames > 0) say("%zu frames of no point left out; ", d.empty_frames);
+    if (d.empty_frames > 0) say("%zu empty frame%s left out; ", d.empty_frames, d.empty_frames == 1 ? "" : "s");
     if (std::isnan(d.pose_mismatch_m))
         say("no recorded poses (a bag's frames: the scene's taken)\n");
     else

@@ -140,6 +140,10 @@ int fitLidarFrames(const FitArgs& a0)
         "noise sd; range sd %.4g +/- %.2g m (the preset's %.4g m)\n",
         r.frames, r.sensor.c_str(), r.fit.beams, r.clear, r.fit.scatter, r.fit.scatter_se, r.range_sd_m,
         r.range_sd_se_m, r.preset_range_sd_m);
+    if (r.empty_frames > 0)
+        say("  %zu empty frame%s left out (no point, or points for under a tenth of the beams the replay "
+            "is sure of)\n",
+            r.empty_frames, r.empty_frames == 1 ? "" : "s");
     if (r.unusable_intensities > 0)
         say("  %lld more clear beams answered with intensities not finite or not positive: left out\n",
             r.unusable_intensities);

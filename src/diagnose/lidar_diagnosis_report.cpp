@@ -137,7 +137,10 @@ std::string lidarDiagnosisMarkdown(const LidarDiagnosis& d, const std::string& s
             "matched no beam. Clear beams' range residual sd (robust): %.4f m.\n\n",
             d.frames, d.beams, d.clear, d.unmatched_points, d.range_sd_m);
     if (d.empty_frames > 0)
-        s += fmt("%zu more frames held no point and were left out (frames a recorder dropped).\n\n", d.empty_frames);
+        s +=
+            fmt("%zu more frame%s left out as empty: no point, or points for under a tenth of the beams the "
+                "replay is sure of (a recorder's dropped or cut frames).\n\n",
+                d.empty_frames, d.empty_frames == 1 ? " was" : "s were");
     if (std::isnan(d.pose_mismatch_m))
         s += "The frames carry no recorded pose (a bag's PointCloud2 frames): the scene's poses were taken.\n\n";
     else

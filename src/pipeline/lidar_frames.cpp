@@ -78,13 +78,13 @@ std::pair<double, double> poseOffset(const Pose& scene_pose, const Pose& recorde
 
 /// @return the recorded start pose's offset from the scene's (poseOffset); NaN without one
 std::pair<double, double> checkFrame(const PointCloudFile& pc, const FrameIndexEntry& e, const Pose& scene_pose,
-                                     const std::string& path, bool recorded_pose)
+                                     const std::string& path, bool recorded_pose, bool need_fields)
 {
     const auto has = [&](const char* a, const char* b) {
         return std::any_of(pc.fields.begin(), pc.fields.end(), [&](const std::string& f) { return f == a || f == b; });
     };
     for (const char* field : {"ring", "time"})
-        if (!has(field, field[0] == 't' ? "t" : field))
+        if (need_fields && !has(field, field[0] == 't' ? "t" : field))
             throw Error(path,
                         std::string("has no ") + field +
                             " field: the diagnosis tells a point's beam by its ring and firing time");
@@ -111,15 +111,34 @@ void checkMatched(long long unmatched, long long first_returns, const std::strin
                         "columns and numbering of rings?");
 }
 
-/// Refuses frames of which more than kMaxMissedShare hold no point, or fewer than `min_frames`
-/// that hold points.
-void checkEmptyFrames(size_t empty, size_t frames, size_t min_frames, const std::string& dir)
+/// A frame is empty in effect (a recorder's dropped or cut frame, not the sensor's reading) when
+/// its first returns number under this share of the beams the replay is sure of (at least 100
+/// of them): no point at all, a point or two, or second returns alone.
+constexpr double kEmptyFrameShare = 0.1;
+constexpr long long kEmptyFrameSure = 100;
+
+/// Whether a frame is empty in effect against its replay: `written` its points the recorder
+/// wrote (first returns and a driver's "no return" points: a frame that writes every beam, as an
+/// organized cloud does, is a reading even when the sensor saw nothing).
+bool emptyInEffect(long long written, const std::vector<ExpectedBeam>& expected)
+{
+    if (written == 0) return true;
+    long long sure = 0;
+    for (const ExpectedBeam& x : expected) sure += x.clear;
+    return sure >= kEmptyFrameSure && double(written) < kEmptyFrameShare * double(sure);
+}
+
+/// Refuses frames of which more than kMaxMissedShare are empty in effect, or fewer than
+/// `min_frames` that are not; `seen` the frames looked at so far.
+void checkEmptyFrames(size_t empty, size_t frames, size_t min_frames, const std::string& dir, size_t seen)
 {
     if (double(empty) > kMaxMissedShare * double(frames))
-        throw Error(dir,
-                    fmt("%zu of its %zu frames hold no point (at most %.0f %% may): a recorder that dropped them, "
-                        "or frames of another sensor or topic?",
-                        empty, frames, 100 * kMaxMissedShare));
+        throw Error(
+            dir,
+            fmt("%zu of its %zu frames%s hold no point, or points for under a tenth of the beams the "
+                "replay is sure of (at most %.0f %% of the frames may): a recorder that dropped or cut "
+                "them, or frames of another sensor or topic?",
+                empty, frames, seen < frames ? fmt(" (by frame %zu)", seen).c_str() : "", 100 * kMaxMissedShare));
     if (frames - empty < min_frames)
         throw Error(dir, fmt("holds %zu frames with points: the diagnosis needs %zu", frames - empty, min_frames));
 }
@@ -286,21 +305,29 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     double mismatch_m = 0, mismatch_deg = 0;
     std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
     long long first = 0, second = 0;
-    size_t empty = 0;
-    // Frame k of the listing, its points read from `path`. A frame of no point (a recorder's
-    // dropped frame) is left out, not replayed: the listing's share of them is checked at the end.
+    size_t empty = 0, kept = 0;
+    // Frame k of the listing, its points read from `path`. A frame empty in effect (a recorder's
+    // dropped or cut frame) is left out, and one of no point not even replayed: the listing's share
+    // of them is checked at the end. The frames kept alternate between the folds.
     auto tallyFrame = [&](size_t k, PointCloudFile&& pc, const std::string& path) {
         checkCancel(control);
         const FrameIndexEntry& e = frames[k];
-        const auto [off_m, off_deg] = checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path, !bag);
-        if (cfg.intensities && std::find(pc.fields.begin(), pc.fields.end(), "intensity") == pc.fields.end())
+        // A message of no point at all needs no fields (a recorder may write it bare).
+        const bool nothing = pc.points.empty() && pc.skipped == 0;
+        const auto [off_m, off_deg] =
+            checkFrame(pc, e, scene.sensorAt(run.mount(), e.start_s).pose, path, !bag, !nothing);
+        if (cfg.intensities && !nothing &&
+            std::find(pc.fields.begin(), pc.fields.end(), "intensity") == pc.fields.end())
             throw Error(path, "has no intensity field: the fit reads each point's intensity");
-        if (pc.points.empty()) {
+        auto leaveOut = [&] {
             ++empty;
+            // Refused as soon as the listing's share is passed, not after the frames left.
+            if (double(empty) > kMaxMissedShare * double(frames.size()))
+                checkEmptyFrames(empty, frames.size(), min_frames, cfg.points, k + 1);
             reportProgress(control, (long long)k + 1, (long long)frames.size());
-            return;
-        }
-        long long frame_first = 0;
+        };
+        if (nothing) return leaveOut();
+        long long frame_first = 0, frame_second = 0;
         for (const LidarPoint& p : pc.points) {
             // A lidar keeps two returns at most (the first kept and a second): a third is not a
             // return this diagnosis reads, and dropping it would be silent.
@@ -308,11 +335,14 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
                 throw Error(path,
                             "holds a point of return index " + std::to_string(int(p.return_index)) +
                                 " (0 the first kept return, 1 the second: a lidar keeps two at most)");
-            (p.return_index == 0 ? frame_first : second) += 1;
+            (p.return_index == 0 ? frame_first : frame_second) += 1;
         }
+        const std::vector<ExpectedBeam> expected = scanner.expected(e.start_s, cfg.intensities);
+        if (emptyInEffect(frame_first + (long long)pc.skipped, expected)) return leaveOut();
         first += frame_first;
+        second += frame_second;
         const long long before = tally.unmatched();
-        tally.add(scanner.expected(e.start_s, cfg.intensities), pc.points, int(k % 2));
+        tally.add(expected, pc.points, int(kept++ % 2));
         if (cfg.keep_points) recorded.emplace_back(e.start_s, std::move(pc.points));
         checkMatched(tally.unmatched() - before, frame_first, path, sensor);
         mismatch_m = std::max(mismatch_m, off_m);
@@ -335,7 +365,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
             tallyFrame(k, readPointCloud(path), path);
         }
     }
-    checkEmptyFrames(empty, frames.size(), min_frames, cfg.points);
+    checkEmptyFrames(empty, frames.size(), min_frames, cfg.points, frames.size());
     checkWhole(tally, first, second, run.mode(), cfg.points);
     use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded), topic, empty});
 }

@@ -137,7 +137,8 @@ struct Replay {
         int grid = 0;
         std::vector<double> err, range, sd;  ///< [beam · grid + j]
         /// Their tangents d/du at each grid point (Fritsch–Carlson: no overshoot between points,
-        /// 0 at the top, the clear-air branch's slope at the bottom) [beam · grid + j]
+        /// 0 at the top; at the bottom the clear-air branch's slope when it has the first
+        /// secant's sign and at most 3 times it, else a kink there) [beam · grid + j]
         std::vector<double> err_slope, range_slope, sd_slope;
         std::vector<double> err_clear, range_clear, sd_clear;  ///< [beam]
         /// The last grid point k ≥ j with err[j..k] flat (max − min < 1e-12) [beam · grid + j], and
