@@ -731,6 +731,10 @@ TEST(Bag, APointCloudsLayoutIsCheckedBeforeItsPointsAreRead)
     m.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}};
     m.data.assign(24, 0);
     EXPECT_EQ(pointCloudFileOf(m, "m").points.size(), 2u);
+    // A bare message of no point (no fields, no bytes: a recorder's empty frame) reads as an
+    // empty cloud, which the frames' reader leaves out; it was refused for its 0 fields.
+    const PointCloudFile bare = pointCloudFileOf(PointCloud2Msg{}, "bare");
+    EXPECT_TRUE(bare.points.empty() && bare.skipped == 0 && bare.fields.empty());
     auto refused = [](PointCloud2Msg bad, const std::string& says) {
         try {
             (void)pointCloudFileOf(bad, "msg 7");

@@ -868,6 +868,13 @@ TEST(LidarDiagnosisRun, AFrameOfNoPointIsLeftOutNotReadAsEveryBeamMissing)
     missed = 0;
     for (const LidarGroupStats& g : b.rings) missed += g.missed;
     EXPECT_GT(double(missed), 0.15 * double(b.clear)) << missed << " of " << b.clear;
+    // A frame of second returns alone is empty: its NaN "no return" slots of return index 1
+    // (a dual driver's organized cloud) do not make it a reading.
+    const LidarDiagnosis second = diagnoseFrames(writePlantedFrames("second_alone", [](LidarFrame& f, KeyedRng&) {
+        if (f.index == 3)
+            for (LidarPoint& p : f.points) p.x = std::numeric_limits<float>::quiet_NaN(), p.return_index = 1;
+    }));
+    EXPECT_EQ(second.empty_frames, 1u);
     // Three of six: more than the 40 % of frames that may be empty, refused by name.
     LidarDiagnoseRunConfig cfg;
     cfg.scene = "factory_smoke";
@@ -936,6 +943,15 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
                   std::string::npos)
             << e;
     }
+    // A frame of second returns alone in a strongest run: refused for its second returns, not
+    // left out as empty.
+    cfg.points = writePlantedFrames("second_in_strongest", [](LidarFrame& f, KeyedRng&) {
+        if (f.index == 3)
+            for (LidarPoint& p : f.points) p.return_index = 1;
+    });
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("second returns (--returns dual?)"),
+              std::string::npos)
+        << test::errorOf([&] { runLidarDiagnosis(cfg); });
     // A third return (return index 2): not a return the diagnosis reads; refused, not dropped.
     cfg.points = writePlantedFrames("refused_third", [](LidarFrame& f, KeyedRng&) {
         for (size_t i = 0; i < f.points.size(); i += 50) f.points[i].return_index = 2;
@@ -944,7 +960,7 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
         << test::errorOf([&] { runLidarDiagnosis(cfg); });
     // Frames with no points at all: refused by their count, before any is replayed.
     cfg.points = writePlantedFrames("refused_empty", [](LidarFrame& f, KeyedRng&) { f.points.clear(); });
-    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("3 of its 6 frames (by frame 3) hold no point"),
+    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("3 of its 6 frames (after 3 read) hold no point"),
               std::string::npos)
         << test::errorOf([&] { runLidarDiagnosis(cfg); });
     cfg.points = (scratch("lidar_diagnosis_empty")).string();

@@ -244,6 +244,7 @@ PointCloudFile pointCloudFileOf(const PointCloud2Msg& m, const std::string& what
         fields.push_back({f.name, type, size, int(std::min<uint32_t>(f.count, 1u << 20)), size_t(f.offset)});
     }
     const uint64_t n = uint64_t(m.width) * uint64_t(m.height);
+    if (n == 0) return PointCloudFile{};  // a bare message of no point: its fields need not be any
     if (n > uint64_t(2 * lidar_limits::kBeamsPerFrame))
         throw Error(what,
                     std::to_string(m.width) + " × " + std::to_string(m.height) + " points (at most " +

@@ -175,6 +175,7 @@ void readBody(const std::string& bytes, size_t at, bool binary, long long n, con
     auto finish = [&](LidarPoint& p) {
         if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) {
             ++out.skipped;  // a driver's "no return" in an organised cloud
+            out.skipped_first += p.return_index == 0;
             return;
         }
         p.range_m = std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);

@@ -138,9 +138,12 @@ void checkEmptyFrames(size_t empty, size_t frames, size_t min_frames, const std:
             fmt("%zu of its %zu frames%s hold no point, or points for under a tenth of the beams the "
                 "replay is sure of (at most %.0f %% of the frames may): a recorder that dropped or cut "
                 "them, or frames of another sensor or topic?",
-                empty, frames, seen < frames ? fmt(" (by frame %zu)", seen).c_str() : "", 100 * kMaxMissedShare));
+                empty, frames, seen < frames ? fmt(" (after %zu read)", seen).c_str() : "", 100 * kMaxMissedShare));
     if (frames - empty < min_frames)
-        throw Error(dir, fmt("holds %zu frames with points: the diagnosis needs %zu", frames - empty, min_frames));
+        throw Error(dir,
+                    fmt("holds %zu frames that are not empty (points for a tenth of the beams the replay is "
+                        "sure of): the diagnosis needs %zu",
+                        frames - empty, min_frames));
 }
 
 /// What the frames hold as a whole against what the diagnosis assumes: second returns exactly when
@@ -337,10 +340,10 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
                                 " (0 the first kept return, 1 the second: a lidar keeps two at most)");
             (p.return_index == 0 ? frame_first : frame_second) += 1;
         }
+        second += frame_second;  // every frame's: a mode without them refuses any (checkWhole)
         const std::vector<ExpectedBeam> expected = scanner.expected(e.start_s, cfg.intensities);
-        if (emptyInEffect(frame_first + (long long)pc.skipped, expected)) return leaveOut();
+        if (emptyInEffect(frame_first + (long long)pc.skipped_first, expected)) return leaveOut();
         first += frame_first;
-        second += frame_second;
         const long long before = tally.unmatched();
         tally.add(expected, pc.points, int(kept++ % 2));
         if (cfg.keep_points) recorded.emplace_back(e.start_s, std::move(pc.points));

@@ -39,6 +39,7 @@ struct PointCloudFile {
     std::vector<LidarPoint> points;
     std::vector<std::string> fields;  ///< every field's name, in the file's order
     size_t skipped = 0;  ///< points without a finite x, y, z (a driver's "no return")
+    size_t skipped_first = 0;  ///< those of them of return index 0 (or without the field)
     double start_s = NAN;  ///< the frame's start time when the header gives it (smokescan's files)
     bool has_viewpoint = false;
     Pose viewpoint;  ///< PCD's VIEWPOINT (PLY: `comment viewpoint`)
