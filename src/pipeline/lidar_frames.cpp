@@ -117,9 +117,10 @@ void checkMatched(long long unmatched, long long first_returns, const std::strin
 constexpr double kEmptyFrameShare = 0.1;
 constexpr long long kEmptyFrameSure = 100;
 
-/// Whether a frame is empty in effect against its replay: `written` its points the recorder
-/// wrote (first returns and a driver's "no return" points: a frame that writes every beam, as an
-/// organized cloud does, is a reading even when the sensor saw nothing).
+/// Whether a frame is empty in effect against its replay: `written` the first-return points the
+/// recorder wrote (its first returns and a driver's "no return" points of return index 0: a frame
+/// that writes every beam, as an organized cloud does, is a reading even when the sensor saw
+/// nothing).
 bool emptyInEffect(long long written, const std::vector<ExpectedBeam>& expected)
 {
     if (written == 0) return true;
@@ -310,8 +311,8 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     long long first = 0, second = 0;
     size_t empty = 0, kept = 0;
     // Frame k of the listing, its points read from `path`. A frame empty in effect (a recorder's
-    // dropped or cut frame) is left out, and one of no point not even replayed: the listing's share
-    // of them is checked at the end. The frames kept alternate between the folds.
+    // dropped or cut frame) is left out, and one of no point not even replayed: their share of the
+    // listing is checked as they come. The frames kept alternate between the folds.
     auto tallyFrame = [&](size_t k, PointCloudFile&& pc, const std::string& path) {
         checkCancel(control);
         const FrameIndexEntry& e = frames[k];
