@@ -949,7 +949,9 @@ TEST(LidarDiagnosisRun, FoldersThatAreNotTheSensorsFramesAreRefused)
         if (f.index == 3)
             for (LidarPoint& p : f.points) p.return_index = 1;
     });
-    EXPECT_NE(test::errorOf([&] { runLidarDiagnosis(cfg); }).find("second returns (--returns dual?)"),
+    EXPECT_NE(test::errorOf([&] {
+                  runLidarDiagnosis(cfg);
+              }).find("second returns, the first in " + cfg.points + "/3.pcd (--returns dual?)"),
               std::string::npos)
         << test::errorOf([&] { runLidarDiagnosis(cfg); });
     // A third return (return index 2): not a return the diagnosis reads; refused, not dropped.

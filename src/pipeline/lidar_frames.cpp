@@ -148,15 +148,16 @@ void checkEmptyFrames(size_t empty, size_t frames, size_t min_frames, const std:
 }
 
 /// What the frames hold as a whole against what the diagnosis assumes: second returns exactly when
-/// the mode is dual; most clear beams answered.
-void checkWhole(const LidarTally& t, long long first, long long second, ReturnMode mode, const std::string& dir)
+/// the mode is dual (`second_in` the first frame that holds one); most clear beams answered.
+void checkWhole(const LidarTally& t, long long first, long long second, const std::string& second_in, ReturnMode mode,
+                const std::string& dir)
 {
     if (mode == ReturnMode::Dual && first >= 1000 && second == 0)
         throw Error("--returns", "dual, but the frames in " + dir + " hold no second return");
     if (mode != ReturnMode::Dual && second > 0)
         throw Error("--returns",
                     std::string(returnModeName(mode)) + ", but the frames in " + dir + " hold " +
-                        std::to_string(second) + " second returns (--returns dual?)");
+                        std::to_string(second) + " second returns, the first in " + second_in + " (--returns dual?)");
     long long clear = 0, missed = 0;
     for (int k : {0, 1})
         for (size_t i = 0; i < t.pattern().size(); ++i) clear += t.fold(k).clear[i], missed += t.fold(k).missed[i];
@@ -309,6 +310,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
     double mismatch_m = 0, mismatch_deg = 0;
     std::vector<std::pair<double, std::vector<LidarPoint>>> recorded;
     long long first = 0, second = 0;
+    std::string second_in;  // the first frame holding a second return
     size_t empty = 0, kept = 0;
     // Frame k of the listing, its points read from `path`. A frame empty in effect (a recorder's
     // dropped or cut frame) is left out, and one of no point not even replayed: their share of the
@@ -342,6 +344,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
             (p.return_index == 0 ? frame_first : frame_second) += 1;
         }
         second += frame_second;  // every frame's: a mode without them refuses any (checkWhole)
+        if (frame_second > 0 && second_in.empty()) second_in = path;
         const std::vector<ExpectedBeam> expected = scanner.expected(e.start_s, cfg.intensities);
         if (emptyInEffect(frame_first + (long long)pc.skipped_first, expected)) return leaveOut();
         first += frame_first;
@@ -370,7 +373,7 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
         }
     }
     checkEmptyFrames(empty, frames.size(), min_frames, cfg.points, frames.size());
-    checkWhole(tally, first, second, run.mode(), cfg.points);
+    checkWhole(tally, first, second, second_in, run.mode(), cfg.points);
     use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded), topic, empty});
 }
 
