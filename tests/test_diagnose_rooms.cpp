@@ -402,7 +402,8 @@ TEST(DiagnoseRooms, ThePhysicalModelFindsATargetDarkerInTheInfraredAsItsThreshol
 TEST(DiagnoseRooms, Explore)
 {
     // SMOKESCAN_EXPLORE=N rooms from seed 5000; SMOKESCAN_EXPLORE_PLANT=k plants cause k (−1: clean);
-    // SMOKESCAN_EXPLORE_MODEL=physical diagnoses with the physical model, and simulates with it too.
+    // SMOKESCAN_EXPLORE_MODEL=physical diagnoses with the physical model, and simulates with it too;
+    // SMOKESCAN_EXPLORE_NIR=f simulates the first target's NIR reflectance at f of the scene's.
     if (!std::getenv("SMOKESCAN_EXPLORE")) GTEST_SKIP() << "set SMOKESCAN_EXPLORE=N";
     const int n = std::atoi(std::getenv("SMOKESCAN_EXPLORE"));
     const int which = std::getenv("SMOKESCAN_EXPLORE_PLANT") ? std::atoi(std::getenv("SMOKESCAN_EXPLORE_PLANT")) : -1;
