@@ -255,8 +255,6 @@ void physicalTables(Replay& r, const Scene& scene, const SurfaceSet& surfaces, c
             const size_t i = b * G + j;
             evaluate(b, std::exp(t.u_lo + t.du * double(j)), t.err[i], t.range[i], t.sd[i]);
         }
-    });
-    tbb::parallel_for(size_t(0), B, [&](size_t b) {
         monotoneTangents(t.err.data() + b * G, G, t.du, t.err_clear[b], t.err_slope.data() + b * G);
         monotoneTangents(t.range.data() + b * G, G, t.du, t.range_clear[b], t.range_slope.data() + b * G);
         monotoneTangents(t.sd.data() + b * G, G, t.du, t.sd_clear[b], t.sd_slope.data() + b * G);

@@ -129,9 +129,9 @@ bool emptyInEffect(long long written, const std::vector<ExpectedBeam>& expected)
     return sure >= kEmptyFrameSure && double(written) < kEmptyFrameShare * double(sure);
 }
 
-/// Refuses frames of which more than kMaxMissedShare are empty in effect, or fewer than
-/// `min_frames` that are not; `seen` the frames looked at so far.
-void checkEmptyFrames(size_t empty, size_t frames, size_t min_frames, const std::string& dir, size_t seen)
+/// Refuses a listing of `frames` once more than kMaxMissedShare of them are empty in effect
+/// (`empty` of the `seen` read so far).
+void checkEmptyShare(size_t empty, size_t frames, const std::string& dir, size_t seen)
 {
     if (double(empty) > kMaxMissedShare * double(frames))
         throw Error(
@@ -140,11 +140,6 @@ void checkEmptyFrames(size_t empty, size_t frames, size_t min_frames, const std:
                 "replay is sure of (at most %.0f %% of the frames may): a recorder that dropped or cut "
                 "them, or frames of another sensor or topic?",
                 empty, frames, seen < frames ? fmt(" (after %zu read)", seen).c_str() : "", 100 * kMaxMissedShare));
-    if (frames - empty < min_frames)
-        throw Error(dir,
-                    fmt("holds %zu frames that are not empty (points for a tenth of the beams the replay is "
-                        "sure of): the diagnosis needs %zu",
-                        frames - empty, min_frames));
 }
 
 /// What the frames hold as a whole against what the diagnosis assumes: second returns exactly when
@@ -326,10 +321,8 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
             std::find(pc.fields.begin(), pc.fields.end(), "intensity") == pc.fields.end())
             throw Error(path, "has no intensity field: the fit reads each point's intensity");
         auto leaveOut = [&] {
-            ++empty;
             // Refused as soon as the listing's share is passed, not after the frames left.
-            if (double(empty) > kMaxMissedShare * double(frames.size()))
-                checkEmptyFrames(empty, frames.size(), min_frames, cfg.points, k + 1);
+            checkEmptyShare(++empty, frames.size(), cfg.points, k + 1);
             reportProgress(control, (long long)k + 1, (long long)frames.size());
         };
         if (nothing) return leaveOut();
@@ -372,7 +365,11 @@ void tallyLidarFrames(const LidarFramesConfig& cfg, size_t min_frames, const Run
             tallyFrame(k, readPointCloud(path), path);
         }
     }
-    checkEmptyFrames(empty, frames.size(), min_frames, cfg.points, frames.size());
+    if (kept < min_frames)
+        throw Error(cfg.points,
+                    fmt("holds %zu frames that are not empty (points for a tenth of the beams the replay "
+                        "is sure of): the diagnosis needs %zu",
+                        kept, min_frames));
     checkWhole(tally, first, second, second_in, run.mode(), cfg.points);
     use(TalliedFrames{scene, run, tally, base, mismatch_m, mismatch_deg, std::move(recorded), topic, empty});
 }

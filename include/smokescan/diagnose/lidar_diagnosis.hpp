@@ -104,7 +104,7 @@ struct LidarDiagnosis {
     /// sensor then (set by the caller that reads the frames): position [m] and angle [deg]; NaN
     /// when the frames carry no pose (a bag's PointCloud2 frames).
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;
-    /// Frames that held no point, left out (set by the caller that reads the frames).
+    /// Frames empty in effect, left out (set by the caller that reads the frames: TalliedFrames).
     size_t empty_frames = 0;
     std::string sensor, returns, scene;  ///< what was diagnosed (set by the caller), for reports
     /// The frames read (set by the caller): a frames folder or a bag, and the bag's topic ("" for

@@ -42,7 +42,7 @@ struct LidarFitRunResult {
     double range_sd_se_m = NAN;  ///< its standard error (1.166·sd/√n, the MAD's for a normal)
     double preset_range_sd_m = NAN;  ///< the preset's range_sigma_m
     double pose_mismatch_m = 0, pose_mismatch_deg = 0;  ///< as TalliedFrames's (NaN for a bag's frames)
-    size_t empty_frames = 0;  ///< frames that held no point, left out (TalliedFrames's)
+    size_t empty_frames = 0;  ///< frames empty in effect, left out (TalliedFrames's)
     std::string preset;  ///< lidar.toml's text: the preset extended by the fitted factors
     std::vector<int> at_bound;  ///< surfaces whose written factor was held at 0.01 or 10
 };

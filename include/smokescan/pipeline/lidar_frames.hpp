@@ -58,13 +58,14 @@ struct TalliedFrames {
     /// The bag's topic the frames were read from (the named one or its only PointCloud2 topic);
     /// empty for a frames folder.
     std::string topic;
-    /// Frames that hold no point at all: frames a recorder dropped, left out of the tally (read
-    /// as every beam unanswered they would stand for a sensor that fails everywhere at once).
+    /// Frames empty in effect (no point, or first-return points for under a tenth of the beams the
+    /// replay is sure of: frames a recorder dropped or cut), left out of the tally (read as every
+    /// beam unanswered they would stand for a sensor that fails everywhere at once).
     size_t empty_frames = 0;
 };
 
-/// @brief Reads the frames one at a time, replays each and tallies them (frame k in fold k % 2),
-/// then hands the tally to `use`.
+/// @brief Reads the frames one at a time, replays each and tallies them (the frames kept, those
+/// not empty in effect, alternating between folds 0 and 1), then hands the tally to `use`.
 /// @param min_frames the fewest frames the caller's work needs (a diagnosis: 2, a fold each)
 /// @param control progress after each frame; cancel asked before each
 /// @throw Error naming the folder, file or option at fault: too few frames, a frame without ring
